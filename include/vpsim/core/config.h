@@ -1,0 +1,85 @@
+#pragma once
+/// @file
+/// JSON configuration (jobs, materials, machines) with unit-aware getters, unknown-key errors
+/// and `--set key.path=value` overrides.
+
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "vpsim/core/error.h"
+#include "vpsim/core/units.h"
+
+namespace vpsim {
+
+/// Reads a JSON file. @throw InputError naming the file and line on a missing file or a syntax error.
+nlohmann::json loadJsonFile(const std::string& path);
+
+/// Applies "a.b.c=value" to a document: the value is parsed as JSON when it is valid JSON
+/// (numbers, true, arrays...), otherwise taken as a string ("50 um"). Creates missing objects.
+/// @throw InputError when the assignment has no '=' or walks through a non-object.
+void applyOverride(nlohmann::json& document, const std::string& assignment);
+
+/// A view of one JSON object in a config document. Getters record which keys were read;
+/// checkUnknownKeys() on the root then reports the first key nobody read, so typos are errors.
+class ConfigNode {
+public:
+    /// Root node of a document loaded from `file` ("" for documents built in code).
+    ConfigNode(nlohmann::json document, std::string file);
+    static ConfigNode load(const std::string& path, const std::vector<std::string>& overrides = {});
+
+    bool has(const std::string& key) const;
+    /// Quantity in base units (see units.h). @throw InputError when missing or of wrong dimension.
+    double quantity(const std::string& key, Dimension dimension) const;
+    double quantity(const std::string& key, Dimension dimension, double fallback) const;
+    /// Plain number, optionally range-checked (inclusive). @throw InputError on type or range.
+    double number(const std::string& key) const;
+    double number(const std::string& key, double fallback) const;
+    double numberInRange(const std::string& key, double lo, double hi,
+                         std::optional<double> fallback = std::nullopt) const;
+    long long integer(const std::string& key, std::optional<long long> fallback = std::nullopt) const;
+    bool boolean(const std::string& key, std::optional<bool> fallback = std::nullopt) const;
+    std::string string(const std::string& key, std::optional<std::string> fallback = std::nullopt) const;
+    /// A string that must be one of `choices`. @throw InputError listing the choices otherwise.
+    std::string choice(const std::string& key, const std::vector<std::string>& choices,
+                       std::optional<std::string> fallback = std::nullopt) const;
+    /// A nested object. @throw InputError when missing or not an object.
+    ConfigNode child(const std::string& key) const;
+    /// Elements of an array of objects.
+    std::vector<ConfigNode> children(const std::string& key) const;
+    /// The raw JSON value (marks the whole subtree as known). @throw InputError when missing.
+    const nlohmann::json& raw(const std::string& key) const;
+
+    /// @throw InputError "unknown key 'x'" for the first key in the whole document never read.
+    void checkUnknownKeys() const;
+
+    const std::string& file() const { return mState->file; }
+    /// Dotted path of this node ("" for the root), used in messages.
+    const std::string& path() const { return mPath; }
+    /// Full dotted path of a key of this node.
+    std::string keyPath(const std::string& key) const;
+    /// Builds an InputError naming this file and the key.
+    InputError error(const std::string& key, const std::string& reason) const;
+
+private:
+    struct State {
+        nlohmann::json document;
+        std::string file;
+        std::set<std::string> readPaths;  ///< keys read; a subtree read whole ends with "/*"
+    };
+    ConfigNode(std::shared_ptr<State> state, const nlohmann::json* node, std::string path);
+    const nlohmann::json& require(const std::string& key) const;
+    const nlohmann::json* find(const std::string& key) const;
+    void markRead(const std::string& key, bool wholeSubtree = false) const;
+    void checkNode(const nlohmann::json& node, const std::string& path) const;
+
+    std::shared_ptr<State> mState;
+    const nlohmann::json* mNode;
+    std::string mPath;
+};
+
+} // namespace vpsim

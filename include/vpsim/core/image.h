@@ -1,0 +1,47 @@
+#pragma once
+/// @file
+/// Pictures of results: PNG raster images (heat maps with a colour map) and small SVG line charts.
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace vpsim {
+
+/// 8-bit RGB image, rows from top to bottom.
+struct RgbImage {
+    int width = 0, height = 0;
+    std::vector<uint8_t> pixels;  ///< width*height*3
+    RgbImage() = default;
+    RgbImage(int w, int h, uint8_t grey = 255) : width(w), height(h), pixels(size_t(w) * h * 3, grey) {}
+    void set(int x, int y, uint8_t r, uint8_t g, uint8_t b);
+    /// Draws a 1-pixel line (clipped to the image).
+    void line(double x0, double y0, double x1, double y1, uint8_t r, uint8_t g, uint8_t b);
+};
+
+/// Writes an RGB image as PNG (atomically). @throw InputError when the file cannot be written.
+void writePng(const std::string& path, const RgbImage& image);
+/// Writes an 8-bit greyscale image (e.g. a DLP mask) as PNG.
+void writePngGrey(const std::string& path, int width, int height, const std::vector<uint8_t>& grey);
+
+/// Maps t in [0,1] to the viridis colour map.
+void viridis(double t, uint8_t& r, uint8_t& g, uint8_t& b);
+
+/// Renders a row-major scalar field (values[y*width+x], y=0 at the top) with viridis between lo
+/// and hi; `contours` draws iso-lines in white at those levels.
+RgbImage heatMap(const std::vector<float>& values, int width, int height, double lo, double hi,
+                 const std::vector<double>& contours = {});
+
+/// One series of an SVG line chart.
+struct PlotSeries {
+    std::string label;
+    std::vector<double> x, y;
+    std::string colour = "";  ///< CSS colour; empty picks from a palette
+    bool dashed = false;
+};
+/// Writes an SVG line chart with axes, ticks, labels and a legend (atomically).
+void writeSvgLinePlot(const std::string& path, const std::string& title, const std::string& xLabel,
+                      const std::string& yLabel, const std::vector<PlotSeries>& series);
+
+} // namespace vpsim

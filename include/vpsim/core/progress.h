@@ -1,0 +1,43 @@
+#pragma once
+/// @file
+/// Progress display for long work: a single redrawn line on stderr when stderr is a terminal,
+/// silent otherwise (batch runs and CI logs stay clean). Thread-safe advance().
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <mutex>
+#include <string>
+
+namespace vpsim {
+
+class Progress {
+public:
+    /// @param label what is being done ("photon Monte Carlo")
+    /// @param total units of work (photons, layers...); 0 for unknown
+    Progress(std::string label, uint64_t total);
+    ~Progress();
+    Progress(const Progress&) = delete;
+    Progress& operator=(const Progress&) = delete;
+
+    /// Adds `amount` finished units and redraws at most ~10 times a second.
+    void advance(uint64_t amount = 1);
+    /// Finishes the line (called by the destructor too).
+    void finish();
+    uint64_t done() const { return mDone.load(); }
+
+    /// Forces the display on or off for the whole program (CLI --quiet / tests).
+    static void setEnabled(bool enabled);
+
+private:
+    void draw(bool final);
+    std::string mLabel;
+    uint64_t mTotal;
+    std::atomic<uint64_t> mDone{0};
+    std::chrono::steady_clock::time_point mStart, mLastDraw;
+    std::mutex mMutex;
+    bool mActive;
+    bool mFinished = false;
+};
+
+} // namespace vpsim

@@ -1,0 +1,14 @@
+#version 450
+// Never dispatched: declares one buffer per shared struct so the struct-layout test can read the
+// std430 offsets that glslang assigns from this shader's SPIR-V. Add a line for each new struct.
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x = 1) in;
+
+#include "glsl_common.glsl"
+#include "shared_structs.glsl"
+
+layout(std430, binding = 0) buffer ProbeRngStreamParams { RngStreamParams probeRngStreamParams[]; };
+
+void main() {
+    probeRngStreamParams[0].seed = 0u;
+}

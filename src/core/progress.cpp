@@ -1,0 +1,65 @@
+#include "vpsim/core/progress.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+
+namespace vpsim {
+namespace {
+
+std::atomic<int>& enabledOverride() {  // -1: decide by isatty, 0: off, 1: on
+    static std::atomic<int> value{-1};
+    return value;
+}
+
+bool displayEnabled() {
+    int forced = enabledOverride().load();
+    if (forced >= 0) return forced == 1;
+    return isatty(STDERR_FILENO) == 1;
+}
+
+} // namespace
+
+void Progress::setEnabled(bool enabled) { enabledOverride() = enabled ? 1 : 0; }
+
+Progress::Progress(std::string label, uint64_t total)
+    : mLabel(std::move(label)), mTotal(total), mStart(std::chrono::steady_clock::now()),
+      mLastDraw(mStart), mActive(displayEnabled()) {}
+
+Progress::~Progress() { finish(); }
+
+void Progress::advance(uint64_t amount) {
+    mDone += amount;
+    if (!mActive) return;
+    auto now = std::chrono::steady_clock::now();
+    std::unique_lock<std::mutex> lock(mMutex, std::try_to_lock);
+    if (!lock.owns_lock() || now - mLastDraw < std::chrono::milliseconds(100)) return;
+    mLastDraw = now;
+    draw(false);
+}
+
+void Progress::finish() {
+    std::lock_guard<std::mutex> lock(mMutex);
+    if (mFinished) return;
+    mFinished = true;
+    if (mActive) draw(true);
+}
+
+void Progress::draw(bool final) {
+    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - mStart).count();
+    uint64_t done = mDone.load();
+    if (mTotal > 0) {
+        double fraction = std::min(1.0, double(done) / double(mTotal));
+        double eta = fraction > 0 ? seconds * (1.0 - fraction) / fraction : 0.0;
+        std::fprintf(stderr, "\r%s: %5.1f%% (%llu/%llu) %.1fs elapsed, %.1fs left   ", mLabel.c_str(),
+                     100.0 * fraction, (unsigned long long)done, (unsigned long long)mTotal, seconds,
+                     final ? 0.0 : eta);
+    } else {
+        std::fprintf(stderr, "\r%s: %llu done, %.1fs elapsed   ", mLabel.c_str(),
+                     (unsigned long long)done, seconds);
+    }
+    if (final) std::fputc('\n', stderr);
+    std::fflush(stderr);
+}
+
+} // namespace vpsim

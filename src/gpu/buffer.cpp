@@ -1,0 +1,143 @@
+#include <cstring>
+
+#include "gpu/vulkan_internal.h"
+
+namespace vpsim::gpu {
+
+void RawBuffer::create(Context::Impl& context, uint64_t size, VkBufferUsageFlags usage, bool hostVisible) {
+    device = context.device;
+    bytes = size;
+    VkBufferCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
+    info.size = size;
+    info.usage = usage;
+    info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    VK_CHECK(vkCreateBuffer(device, &info, nullptr, &buffer));
+    VkMemoryRequirements requirements;
+    vkGetBufferMemoryRequirements(device, buffer, &requirements);
+
+    // Host-visible coherent memory when asked (staging) or when it is also device-local (lavapipe,
+    // integrated GPUs): then uploads are a memcpy. Otherwise plain device-local memory.
+    const VkMemoryPropertyFlags hostFlags = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    int type = -1;
+    if (hostVisible) {
+        type = context.findMemoryType(requirements.memoryTypeBits, hostFlags);
+    } else {
+        bool unified = context.info.type == "cpu" || context.info.type == "integrated";
+        if (unified)
+            type = context.findMemoryType(requirements.memoryTypeBits, hostFlags | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+        if (type < 0) type = context.findMemoryType(requirements.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+        if (type < 0) type = context.findMemoryType(requirements.memoryTypeBits, 0);
+    }
+    if (type < 0) {
+        destroy();
+        throw GpuError("no suitable memory type for a buffer");
+    }
+    VkMemoryAllocateInfo allocate{};
+    allocate.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
+    allocate.allocationSize = requirements.size;
+    allocate.memoryTypeIndex = uint32_t(type);
+    VkResult result = vkAllocateMemory(device, &allocate, nullptr, &memory);
+    if (result != VK_SUCCESS) {
+        destroy();
+        throwGpuError("vkAllocateMemory", result, __FILE__, __LINE__);
+    }
+    VK_CHECK(vkBindBufferMemory(device, buffer, memory, 0));
+    if (context.memory.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)
+        VK_CHECK(vkMapMemory(device, memory, 0, VK_WHOLE_SIZE, 0, &mapped));
+}
+
+void RawBuffer::destroy() {
+    if (mapped) vkUnmapMemory(device, memory);
+    if (buffer) vkDestroyBuffer(device, buffer, nullptr);
+    if (memory) vkFreeMemory(device, memory, nullptr);
+    mapped = nullptr;
+    buffer = VK_NULL_HANDLE;
+    memory = VK_NULL_HANDLE;
+}
+
+Buffer::Buffer(std::shared_ptr<Context> context, uint64_t bytes) : mImpl(std::make_unique<Impl>()) {
+    if (!context) throw GpuError("buffer created without a Vulkan context");
+    const DeviceInfo& info = context->info();
+    if (bytes == 0) throw ResourceError("refusing to create an empty GPU buffer");
+    if (bytes > info.maxStorageBufferRange)
+        throw ResourceError("GPU buffer of " + formatBytes(double(bytes)) + " exceeds the device's " +
+                            "maxStorageBufferRange of " + formatBytes(double(info.maxStorageBufferRange)) +
+                            " on " + info.name + "; the data must be split into smaller buffers");
+    if (info.deviceLocalBytes > 0 && bytes > info.deviceLocalBytes)
+        throw ResourceError("GPU buffer of " + formatBytes(double(bytes)) + " exceeds the device memory of " +
+                            formatBytes(double(info.deviceLocalBytes)));
+    mImpl->context = std::move(context);
+    // Storage buffers are padded to 4 bytes so fill() and word-sized shader access stay in range.
+    uint64_t padded = (bytes + 3) & ~uint64_t(3);
+    mImpl->storage.create(mImpl->context->impl(), padded,
+                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                              VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                          false);
+    mImpl->storage.bytes = bytes;
+}
+
+Buffer::~Buffer() {
+    if (mImpl) mImpl->storage.destroy();
+}
+Buffer::Buffer(Buffer&&) noexcept = default;
+Buffer& Buffer::operator=(Buffer&&) noexcept = default;
+
+uint64_t Buffer::size() const { return mImpl->storage.bytes; }
+
+void Buffer::upload(const void* data, uint64_t bytes, uint64_t offset) {
+    if (offset + bytes > size()) throw ResourceError("GPU buffer upload beyond the buffer's end");
+    if (bytes == 0) return;
+    RawBuffer& storage = mImpl->storage;
+    if (storage.mapped) {
+        std::memcpy(static_cast<char*>(storage.mapped) + offset, data, bytes);
+        return;
+    }
+    Context::Impl& context = mImpl->context->impl();
+    RawBuffer staging;
+    staging.create(context, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true);
+    std::memcpy(staging.mapped, data, bytes);
+    try {
+        context.runOnce([&](VkCommandBuffer commandBuffer) {
+            VkBufferCopy region{0, offset, bytes};
+            vkCmdCopyBuffer(commandBuffer, staging.buffer, storage.buffer, 1, &region);
+        });
+    } catch (...) {
+        staging.destroy();
+        throw;
+    }
+    staging.destroy();
+}
+
+void Buffer::download(void* data, uint64_t bytes, uint64_t offset) const {
+    if (offset + bytes > size()) throw ResourceError("GPU buffer download beyond the buffer's end");
+    if (bytes == 0) return;
+    RawBuffer& storage = mImpl->storage;
+    if (storage.mapped) {
+        std::memcpy(data, static_cast<const char*>(storage.mapped) + offset, bytes);
+        return;
+    }
+    Context::Impl& context = mImpl->context->impl();
+    RawBuffer staging;
+    staging.create(context, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
+    try {
+        context.runOnce([&](VkCommandBuffer commandBuffer) {
+            VkBufferCopy region{offset, 0, bytes};
+            vkCmdCopyBuffer(commandBuffer, storage.buffer, staging.buffer, 1, &region);
+        });
+    } catch (...) {
+        staging.destroy();
+        throw;
+    }
+    std::memcpy(data, staging.mapped, bytes);
+    staging.destroy();
+}
+
+void Buffer::fill(uint32_t word) {
+    RawBuffer& storage = mImpl->storage;
+    mImpl->context->impl().runOnce([&](VkCommandBuffer commandBuffer) {
+        vkCmdFillBuffer(commandBuffer, storage.buffer, 0, VK_WHOLE_SIZE, word);
+    });
+}
+
+} // namespace vpsim::gpu

@@ -1,0 +1,50 @@
+#include <catch2/catch.hpp>
+
+#include <cstddef>
+
+#include "support/spirv_reflect.h"
+#include "vpsim/core/glsl_shim.h"
+#include "vpsim/shaders/layout_probe_spv.h"
+
+namespace vpsim::glsl {
+#include "shared_structs.glsl"
+} // namespace vpsim::glsl
+
+using namespace vpsim;
+
+namespace {
+
+struct MemberLayout {
+    const char* name;
+    size_t offset;
+};
+
+/// Compares C++ offsetof/sizeof with the std430 offsets and array stride glslang assigned.
+void checkStruct(const char* name, size_t size, std::initializer_list<MemberLayout> members) {
+    auto structs = test::reflectStructs(layout_probe_spv, sizeof layout_probe_spv / 4);
+    INFO("struct " << name);
+    REQUIRE(structs.count(name) == 1);
+    const auto& reflected = structs.at(name);
+    REQUIRE(reflected.memberOffsets.size() == members.size());
+    uint32_t index = 0;
+    for (const auto& member : members) {
+        INFO("member " << member.name);
+        CHECK(reflected.memberNames.at(index) == member.name);
+        CHECK(reflected.memberOffsets.at(index) == member.offset);
+        ++index;
+    }
+    CHECK(reflected.arrayStride == size);
+}
+
+} // namespace
+
+#define VPSIM_MEMBER(type, member) MemberLayout{#member, offsetof(type, member)}
+
+TEST_CASE("shared structs have the same layout in C++ and std430 GLSL", "[gpu][layout]") {
+    using glsl::RngStreamParams;
+    checkStruct("RngStreamParams", sizeof(RngStreamParams),
+                {VPSIM_MEMBER(RngStreamParams, seed), VPSIM_MEMBER(RngStreamParams, firstStream),
+                 VPSIM_MEMBER(RngStreamParams, streamCount), VPSIM_MEMBER(RngStreamParams, valuesPerStream),
+                 VPSIM_MEMBER(RngStreamParams, mode), VPSIM_MEMBER(RngStreamParams, pad0),
+                 VPSIM_MEMBER(RngStreamParams, pad1), VPSIM_MEMBER(RngStreamParams, pad2)});
+}

@@ -1,0 +1,57 @@
+#pragma once
+// Subcommand registry of the vpsim CLI. Each tools/vpsim/cmd_*.cpp registers itself with a
+// static CommandRegistration, so adding a command never touches main.cpp:
+//
+//   static vpsim::cli::CommandRegistration registerMie{"mie", [](CLI::App& app, const Globals& g) {
+//       auto* cmd = app.add_subcommand("mie", "Lorenz-Mie scattering of one particle");
+//       auto opts = std::make_shared<MieOptions>();   // options must outlive this function
+//       cmd->add_option("--x", opts->x, "size parameter");
+//       cmd->callback([opts, &g] { runMie(*opts, g); });
+//   }};
+//
+// Callbacks throw vpsim::Error (InputError, GpuError, ResourceError) for anything the user must
+// fix; main() prints one line "vpsim: error: ..." and exits non-zero. Results go to stdout
+// (JSON with --json), messages and progress to stderr.
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "vpsim/gpu/context.h"
+
+namespace vpsim::cli {
+
+/// Options shared by every subcommand (parsed before the callbacks run).
+struct Globals {
+    std::string backend = "auto";          ///< auto | vulkan | cpu
+    std::string device;                    ///< Vulkan device index or name part
+    bool validation = false;               ///< run under VK_LAYER_KHRONOS_validation
+    std::vector<std::string> overrides;    ///< --set key.path=value for config files
+    bool quiet = false;
+
+    /// The Vulkan context for --backend/--device, or nullptr for the CPU path (see
+    /// gpu::contextForBackend). Created once on first use.
+    std::shared_ptr<gpu::Context> gpu() const;
+
+private:
+    mutable std::shared_ptr<gpu::Context> mGpu;
+    mutable bool mGpuResolved = false;
+};
+
+using CommandSetup = std::function<void(CLI::App& app, const Globals& globals)>;
+
+struct CommandRegistration {
+    CommandRegistration(const std::string& name, CommandSetup setup);
+};
+
+/// All registered setups, in registration order.
+std::vector<std::pair<std::string, CommandSetup>>& commandRegistry();
+
+/// Prints JSON to stdout with 2-space indentation.
+void printJson(const nlohmann::json& value);
+
+} // namespace vpsim::cli
