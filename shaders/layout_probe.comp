@@ -9,6 +9,13 @@ layout(local_size_x = 1) in;
 
 layout(std430, binding = 0) buffer ProbeRngStreamParams { RngStreamParams probeRngStreamParams[]; };
 
+layout(std430, binding = 1) buffer ProbeExposureBlurParams { ExposureBlurParams probeExposureBlurParams[]; };
+layout(std430, binding = 2) buffer ProbeExposureRecursionParams {
+    ExposureRecursionParams probeExposureRecursionParams[];
+};
+
 void main() {
     probeRngStreamParams[0].seed = 0u;
+    probeExposureBlurParams[0].nx = 0u;
+    probeExposureRecursionParams[0].count = 0u;
 }

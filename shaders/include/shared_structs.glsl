@@ -16,4 +16,24 @@ struct RngStreamParams {
     uint pad2;
 };
 
+/// Push constants of exposure_blur.comp: one 1D Gaussian pass along x (axis 0) or y (axis 1).
+struct ExposureBlurParams {
+    uint nx;           ///< grid cells in x
+    uint ny;           ///< grid cells in y
+    uint axis;         ///< 0: blur along x, 1: along y
+    int halfWidth;     ///< taps on each side of the centre
+    float sigmaCells;  ///< Gaussian standard deviation in cells
+    float norm;        ///< sum of the taps (gaussianNorm)
+    uint pad0;
+    uint pad1;
+};
+
+/// Push constants of exposure_recursion.comp.
+struct ExposureRecursionParams {
+    uint count;   ///< cells
+    float decay;  ///< exp(-h / De)
+    uint pad0;
+    uint pad1;
+};
+
 #endif

@@ -5,7 +5,9 @@
 #include "vpsim/core/glsl_shim.h"
 
 namespace vpsim::glsl {
+namespace {
 #include "rng.glsl"
+} // namespace
 } // namespace vpsim::glsl
 
 namespace vpsim {

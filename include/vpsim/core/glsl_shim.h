@@ -7,7 +7,10 @@
 /// Use it like this in a .cpp (the library adds shaders/include to the include path):
 ///   #include "vpsim/core/glsl_shim.h"
 ///   namespace vpsim::glsl {
-///   #include "rng.glsl"
+///   #include "shared_structs.glsl"      // structs: plain namespace (identical in every TU)
+///   namespace {                          // functions: unnamed namespace, since GLSL functions
+///   #include "rng.glsl"                  // cannot be declared inline and several .cpp files
+///   }                                    // may include the same file
 ///   }
 ///
 /// Rules for shared .glsl files: include guards (no #pragma once); parameters passed by reference
@@ -20,6 +23,8 @@
 #include <glm/gtc/type_precision.hpp>
 
 #define VPSIM_CPU 1
+// A translation unit uses only some functions of an included .glsl file.
+#pragma GCC diagnostic ignored "-Wunused-function"
 #define VPSIM_INOUT(T) T&
 #define VPSIM_OUT(T) T&
 

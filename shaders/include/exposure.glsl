@@ -1,0 +1,24 @@
+// Separable exposure: the arithmetic shared by the shaders and the CPU path (glsl_shim.h).
+#ifndef VPSIM_EXPOSURE_GLSL
+#define VPSIM_EXPOSURE_GLSL
+
+/// Unnormalised weight of the Gaussian tap `offset` cells from the centre; sigmaCells = W/2/pitch
+/// (a 1/e^2 radius W is two standard deviations).
+float gaussianTap(int offset, float sigmaCells) {
+    float t = float(offset) / sigmaCells;
+    return exp(-0.5 * t * t);
+}
+
+/// Sum of the taps -halfWidth..halfWidth, used to normalise so the blur conserves energy.
+float gaussianNorm(int halfWidth, float sigmaCells) {
+    float sum = 0.0;
+    for (int o = -halfWidth; o <= halfWidth; ++o) sum += gaussianTap(o, sigmaCells);
+    return sum;
+}
+
+/// Print-through recursion R_k = B_k + a R_{k+1} (seed 000 Eq. 21 in recursive form).
+float printThroughStep(float blurred, float runningBelowTop, float decay) {
+    return blurred + decay * runningBelowTop;
+}
+
+#endif

@@ -1,0 +1,123 @@
+#include "vpsim/exposure/exposure_engine.h"
+
+#include <chrono>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+#include "exposure/exposure_gpu.h"
+#include "exposure/exposure_glsl.h"
+#include "vpsim/core/error.h"
+#include "vpsim/core/progress.h"
+#include "vpsim/exposure/deposit.h"
+
+namespace vpsim::exposure {
+namespace {
+
+/// One 1D Gaussian pass on the CPU: the same loop as shaders/exposure_blur.comp.
+void blurPassCpu(const SurfaceGrid& source, SurfaceGrid& target, int axis, int halfWidth, float sigmaCells,
+                 float norm) {
+    const int nx = source.nx, ny = source.ny;
+    const int n = axis == 0 ? nx : ny, stride = axis == 0 ? 1 : nx;
+    std::vector<float> taps(2 * halfWidth + 1);
+    for (int o = -halfWidth; o <= halfWidth; ++o) taps[o + halfWidth] = glsl::gaussianTap(o, sigmaCells);
+    tbb::parallel_for(0, ny, [&](int j) {
+        for (int i = 0; i < nx; ++i) {
+            int centre = axis == 0 ? i : j;
+            int lo = std::max(-halfWidth, -centre), hi = std::min(halfWidth, n - 1 - centre);
+            size_t index = size_t(j) * nx + i;
+            float sum = 0.0f;
+            for (int o = lo; o <= hi; ++o) sum += taps[o + halfWidth] * source.values[index + ptrdiff_t(o) * stride];
+            target.values[index] = sum / norm;
+        }
+    });
+}
+
+} // namespace
+
+ExposureGrid ExposureGrid::covering(double xmin, double ymin, double xmax, double ymax, double margin, double pitch,
+                                    int slicesPerLayer) {
+    if (!(pitch > 0)) throw InputError("exposure grid pitch must be positive");
+    ExposureGrid grid;
+    grid.pitch = pitch;
+    grid.slicesPerLayer = slicesPerLayer;
+    grid.originX = xmin - margin;
+    grid.originY = ymin - margin;
+    grid.nx = int(std::ceil((xmax - xmin + 2 * margin) / pitch));
+    grid.ny = int(std::ceil((ymax - ymin + 2 * margin) / pitch));
+    return grid;
+}
+
+int blurHalfWidth(double radius, double pitch) { return int(std::ceil(1.75 * radius / pitch)); }
+
+ExposureEngine::ExposureEngine(const ExposureGrid& grid, const SeparableBeam& beam, double layerThickness,
+                               std::shared_ptr<gpu::Context> context)
+    : mGrid(grid), mBeam(beam), mLayerThickness(layerThickness) {
+    if (grid.nx <= 0 || grid.ny <= 0) throw InputError("exposure grid has no cells");
+    if (!(grid.pitch > 0)) throw InputError("exposure grid pitch must be positive");
+    if (grid.slicesPerLayer < 1) throw InputError("at least one voxel slice per layer is needed");
+    if (!(beam.radius > 0)) throw InputError("beam radius (We3D) must be positive");
+    if (!(beam.attenuationLength > 0)) throw InputError("attenuation length (De3D) must be positive");
+    if (!(layerThickness > 0)) throw InputError("layer thickness must be positive");
+    if (beam.radius < grid.pitch)
+        throw InputError("grid pitch " + std::to_string(grid.pitch * 1e3) + " um is coarser than the beam radius " +
+                         std::to_string(beam.radius * 1e3) + " um: the blur would be meaningless; refine the grid");
+    const double cells = double(grid.nx) * grid.ny;
+    const double bytes = cells * sizeof(float) * 4;  // deposit, two blur buffers, running sum
+    if (cells > 4.0e8 || bytes > 8.0 * (1ull << 30))
+        throw ResourceError("exposure grid of " + std::to_string(grid.nx) + " x " + std::to_string(grid.ny) +
+                            " cells needs " + formatBytes(bytes) + " of working memory per layer; use a coarser pitch");
+    if (context) mGpu = std::make_unique<GpuState>(context, grid.nx, grid.ny);
+}
+
+ExposureEngine::~ExposureEngine() = default;
+
+void ExposureEngine::blurAndAccumulate(SurfaceGrid& deposit, SurfaceGrid& running, float decay, double& seconds) {
+    const float sigmaCells = float(0.5 * mBeam.radius / mGrid.pitch);
+    const int halfWidth = blurHalfWidth(mBeam.radius, mGrid.pitch);
+    const float norm = glsl::gaussianNorm(halfWidth, sigmaCells);
+    if (mGpu) {
+        seconds += mGpu->blurAndAccumulate(deposit, running, halfWidth, sigmaCells, norm, decay);
+        return;
+    }
+    auto start = std::chrono::steady_clock::now();
+    SurfaceGrid pass(deposit.nx, deposit.ny, deposit.originX, deposit.originY, deposit.pitch);
+    blurPassCpu(deposit, pass, 0, halfWidth, sigmaCells, norm);
+    blurPassCpu(pass, deposit, 1, halfWidth, sigmaCells, norm);
+    for (size_t c = 0; c < running.values.size(); ++c)
+        running.values[c] = glsl::printThroughStep(deposit.values[c], running.values[c], decay);
+    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+SurfaceGrid ExposureEngine::exposureMap(const SurfaceGrid& deposit) {
+    SurfaceGrid blurred = deposit, running(deposit.nx, deposit.ny, deposit.originX, deposit.originY, deposit.pitch);
+    double seconds = 0;
+    blurAndAccumulate(blurred, running, 0.0f, seconds);
+    return running;
+}
+
+double ExposureEngine::run(const plan::ScanPlan& plan, const SliceSink& sink) {
+    const ExposureGrid& g = mGrid;
+    SurfaceGrid running(g.nx, g.ny, g.originX, g.originY, g.pitch);
+    SurfaceGrid deposit(g.nx, g.ny, g.originX, g.originY, g.pitch);
+    SurfaceGrid slice(g.nx, g.ny, g.originX, g.originY, g.pitch);
+    const float decay = float(std::exp(-mLayerThickness / mBeam.attenuationLength));
+    const double voxelHeight = mLayerThickness / g.slicesPerLayer;
+    double seconds = 0;
+    Progress progress("exposure", plan.layers.size());
+    for (int k = int(plan.layers.size()) - 1; k >= 0; --k) {
+        std::fill(deposit.values.begin(), deposit.values.end(), 0.0f);
+        depositLayer(plan.layers[k], deposit);
+        blurAndAccumulate(deposit, running, decay, seconds);
+        for (int s = 0; s < g.slicesPerLayer; ++s) {
+            double depth = (s + 0.5) * voxelHeight;
+            float attenuation = float(std::exp(-depth / mBeam.attenuationLength));
+            for (size_t c = 0; c < slice.values.size(); ++c) slice.values[c] = attenuation * running.values[c];
+            sink({k, s, plan.layers[k].z - depth, &slice});
+        }
+        progress.advance();
+    }
+    return seconds;
+}
+
+} // namespace vpsim::exposure

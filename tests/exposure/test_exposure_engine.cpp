@@ -1,0 +1,160 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+#include "support/gpu_test.h"
+#include "vpsim/core/error.h"
+#include "vpsim/exposure/deposit.h"
+#include "vpsim/exposure/exposure_engine.h"
+
+using namespace vpsim;
+using namespace vpsim::exposure;
+
+namespace {
+
+const SeparableBeam BEAM{0.05, 0.12};  // W = 50 um (seed 000's W0), De = 120 um
+
+plan::LayerPlan lineLayer(double z, double y, double power, double speed) {
+    plan::LayerPlan layer;
+    layer.z = z;
+    layer.vectors.push_back({-1.0, y, 1.0, y, power, speed});
+    return layer;
+}
+
+/// Runs the engine and keeps every slice, indexed [layer][slice].
+std::vector<std::vector<SurfaceGrid>> exposeAll(ExposureEngine& engine, const plan::ScanPlan& plan) {
+    std::vector<std::vector<SurfaceGrid>> slices(plan.layers.size(),
+                                                 std::vector<SurfaceGrid>(engine.grid().slicesPerLayer));
+    engine.run(plan, [&](const ExposureSlice& s) { slices[s.layer][s.slice] = *s.values; });
+    return slices;
+}
+
+plan::ScanPlan randomPlan(int layers, double h, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> pos(-0.3, 0.3), power(1.0, 20.0);
+    plan::ScanPlan plan;
+    plan.machine.layerThickness = h;
+    for (int k = 0; k < layers; ++k) {
+        plan::LayerPlan layer;
+        layer.z = (k + 1) * h;
+        for (int v = 0; v < 3; ++v) layer.vectors.push_back({pos(rng), pos(rng), pos(rng), pos(rng), power(rng), 500.0});
+        layer.points.push_back({pos(rng), pos(rng), 0.01 * power(rng)});
+        plan.layers.push_back(layer);
+    }
+    return plan;
+}
+
+} // namespace
+
+// A scanned line's exposure across the line is seed 000 Eq. C.6:
+// Es(y) = sqrt(2/pi) P / (W V) exp(-2 y^2 / W^2). Tolerance 1%: the 5 um grid samples a 50 um
+// Gaussian with the line on a row of cell centres, so the discretisation error is ~(pitch/W)^2/12.
+TEST_CASE("a single scanned line matches the analytic line exposure of Eq. C.6", "[exposure]") {
+    const double pitch = 0.005, P = 10.0, V = 100.0;
+    ExposureGrid grid = ExposureGrid::covering(-0.5, -0.5, 0.5, 0.5, 0.0, pitch, 1);
+    ExposureEngine engine(grid, BEAM, 0.05);
+    SurfaceGrid deposit(grid.nx, grid.ny, grid.originX, grid.originY, pitch);
+    const double lineY = 0.0025;  // centre of a cell row
+    depositLayer(lineLayer(0.05, lineY, P, V), deposit);
+    SurfaceGrid map = engine.exposureMap(deposit);
+    const double W = BEAM.radius;
+    const int i = grid.nx / 2;
+    for (int j = 0; j < grid.ny; ++j) {
+        double y = map.centreY(j) - lineY;
+        if (std::abs(y) > 1.5 * W) continue;
+        double analytic = std::sqrt(2.0 / M_PI) * P / (W * V) * std::exp(-2.0 * y * y / (W * W));
+        INFO("y = " << y);
+        CHECK(map.at(i, j) == Approx(analytic).epsilon(0.01));
+    }
+}
+
+// ACES: parallel lines at hatch spacing hs reach the plateau Ep = P / (V hs) (Eq. C.8). With
+// hs = W/2 the ripple of Eq. C.7 is below 1e-6, so 0.5% covers the discretisation.
+TEST_CASE("an ACES field reaches the plateau exposure of Eq. C.8", "[exposure]") {
+    const double pitch = 0.005, P = 10.0, V = 200.0, hs = 0.025;
+    ExposureGrid grid = ExposureGrid::covering(-0.6, -0.6, 0.6, 0.6, 0.0, pitch, 1);
+    ExposureEngine engine(grid, BEAM, 0.05);
+    SurfaceGrid deposit(grid.nx, grid.ny, grid.originX, grid.originY, pitch);
+    plan::LayerPlan layer;
+    for (double y = -0.5; y <= 0.5 + 1e-9; y += hs) layer.vectors.push_back({-0.5, y, 0.5, y, P, V});
+    depositLayer(layer, deposit);
+    SurfaceGrid map = engine.exposureMap(deposit);
+    const double plateau = P / (V * hs);
+    for (int j = grid.ny / 2 - 20; j <= grid.ny / 2 + 20; ++j) CHECK(map.at(grid.nx / 2, j) == Approx(plateau).epsilon(0.005));
+    // Energy is conserved by the blur (renormalised taps): float sums over 57,600 cells -> 1e-5.
+    CHECK(map.totalEnergy() == Approx(deposit.totalEnergy()).epsilon(1e-5));
+}
+
+// Eq. 21: the recursion must equal the direct sum over later layers of E_map,j exp(-(depth)/De).
+// Tolerance 1e-5 relative: float accumulation over 6 layers.
+TEST_CASE("the print-through recursion equals the direct sum over layers", "[exposure]") {
+    const double h = 0.04, pitch = 0.01;
+    plan::ScanPlan plan = randomPlan(6, h, 3);
+    ExposureGrid grid = ExposureGrid::covering(-0.4, -0.4, 0.4, 0.4, 0.15, pitch, 2);
+    ExposureEngine engine(grid, BEAM, h);
+    auto slices = exposeAll(engine, plan);
+    std::vector<SurfaceGrid> maps;
+    for (const auto& layer : plan.layers) {
+        SurfaceGrid deposit(grid.nx, grid.ny, grid.originX, grid.originY, pitch);
+        depositLayer(layer, deposit);
+        maps.push_back(engine.exposureMap(deposit));
+    }
+    for (int k = 0; k < 6; ++k)
+        for (int s = 0; s < 2; ++s) {
+            double z = plan.layers[k].z - (s + 0.5) * h / 2;
+            for (size_t c = 0; c < maps[0].values.size(); c += 37) {
+                double direct = 0;
+                for (int j = k; j < 6; ++j) direct += maps[j].values[c] * std::exp(-(plan.layers[j].z - z) / BEAM.attenuationLength);
+                CHECK(slices[k][s].values[c] == Approx(direct).epsilon(1e-5).margin(1e-9));
+            }
+        }
+}
+
+// Exposure is linear in the plan: doubling every power doubles it, and two plans run together give
+// the sum of the two run alone. Tolerance: float rounding, 1e-5 relative.
+TEST_CASE("exposure obeys superposition and linearity", "[exposure]") {
+    const double h = 0.05;
+    plan::ScanPlan a = randomPlan(3, h, 11), b = randomPlan(3, h, 12), sum = a, doubled = a;
+    for (int k = 0; k < 3; ++k) {
+        for (const auto& v : b.layers[k].vectors) sum.layers[k].vectors.push_back(v);
+        for (const auto& p : b.layers[k].points) sum.layers[k].points.push_back(p);
+        for (auto& v : doubled.layers[k].vectors) v.power *= 2;
+        for (auto& p : doubled.layers[k].points) p.energy *= 2;
+    }
+    ExposureGrid grid = ExposureGrid::covering(-0.4, -0.4, 0.4, 0.4, 0.1, 0.01, 1);
+    ExposureEngine engine(grid, BEAM, h);
+    auto ea = exposeAll(engine, a), eb = exposeAll(engine, b), es = exposeAll(engine, sum), ed = exposeAll(engine, doubled);
+    for (int k = 0; k < 3; ++k)
+        for (size_t c = 0; c < ea[k][0].values.size(); c += 13) {
+            CHECK(es[k][0].values[c] == Approx(ea[k][0].values[c] + eb[k][0].values[c]).epsilon(1e-5).margin(1e-7));
+            CHECK(ed[k][0].values[c] == Approx(2 * ea[k][0].values[c]).epsilon(1e-5).margin(1e-7));
+        }
+}
+
+// The shader path and the CPU path compile the same exposure.glsl; they may differ only by float
+// rounding and exp() implementations: 1e-5 relative.
+TEST_CASE("GPU and CPU exposure agree", "[exposure][gpu]") {
+    auto ctx = test::gpuContext();
+    const double h = 0.05;
+    plan::ScanPlan plan = randomPlan(4, h, 21);
+    ExposureGrid grid = ExposureGrid::covering(-0.4, -0.4, 0.4, 0.4, 0.1, 0.01, 2);
+    ExposureEngine cpu(grid, BEAM, h), gpu(grid, BEAM, h, ctx);
+    REQUIRE(gpu.usesGpu());
+    auto ec = exposeAll(cpu, plan), eg = exposeAll(gpu, plan);
+    for (int k = 0; k < 4; ++k)
+        for (int s = 0; s < 2; ++s)
+            for (size_t c = 0; c < ec[k][s].values.size(); ++c)
+                REQUIRE(eg[k][s].values[c] == Approx(ec[k][s].values[c]).epsilon(1e-5).margin(1e-8));
+    VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
+}
+
+TEST_CASE("impossible exposure parameters are refused clearly", "[exposure]") {
+    ExposureGrid grid = ExposureGrid::covering(0, 0, 1, 1, 0, 0.01, 1);
+    CHECK_THROWS_AS(ExposureEngine(grid, {0.0, 0.1}, 0.05), InputError);
+    CHECK_THROWS_AS(ExposureEngine(grid, {0.05, -1.0}, 0.05), InputError);
+    CHECK_THROWS_AS(ExposureEngine(grid, BEAM, 0.0), InputError);
+    CHECK_THROWS_WITH(ExposureEngine(grid, {0.005, 0.1}, 0.05), Catch::Matchers::Contains("coarser than the beam"));
+    ExposureGrid huge = ExposureGrid::covering(0, 0, 1000, 1000, 0, 0.01, 1);
+    CHECK_THROWS_WITH(ExposureEngine(huge, BEAM, 0.05), Catch::Matchers::Contains("use a coarser pitch"));
+}
