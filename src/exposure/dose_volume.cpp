@@ -1,18 +1,39 @@
 #include "vpsim/exposure/dose_volume.h"
 
+#include <algorithm>
+#include <climits>
 #include <cmath>
 
 #include <openvdb/openvdb.h>
+#include <openvdb/tools/Dense.h>
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
 
 namespace vpsim::exposure {
 
+// Slices arrive one at a time (top down). They are buffered in blocks of 8 z-slices aligned
+// with OpenVDB's 8^3 leaves, so each leaf is built once, in parallel, without merging.
+constexpr int BLOCK = 8;
+
 struct DoseVolume::Impl {
     openvdb::FloatGrid::Ptr grid;
     double voxelHeight, zBottom;
     float threshold;
+    int nx = 0, ny = 0;
+    int block = INT32_MIN;      ///< index (k / 8) of the buffered block
+    std::vector<float> buffer;  ///< nx * ny * 8 values, x fastest, then y, then z
+    bool dirty = false;
+
+    void flush() {
+        if (!dirty) return;
+        openvdb::CoordBBox box(openvdb::Coord(0, 0, block * BLOCK),
+                               openvdb::Coord(nx - 1, ny - 1, block * BLOCK + BLOCK - 1));
+        openvdb::tools::Dense<const float, openvdb::tools::LayoutXYZ> dense(box, buffer.data());
+        openvdb::tools::copyFromDense(dense, *grid, threshold);
+        std::fill(buffer.begin(), buffer.end(), 0.0f);
+        dirty = false;
+    }
 };
 
 DoseVolume::DoseVolume(const ExposureGrid& grid, double voxelHeight, double zBottom, float threshold,
@@ -30,6 +51,9 @@ DoseVolume::DoseVolume(const ExposureGrid& grid, double voxelHeight, double zBot
                                         zBottom + 0.5 * voxelHeight));
     mImpl->grid->setTransform(openvdb::math::Transform::createLinearTransform(matrix));
     mImpl->grid->insertMeta("units", openvdb::StringMetadata("mJ/mm^2, world coordinates in mm"));
+    mImpl->nx = grid.nx;
+    mImpl->ny = grid.ny;
+    mImpl->buffer.assign(size_t(grid.nx) * grid.ny * BLOCK, 0.0f);
     mImpl->voxelHeight = voxelHeight;
     mImpl->zBottom = zBottom;
     mImpl->threshold = threshold;
@@ -39,16 +63,21 @@ DoseVolume::~DoseVolume() = default;
 
 void DoseVolume::add(const ExposureSlice& slice) {
     const SurfaceGrid& values = *slice.values;
-    int k = int(std::lround((slice.z - mImpl->zBottom) / mImpl->voxelHeight - 0.5));
-    auto accessor = mImpl->grid->getAccessor();
-    for (int j = 0; j < values.ny; ++j)
-        for (int i = 0; i < values.nx; ++i) {
-            float v = values.at(i, j);
-            if (v >= mImpl->threshold) accessor.setValue(openvdb::Coord(i, j, k), v);
-        }
+    Impl& m = *mImpl;
+    if (values.nx != m.nx || values.ny != m.ny) throw ResourceError("exposure slice does not match the dose volume");
+    int k = int(std::lround((slice.z - m.zBottom) / m.voxelHeight - 0.5));
+    int block = k >= 0 ? k / BLOCK : -((-k + BLOCK - 1) / BLOCK);
+    if (block != m.block) {
+        m.flush();
+        m.block = block;
+    }
+    // Values within `threshold` of the background 0 stay inactive when the block is copied.
+    std::copy(values.values.begin(), values.values.end(), m.buffer.begin() + size_t(k - block * BLOCK) * m.nx * m.ny);
+    m.dirty = true;
 }
 
 void DoseVolume::write(const std::string& path) const {
+    mImpl->flush();
     writePathAtomic(path, [&](const std::string& temporary) {
         try {
             openvdb::io::File file(temporary);
@@ -60,18 +89,26 @@ void DoseVolume::write(const std::string& path) const {
     });
 }
 
-uint64_t DoseVolume::activeVoxels() const { return mImpl->grid->activeVoxelCount(); }
+uint64_t DoseVolume::activeVoxels() const {
+    mImpl->flush();
+    return mImpl->grid->activeVoxelCount();
+}
 
 float DoseVolume::maxValue() const {
+    mImpl->flush();
     float hi = 0.0f;
     for (auto it = mImpl->grid->cbeginValueOn(); it; ++it) hi = std::max(hi, *it);
     return hi;
 }
 
 float DoseVolume::value(int i, int j, int k) const {
+    mImpl->flush();
     return mImpl->grid->getConstAccessor().getValue(openvdb::Coord(i, j, k));
 }
 
-uint64_t DoseVolume::memoryBytes() const { return mImpl->grid->memUsage(); }
+uint64_t DoseVolume::memoryBytes() const {
+    mImpl->flush();
+    return mImpl->grid->memUsage();
+}
 
 } // namespace vpsim::exposure

@@ -18,6 +18,8 @@ public:
                const std::string& name = "exposure");
     ~DoseVolume();
     /// A SliceSink adding each slice at its voxel index k = round((z - zBottom)/voxelHeight - 0.5).
+    /// Slices are buffered by blocks of 8 in z; they should arrive block by block (as the engine's
+    /// top-down order does): a slice for an already flushed block is merged, more slowly.
     void add(const ExposureSlice& slice);
     /// Writes the grid as .vdb (atomic). @throw InputError when the file cannot be written
     void write(const std::string& path) const;
