@@ -6,36 +6,6 @@
 namespace vpsim::exposure {
 namespace {
 
-/// Adds energy-per-length `q` (mJ/mm) along the segment, split by the exact path length inside
-/// each cell (a grid walk in the style of Amanatides & Woo).
-void depositSegment(SurfaceGrid& grid, double x0, double y0, double x1, double y1, double q) {
-    double length = std::hypot(x1 - x0, y1 - y0);
-    if (length <= 0 || q <= 0) return;
-    // Cut the segment at every vertical and horizontal cell boundary it crosses.
-    std::vector<double> cuts{0.0, 1.0};
-    auto addCuts = [&](double a0, double a1, double origin) {
-        if (a0 == a1) return;
-        double lo = std::min(a0, a1), hi = std::max(a0, a1);
-        for (double k = std::ceil((lo - origin) / grid.pitch); origin + k * grid.pitch < hi; k += 1.0) {
-            double t = (origin + k * grid.pitch - a0) / (a1 - a0);
-            if (t > 0 && t < 1) cuts.push_back(t);
-        }
-    };
-    addCuts(x0, x1, grid.originX);
-    addCuts(y0, y1, grid.originY);
-    std::sort(cuts.begin(), cuts.end());
-    const double perArea = q / (grid.pitch * grid.pitch);
-    for (size_t c = 0; c + 1 < cuts.size(); ++c) {
-        double t0 = cuts[c], t1 = cuts[c + 1];
-        if (t1 <= t0) continue;
-        double tm = 0.5 * (t0 + t1);
-        int i = int(std::floor((x0 + tm * (x1 - x0) - grid.originX) / grid.pitch));
-        int j = int(std::floor((y0 + tm * (y1 - y0) - grid.originY) / grid.pitch));
-        if (i < 0 || j < 0 || i >= grid.nx || j >= grid.ny) continue;
-        grid.at(i, j) += float(perArea * (t1 - t0) * length);
-    }
-}
-
 void depositPoint(SurfaceGrid& grid, double x, double y, double energy) {
     double fx = (x - grid.originX) / grid.pitch - 0.5, fy = (y - grid.originY) / grid.pitch - 0.5;
     int i = int(std::floor(fx)), j = int(std::floor(fy));
@@ -46,6 +16,21 @@ void depositPoint(SurfaceGrid& grid, double x, double y, double energy) {
     for (int k = 0; k < 4; ++k) {
         int ii = i + di[k], jj = j + dj[k];
         if (ii >= 0 && jj >= 0 && ii < grid.nx && jj < grid.ny) grid.at(ii, jj) += float(perArea * weights[k]);
+    }
+}
+
+/// Adds energy-per-length `q` (mJ/mm) along the segment as closely spaced samples (at most a
+/// quarter cell apart), each splatted bilinearly. Bilinear splatting keeps every sample's centre
+/// of energy exact, so a scan line off the cell centres is not snapped to a row: snapping would
+/// alias hatch spacings against the grid into a ripple of several percent.
+void depositSegment(SurfaceGrid& grid, double x0, double y0, double x1, double y1, double q) {
+    double length = std::hypot(x1 - x0, y1 - y0);
+    if (length <= 0 || q <= 0) return;
+    long samples = std::max(1L, long(std::ceil(length / (0.25 * grid.pitch))));
+    double energy = q * length / double(samples);
+    for (long s = 0; s < samples; ++s) {
+        double t = (s + 0.5) / double(samples);
+        depositPoint(grid, x0 + t * (x1 - x0), y0 + t * (y1 - y0), energy);
     }
 }
 

@@ -39,7 +39,9 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+        std::cerr << "vpsim: error: " << e.what() << " (see vpsim --help)" << std::endl;
+        return e.get_exit_code();
     } catch (const Error& e) {
         std::cerr << "vpsim: error: " << e.what() << std::endl;
         return 1;

@@ -12,8 +12,9 @@ namespace vpsim::exposure {
 
 /// Adds the deposit of `layer` to `grid` (mJ/mm^2). Energy outside the grid is dropped; the
 /// caller sizes the grid with a margin of a few beam radii around the part.
-/// Vectors: exact length of the path in each cell; points: bilinear splat between the four
-/// nearest cell centres; masks: exact area overlap of mask pixels with cells.
+/// Points: bilinear splat between the four nearest cell centres (exact energy and centre of
+/// energy); vectors: samples at most a quarter cell apart, each splatted the same way; masks:
+/// exact area overlap of mask pixels with cells.
 void depositLayer(const plan::LayerPlan& layer, SurfaceGrid& grid);
 
 } // namespace vpsim::exposure

@@ -1,0 +1,158 @@
+#include "vpsim/plan/aces.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "vpsim/core/error.h"
+
+namespace vpsim::plan {
+namespace {
+
+/// Exposure of a field of lines at positions l * rh (l from lFirst to lLast) at y, in units
+/// where a single line peaks at sqrt(2/pi) and the infinite field averages 1/rh (y, rh in W).
+double fieldExposure(double y, double rh, long lFirst, long lLast) {
+    double sum = 0;
+    for (long l = lFirst; l <= lLast; ++l) {
+        double d = y - double(l) * rh;
+        sum += std::exp(-2.0 * d * d);
+    }
+    return std::sqrt(2.0 / M_PI) * sum;
+}
+
+glm::dvec2 rotate(const glm::dvec2& p, double angle) {
+    double c = std::cos(angle), s = std::sin(angle);
+    return {c * p.x - s * p.y, s * p.x + c * p.y};
+}
+
+} // namespace
+
+double acesTargetDose(double criticalDose, double layerThickness, double depthOfMaximum, double attenuationLength) {
+    double h = layerThickness - depthOfMaximum;
+    return criticalDose / std::exp(-std::max(h, 0.0) / attenuationLength);
+}
+
+double acesRipple(double hatchRatio) {
+    const double rh = hatchRatio;
+    const long reach = long(std::ceil(4.0 / rh)) + 2;  // lines beyond 4 W contribute < e^-32
+    const int samples = 256;
+    double sum = 0, sumSq = 0;
+    for (int s = 0; s < samples; ++s) {
+        double e = fieldExposure((s + 0.5) / samples * rh, rh, -reach, reach);
+        sum += e;
+        sumSq += e * e;
+    }
+    double mean = sum / samples;
+    return std::sqrt(std::max(0.0, sumSq / samples - mean * mean)) / mean;
+}
+
+double acesHatchRatio(double homogeneity) {
+    if (!(homogeneity > 0)) throw InputError("ACES homogeneity (relative standard deviation) must be positive");
+    double lo = 0.05, hi = 3.0;
+    if (acesRipple(hi) <= homogeneity) return hi;
+    for (int i = 0; i < 60; ++i) {  // the ripple grows monotonically with rh on this range
+        double mid = 0.5 * (lo + hi);
+        (acesRipple(mid) <= homogeneity ? lo : hi) = mid;
+    }
+    return lo;
+}
+
+double acesEdgeDistance(double hatchRatio, double fraction) {
+    const double rh = hatchRatio, plateau = 1.0 / rh;
+    const long reach = long(std::ceil(6.0 / rh)) + 2;
+    auto relative = [&](double y) { return fieldExposure(y, rh, -reach, 0) / plateau; };
+    double lo = -2.0, hi = 4.0;  // relative(lo) > fraction > relative(hi) for fractions in (0, 0.5)
+    for (int i = 0; i < 80; ++i) {
+        double mid = 0.5 * (lo + hi);
+        (relative(mid) > fraction ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+double longestEdgeDirection(const geometry::PolygonSet& region) {
+    double best = -1, direction = 0;
+    for (const auto& contour : region.contours())
+        for (size_t i = 0; i < contour.size(); ++i) {
+            glm::dvec2 d = contour[(i + 1) % contour.size()] - contour[i];
+            double length = std::hypot(d.x, d.y);
+            if (length > best + 1e-12) {
+                best = length;
+                direction = std::atan2(d.y, d.x);
+            }
+        }
+    direction = std::fmod(direction + 2 * M_PI, M_PI);
+    return direction;
+}
+
+AcesDesign designAces(const AcesParameters& p, const geometry::PolygonSet& region) {
+    if (!(p.beamRadius > 0) || !(p.attenuationLength > 0) || !(p.criticalDose > 0) || !(p.layerThickness > 0) ||
+        !(p.laserPower > 0))
+        throw InputError("ACES needs a positive beam radius, attenuation length, critical dose, layer thickness "
+                         "and laser power");
+    if (region.empty()) throw InputError("ACES: the layer region is empty");
+    AcesDesign design;
+    design.targetDose = acesTargetDose(p.criticalDose, p.layerThickness, p.depthOfMaximum, p.attenuationLength);
+    design.direction = p.direction ? *p.direction : longestEdgeDirection(region);
+    double maxRatio = acesHatchRatio(p.homogeneity);
+    double fraction = p.edge == AcesEdge::SeedFivePercent ? 0.05 : p.criticalDose / design.targetDose;
+    design.edgeOffset = acesEdgeDistance(maxRatio, fraction) * p.beamRadius;
+    // Eq. 15: a whole number of spaces across the field's width H perpendicular to the lines.
+    geometry::PolygonSet field = region.offset(-design.edgeOffset);
+    double lo = 1e300, hi = -1e300;
+    for (const auto& contour : field.contours())
+        for (const auto& v : contour) {
+            double across = rotate(v, -design.direction).y;
+            lo = std::min(lo, across);
+            hi = std::max(hi, across);
+        }
+    double width = hi > lo ? hi - lo : 0.0, maxSpacing = maxRatio * p.beamRadius;
+    design.hatchSpacing = width > 0 ? width / std::ceil(width / maxSpacing) : maxSpacing;
+    design.ripple = acesRipple(design.hatchSpacing / p.beamRadius);
+    design.speed = p.laserPower / (design.targetDose * design.hatchSpacing);  // Eq. C.9
+    return design;
+}
+
+std::vector<LaserVector> hatchRegion(const geometry::PolygonSet& region, double spacing, double direction,
+                                     double power, double speed) {
+    if (!(spacing > 0) || !(speed > 0)) throw InputError("hatching needs a positive spacing and speed");
+    std::vector<geometry::Contour> contours = region.contours();
+    for (auto& contour : contours)
+        for (auto& v : contour) v = rotate(v, -direction);  // scan lines become horizontal
+    double lo = 1e300, hi = -1e300;
+    for (const auto& contour : contours)
+        for (const auto& v : contour) lo = std::min(lo, v.y), hi = std::max(hi, v.y);
+    std::vector<LaserVector> vectors;
+    if (!(hi > lo)) return vectors;
+    long lines = long(std::floor((hi - lo) / spacing + 1e-9)) + 1;
+    const double nudge = 1e-9 * std::max(1.0, hi - lo);  // keep the extreme lines off horizontal edges
+    std::vector<double> xs;
+    for (long k = 0; k < lines; ++k) {
+        double y = std::clamp(lo + k * spacing, lo + nudge, hi - nudge);
+        xs.clear();
+        for (const auto& contour : contours)
+            for (size_t i = 0; i < contour.size(); ++i) {
+                const glm::dvec2 &a = contour[i], &b = contour[(i + 1) % contour.size()];
+                if ((a.y <= y) != (b.y <= y)) xs.push_back(a.x + (y - a.y) / (b.y - a.y) * (b.x - a.x));
+            }
+        std::sort(xs.begin(), xs.end());
+        bool reverse = k % 2 == 1;
+        std::vector<LaserVector> row;
+        for (size_t i = 0; i + 1 < xs.size(); i += 2) {
+            glm::dvec2 a = rotate({xs[i], y}, direction), b = rotate({xs[i + 1], y}, direction);
+            if (reverse) std::swap(a, b);
+            row.push_back({a.x, a.y, b.x, b.y, power, speed});
+        }
+        if (reverse) std::reverse(row.begin(), row.end());
+        vectors.insert(vectors.end(), row.begin(), row.end());
+    }
+    return vectors;
+}
+
+LayerPlan planAcesLayer(const geometry::PolygonSet& region, const AcesDesign& design, double laserPower, double z) {
+    LayerPlan layer;
+    layer.z = z;
+    layer.vectors = hatchRegion(region.offset(-design.edgeOffset), design.hatchSpacing, design.direction, laserPower,
+                                design.speed);
+    return layer;
+}
+
+} // namespace vpsim::plan
