@@ -6,6 +6,7 @@
 
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Dense.h>
+#include <openvdb/tools/VolumeToMesh.h>
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
@@ -104,6 +105,25 @@ float DoseVolume::maxValue() const {
 float DoseVolume::value(int i, int j, int k) const {
     mImpl->flush();
     return mImpl->grid->getConstAccessor().getValue(openvdb::Coord(i, j, k));
+}
+
+geometry::Mesh DoseVolume::isosurface(float isoValue) const {
+    mImpl->flush();
+    std::vector<openvdb::Vec3s> points;
+    std::vector<openvdb::Vec3I> triangles;
+    std::vector<openvdb::Vec4I> quads;
+    openvdb::tools::volumeToMesh(*mImpl->grid, points, triangles, quads, double(isoValue));
+    geometry::Mesh mesh;
+    mesh.vertices.reserve(points.size());
+    for (const auto& p : points) mesh.vertices.emplace_back(p.x(), p.y(), p.z());
+    // volumeToMesh orients faces for level sets (inside = below the iso-value); the cured
+    // region is above it, so every face is reversed to point out of the cured part.
+    for (const auto& t : triangles) mesh.triangles.push_back({t[2], t[1], t[0]});
+    for (const auto& q : quads) {
+        mesh.triangles.push_back({q[2], q[1], q[0]});
+        mesh.triangles.push_back({q[3], q[2], q[0]});
+    }
+    return mesh;
 }
 
 uint64_t DoseVolume::memoryBytes() const {

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "vpsim/exposure/exposure_engine.h"
+#include "vpsim/geometry/mesh.h"
 
 namespace vpsim::exposure {
 
@@ -29,6 +30,9 @@ public:
     float maxValue() const;
     /// Value at voxel (i, j, k) (background 0 when not stored).
     float value(int i, int j, int k) const;
+    /// The iso-surface where the exposure equals `isoValue` (the cured part's surface at the
+    /// critical dose), triangulated with outward normals, in mm (OpenVDB volumeToMesh).
+    geometry::Mesh isosurface(float isoValue) const;
     /// Memory used by the grid, bytes.
     uint64_t memoryBytes() const;
 

@@ -1,0 +1,144 @@
+#include "vpsim/validate/slice_validator.h"
+
+#include <algorithm>
+
+#include <nlohmann/json.hpp>
+
+#include "vpsim/core/error.h"
+#include "vpsim/geometry/raster.h"
+#include "vpsim/geometry/slicer.h"
+
+namespace vpsim::validate {
+
+double LayerComparison::xyContourError() const {
+    if (referencePerimeter <= 0) return 0.0;
+    double symmetricDifference = referenceArea + curedArea - 2 * intersectionArea;
+    return symmetricDifference / referencePerimeter;
+}
+
+struct SliceValidator::State {
+    const geometry::Mesh& part;
+    exposure::ExposureGrid grid;
+    double criticalDose, voxelHeight;
+    geometry::RasterGrid raster;
+    std::vector<uint8_t> referenceAbove;  ///< reference solid in the slice above, per column
+    std::vector<uint8_t> inRun;           ///< column is in cured resin directly below the reference
+    std::vector<float> run;               ///< depth of that run so far (mm)
+    uint64_t intersection = 0, unionCount = 0, cured = 0, reference = 0;
+    double runSum = 0, runMax = 0;
+    long downFacing = 0;
+    std::vector<LayerComparison> layers;
+
+    State(const geometry::Mesh& mesh, const exposure::ExposureGrid& g, double ec, double dz)
+        : part(mesh), grid(g), criticalDose(ec), voxelHeight(dz) {
+        raster.origin = {g.originX, g.originY};
+        raster.pitch = g.pitch;
+        raster.width = g.nx;
+        raster.height = g.ny;
+        size_t cells = size_t(g.nx) * g.ny;
+        referenceAbove.assign(cells, 0);
+        inRun.assign(cells, 0);
+        run.assign(cells, 0.0f);
+    }
+
+    void finishRun(size_t c) {
+        runSum += run[c];
+        runMax = std::max(runMax, double(run[c]));
+        inRun[c] = 0;
+        run[c] = 0;
+    }
+};
+
+SliceValidator::SliceValidator(const geometry::Mesh& part, const exposure::ExposureGrid& grid, double criticalDose,
+                               double voxelHeight)
+    : mState(std::make_unique<State>(part, grid, criticalDose, voxelHeight)) {
+    if (!(criticalDose > 0)) throw InputError("validation needs a positive critical dose");
+    if (!(voxelHeight > 0)) throw InputError("validation needs a positive voxel height");
+}
+
+SliceValidator::~SliceValidator() = default;
+
+void SliceValidator::add(const exposure::ExposureSlice& slice) {
+    State& s = *mState;
+    const std::vector<float>& dose = slice.values->values;
+    if (dose.size() != s.referenceAbove.size()) throw ResourceError("exposure slice does not match the validation grid");
+    geometry::PolygonSet region = geometry::sliceAt(s.part, slice.z);
+    std::vector<uint8_t> reference = geometry::rasterizeBinary(region, s.raster);
+    uint64_t inter = 0, curedHere = 0, referenceHere = 0;
+    for (size_t c = 0; c < dose.size(); ++c) {
+        bool r = reference[c] != 0, cu = dose[c] >= s.criticalDose;
+        inter += r && cu;
+        curedHere += cu;
+        referenceHere += r;
+        s.unionCount += r || cu;
+        if (r) {
+            if (s.inRun[c]) s.finishRun(c);
+        } else {
+            if (s.referenceAbove[c]) {  // the reference's down-facing surface lies just above
+                ++s.downFacing;
+                s.inRun[c] = 1;
+                s.run[c] = 0;
+            }
+            if (s.inRun[c]) {
+                if (cu) s.run[c] += float(s.voxelHeight);
+                else s.finishRun(c);
+            }
+        }
+        s.referenceAbove[c] = r;
+    }
+    s.intersection += inter;
+    s.cured += curedHere;
+    s.reference += referenceHere;
+    if (slice.slice == s.grid.slicesPerLayer / 2) {
+        const double cellArea = s.grid.pitch * s.grid.pitch;
+        LayerComparison layer;
+        layer.layer = slice.layer;
+        layer.z = slice.z;
+        layer.referenceArea = double(referenceHere) * cellArea;
+        layer.curedArea = double(curedHere) * cellArea;
+        layer.intersectionArea = double(inter) * cellArea;
+        layer.referencePerimeter = region.perimeter();
+        s.layers.push_back(layer);
+    }
+}
+
+SliceValidationSummary SliceValidator::summary() const {
+    State& s = *mState;
+    for (size_t c = 0; c < s.inRun.size(); ++c)
+        if (s.inRun[c]) s.finishRun(c);  // runs reaching the bottom of the simulated volume
+    SliceValidationSummary out;
+    const double voxelVolume = s.grid.pitch * s.grid.pitch * s.voxelHeight;
+    out.iou = s.unionCount ? double(s.intersection) / double(s.unionCount) : 0.0;
+    out.curedVolume = double(s.cured) * voxelVolume;
+    out.referenceVolume = double(s.reference) * voxelVolume;
+    out.downFacingColumns = s.downFacing;
+    out.overcureBelowDownFacingMax = s.runMax;
+    out.overcureBelowDownFacingMean = s.downFacing ? s.runSum / double(s.downFacing) : 0.0;
+    out.layers.assign(s.layers.rbegin(), s.layers.rend());
+    int counted = 0;
+    for (const auto& layer : out.layers)
+        if (layer.referencePerimeter > 0) {
+            out.xyContourErrorMean += layer.xyContourError();
+            out.xyContourErrorMax = std::max(out.xyContourErrorMax, layer.xyContourError());
+            ++counted;
+        }
+    if (counted) out.xyContourErrorMean /= counted;
+    return out;
+}
+
+nlohmann::json SliceValidationSummary::toJson() const {
+    nlohmann::json perLayer = nlohmann::json::array();
+    for (const auto& l : layers)
+        perLayer.push_back({{"layer", l.layer}, {"z", l.z}, {"reference_area_mm2", l.referenceArea},
+                            {"cured_area_mm2", l.curedArea}, {"xy_contour_error_mm", l.xyContourError()}});
+    return {{"iou", iou},
+            {"cured_volume_mm3", curedVolume},
+            {"reference_volume_mm3", referenceVolume},
+            {"overcure_below_downfacing_mm", {{"max", overcureBelowDownFacingMax},
+                                              {"mean", overcureBelowDownFacingMean},
+                                              {"columns", downFacingColumns}}},
+            {"xy_contour_error_mm", {{"mean", xyContourErrorMean}, {"max", xyContourErrorMax}}},
+            {"layers", perLayer}};
+}
+
+} // namespace vpsim::validate
