@@ -58,6 +58,7 @@ ExposureEngine::ExposureEngine(const ExposureGrid& grid, const SeparableBeam& be
     if (grid.slicesPerLayer < 1) throw InputError("at least one voxel slice per layer is needed");
     if (!(beam.radius > 0)) throw InputError("beam radius (We3D) must be positive");
     if (!(beam.attenuationLength > 0)) throw InputError("attenuation length (De3D) must be positive");
+    if (!(beam.efficiency > 0)) throw InputError("beam efficiency must be positive");
     if (!(layerThickness > 0)) throw InputError("layer thickness must be positive");
     if (beam.radius < grid.pitch)
         throw InputError("grid pitch " + std::to_string(grid.pitch * 1e3) + " um is coarser than the beam radius " +
@@ -75,15 +76,17 @@ ExposureEngine::~ExposureEngine() = default;
 void ExposureEngine::blurAndAccumulate(SurfaceGrid& deposit, SurfaceGrid& running, float decay, double& seconds) {
     const float sigmaCells = float(0.5 * mBeam.radius / mGrid.pitch);
     const int halfWidth = blurHalfWidth(mBeam.radius, mGrid.pitch);
-    const float norm = glsl::gaussianNorm(halfWidth, sigmaCells);
+    // The efficiency scales the second pass's normalisation, so it costs nothing per tap.
+    const float normX = glsl::gaussianNorm(halfWidth, sigmaCells);
+    const float normY = float(normX / mBeam.efficiency);
     if (mGpu) {
-        seconds += mGpu->blurAndAccumulate(deposit, running, halfWidth, sigmaCells, norm, decay);
+        seconds += mGpu->blurAndAccumulate(deposit, running, halfWidth, sigmaCells, normX, normY, decay);
         return;
     }
     auto start = std::chrono::steady_clock::now();
     SurfaceGrid pass(deposit.nx, deposit.ny, deposit.originX, deposit.originY, deposit.pitch);
-    blurPassCpu(deposit, pass, 0, halfWidth, sigmaCells, norm);
-    blurPassCpu(pass, deposit, 1, halfWidth, sigmaCells, norm);
+    blurPassCpu(deposit, pass, 0, halfWidth, sigmaCells, normX);
+    blurPassCpu(pass, deposit, 1, halfWidth, sigmaCells, normY);
     for (size_t c = 0; c < running.values.size(); ++c)
         running.values[c] = glsl::printThroughStep(deposit.values[c], running.values[c], decay);
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -17,7 +17,7 @@ ExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> context_, int n
 }
 
 double ExposureEngine::GpuState::blurAndAccumulate(SurfaceGrid& hostDeposit, SurfaceGrid& hostRunning, int halfWidth,
-                                                   float sigmaCells, float norm, float decay) {
+                                                   float sigmaCells, float normX, float normY, float decay) {
     deposit.upload(hostDeposit.values);
     running.upload(hostRunning.values);
     glsl::ExposureBlurParams alongX{};
@@ -26,9 +26,10 @@ double ExposureEngine::GpuState::blurAndAccumulate(SurfaceGrid& hostDeposit, Sur
     alongX.axis = 0;
     alongX.halfWidth = halfWidth;
     alongX.sigmaCells = sigmaCells;
-    alongX.norm = norm;
+    alongX.norm = normX;
     glsl::ExposureBlurParams alongY = alongX;
     alongY.axis = 1;
+    alongY.norm = normY;
     glsl::ExposureRecursionParams step{};
     step.count = nx * ny;
     step.decay = decay;

@@ -12,7 +12,7 @@ struct ExposureEngine::GpuState {
     /// Blurs `deposit` in place (on return it holds B) and updates `running` = B + decay * running.
     /// Returns GPU seconds.
     double blurAndAccumulate(SurfaceGrid& deposit, SurfaceGrid& running, int halfWidth, float sigmaCells,
-                             float norm, float decay);
+                             float normX, float normY, float decay);
 
     std::shared_ptr<gpu::Context> context;
     uint32_t nx, ny;

@@ -44,5 +44,14 @@ if "$vpsim" mie --help >/dev/null 2>&1; then
   expect_ok '"qext"' mie --m 1.5-0.1i --x 10 --angles 0,140,180 --json
 fi
 
+if "$vpsim" calibrate --help >/dev/null 2>&1; then
+  table1="$source/../shared/reference/seed001_table1_working_curve.csv"
+  if [[ -f "$table1" ]]; then
+    expect_ok '"penetration_depth_mm": 0.3659' calibrate --working-curve "$table1" --gel-point 0.276 --json
+  fi
+  printf 'dose_mJ_per_cm2,thickness_mm\n100,0.2\n200,x\n' > "$work/bad_wc.csv"
+  expect_error "bad_wc.csv:3: .*'x'" calibrate --working-curve "$work/bad_wc.csv"
+fi
+
 echo "cli: $passed passed, $failed failed"
 [[ $failed -eq 0 ]]

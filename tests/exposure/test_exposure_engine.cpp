@@ -158,3 +158,19 @@ TEST_CASE("impossible exposure parameters are refused clearly", "[exposure]") {
     ExposureGrid huge = ExposureGrid::covering(0, 0, 1000, 1000, 0, 0.01, 1);
     CHECK_THROWS_WITH(ExposureEngine(huge, BEAM, 0.05), Catch::Matchers::Contains("use a coarser pitch"));
 }
+
+// The beam efficiency scales the exposure once (linearity in the kernel amplitude), on both paths.
+TEST_CASE("the beam efficiency scales the exposure linearly", "[exposure][gpu]") {
+    auto ctx = test::gpuContext();
+    plan::ScanPlan plan = randomPlan(2, 0.05, 5);
+    ExposureGrid grid = ExposureGrid::covering(-0.4, -0.4, 0.4, 0.4, 0.1, 0.01, 1);
+    SeparableBeam scaled = BEAM;
+    scaled.efficiency = 2.5;
+    for (auto context : {std::shared_ptr<gpu::Context>(), ctx}) {
+        ExposureEngine plain(grid, BEAM, 0.05, context), efficient(grid, scaled, 0.05, context);
+        auto a = exposeAll(plain, plan), b = exposeAll(efficient, plan);
+        for (size_t c = 0; c < a[0][0].values.size(); c += 7)
+            CHECK(b[0][0].values[c] == Approx(2.5 * a[0][0].values[c]).epsilon(1e-5).margin(1e-8));
+    }
+    VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
+}
