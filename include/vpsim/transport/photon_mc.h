@@ -1,0 +1,137 @@
+#pragma once
+/// @file
+/// Photon Monte Carlo of light entering a turbid medium (seed 000 Section II-B): a pencil or
+/// Gaussian beam at normal incidence on a slab or a semi-infinite medium, Fresnel reflection at
+/// both surfaces, analog absorption, scattering by Henyey-Greenstein or a tabulated (Mie) phase
+/// function. The physics is shaders/include/photon_step.glsl, run by a Vulkan compute shader or
+/// by the CPU (TBB) from the same source.
+///
+/// Weight is counted in integer quanta: a launched photon carries McResult::launchWeight quanta,
+/// the specular part is split off at entry, and the rest ends, whole, in exactly one of diffuse
+/// reflectance, transmittance, absorption or lateral escape. Hence
+/// launched = specular + diffuse + transmitted + absorbed + escaped holds exactly.
+/// Photon i uses the random stream rngSeed(seed, i), so a seed gives the same integer tallies on
+/// any thread count; the CPU and GPU agree within statistics (their log/sin/cos differ in the
+/// last bits, so individual trajectories eventually part).
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "vpsim/optics/material.h"
+
+namespace vpsim::gpu {
+class Context;
+}
+
+namespace vpsim::transport {
+
+/// Beam at normal incidence: a pencil on the axis, or Gaussian of 1/e^2 intensity radius W0 (Eq. 6).
+enum class BeamShape { Pencil, Gaussian };
+
+/// Cylindrical (r, z) bins for the absorbed weight: rBins x zBins bins of rMax/rBins by
+/// zMax/zBins, r from the beam axis, z from the top surface. Absorption outside still counts in
+/// the totals.
+struct CylindricalGrid {
+    double rMax = 0.2;  ///< mm
+    double zMax = 0.2;  ///< mm
+    uint32_t rBins = 40;
+    uint32_t zBins = 40;
+};
+
+/// Optional Cartesian tally: nxy x nxy x nz voxels of edge `voxel`, centred on the beam axis in x
+/// and y, from z = 0 down. nxy == 0 switches it off.
+struct CartesianGrid {
+    double voxel = 0.005;  ///< mm
+    uint32_t nxy = 0;
+    uint32_t nz = 0;
+};
+
+/// One Monte Carlo run.
+struct McSetup {
+    optics::MediumOptics optics;   ///< medium (mua, mus in 1/mm, g, refractive index, phase)
+    double thickness = 0.0;        ///< slab thickness, mm; 0 = semi-infinite
+    double nAbove = 1.0;           ///< refractive index above the top surface
+    double nBelow = 1.0;           ///< refractive index below the slab (unused when semi-infinite)
+    BeamShape beam = BeamShape::Pencil;
+    double w0 = 0.05;              ///< Gaussian beam 1/e^2 intensity radius W0 (Eq. 6), mm
+    double lateralRadius = 0.0;    ///< photons interacting beyond this radius escape; 0 = unbounded
+    uint64_t photons = 100000;     ///< photons launched (at most MAX_PHOTONS)
+    uint32_t seed = 1;
+    CylindricalGrid bins;
+    CartesianGrid grid;
+    std::vector<double> depths;    ///< up to 4 depths (mm) for McResult::absorbedWithin
+};
+
+/// Most photons one run may launch (photon indices are 32-bit).
+constexpr uint64_t MAX_PHOTONS = 4000000000ull;
+/// Batches used for the standard errors (photon i is in batch i % MC_BATCHES).
+constexpr int MC_BATCHES = 16;
+
+/// A fraction of the launched weight with its standard error from the batch spread.
+struct Fraction {
+    double value = 0.0;
+    double standardError = 0.0;
+};
+
+/// Integer tallies of one batch, in weight quanta (scatterings is a count).
+struct BatchTally {
+    uint64_t photons = 0, specular = 0, diffuse = 0, transmitted = 0, absorbed = 0, escaped = 0,
+             scatterings = 0;
+    std::array<uint64_t, 4> absorbedWithin{};
+};
+
+/// Tallies of a run and the fractions derived from them (all fractions are of the launched weight).
+struct McResult {
+    McSetup setup;                            ///< the setup that produced it
+    uint64_t launchWeight = 0;                ///< quanta per launched photon
+    std::array<BatchTally, MC_BATCHES> batches;
+    std::vector<uint64_t> absorbedRZ;         ///< quanta per cylindrical bin, [iz * rBins + ir]
+    std::vector<uint64_t> absorbedGrid;       ///< quanta per Cartesian voxel, [(iz*nxy+iy)*nxy+ix]
+    double seconds = 0.0;                     ///< wall time of the run
+    std::string backend;                      ///< "cpu (N threads)" or the Vulkan device name
+
+    /// Sum over the batches.
+    BatchTally total() const;
+    /// Launched weight of all photons, in quanta.
+    uint64_t launched() const;
+    Fraction specular() const;     ///< reflected at entry (Fresnel, normal incidence)
+    Fraction diffuse() const;      ///< scattered back out through the top surface
+    Fraction transmitted() const;  ///< left through the bottom of a slab (scattered or not)
+    Fraction absorbed() const;     ///< absorbed anywhere (inside the bins or not)
+    Fraction escaped() const;      ///< interacted beyond setup.lateralRadius
+    /// Fraction of launched weight absorbed at depths < setup.depths[k].
+    Fraction absorbedWithin(size_t k) const;
+    double scatteringsPerPhoton() const;
+    /// Launched photons over the wall time of the run (setup, transfers and tallies included).
+    double photonsPerSecond() const;
+    /// launched == specular + diffuse + transmitted + absorbed + escaped, in integers.
+    bool energyBalanced() const;
+    /// The fractions, errors and rates as JSON (the `vpsim mc --json` fields).
+    nlohmann::json summaryJson() const;
+};
+
+/// Checks a setup. @throw InputError naming the field and the reason.
+void validateSetup(const McSetup& setup);
+
+/// Runs the Monte Carlo on the Vulkan device `context`, or on the CPU (TBB) when it is null or
+/// lacks 64-bit buffer atomics (with a warning). Shows progress for long runs.
+/// @throw InputError for a bad setup; ResourceError when tallies exceed memory or buffer limits;
+///        GpuError when the device fails.
+McResult runPhotonMc(const McSetup& setup, const std::shared_ptr<gpu::Context>& context);
+/// The CPU path. @param threads 0 = all cores, else this many threads (at most the core count).
+McResult runPhotonMcCpu(const McSetup& setup, int threads = 0);
+/// The Vulkan path. @throw GpuError when the device fails or lacks shaderInt64 and
+/// shaderBufferInt64Atomics; InputError, ResourceError as runPhotonMc.
+McResult runPhotonMcGpu(const McSetup& setup, const std::shared_ptr<gpu::Context>& context);
+
+/// Writes the Cartesian absorption tally as an OpenVDB float grid "absorbed_fraction" (fraction of
+/// launched weight per voxel; voxel size in mm, index origin at the beam axis).
+/// @throw InputError when the run had no Cartesian grid or the file cannot be written.
+void writeAbsorptionVdb(const std::string& path, const McResult& result);
+
+} // namespace vpsim::transport

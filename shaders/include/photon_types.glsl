@@ -1,0 +1,80 @@
+// Types and constants of the photon Monte Carlo shared by shaders/photon_mc.comp and the CPU path
+// (src/transport/mc_cpu.cpp includes this through include/vpsim/core/glsl_shim.h).
+// PhotonParams is the push-constant block: only 4-byte scalars, 32 of them = 128 bytes (the
+// Vulkan minimum push-constant size), so std430 and C++ layouts agree member by member.
+#ifndef VPSIM_PHOTON_TYPES
+#define VPSIM_PHOTON_TYPES
+
+// Beam shapes (PhotonParams.beamShape).
+const uint PHOTON_BEAM_PENCIL = 0u;
+const uint PHOTON_BEAM_GAUSSIAN = 1u;
+// Phase functions (PhotonParams.phaseModel).
+const uint PHOTON_PHASE_HG = 0u;
+const uint PHOTON_PHASE_TABLE = 1u;
+
+// What one photon step ended with.
+const int PHOTON_EVENT_MOVED = 0;        // hopped, or was internally reflected at a boundary
+const int PHOTON_EVENT_SCATTERED = 1;    // interacted and was scattered (photon lives on)
+const int PHOTON_EVENT_ABSORBED = 2;     // interacted and was absorbed (analog absorption)
+const int PHOTON_EVENT_REFLECTED = 3;    // left through the top surface z = 0 (diffuse reflectance)
+const int PHOTON_EVENT_TRANSMITTED = 4;  // left through the bottom surface z = thickness
+const int PHOTON_EVENT_ESCAPED = 5;      // interacted outside the lateral radius (left sideways)
+
+// Layout of the tally buffer (uint64 words): PHOTON_BATCHES batches of PHOTON_TALLY_STRIDE
+// counters, then the absorbed weight in rBins x zBins cylindrical bins (index iz * rBins + ir).
+// Photon i belongs to batch i % PHOTON_BATCHES; the batches give the standard errors.
+const uint PHOTON_BATCHES = 16u;
+const uint PHOTON_TALLY_SPECULAR = 0u;
+const uint PHOTON_TALLY_DIFFUSE = 1u;
+const uint PHOTON_TALLY_TRANSMITTED = 2u;
+const uint PHOTON_TALLY_ABSORBED = 3u;
+const uint PHOTON_TALLY_ESCAPED = 4u;
+const uint PHOTON_TALLY_SCATTERINGS = 5u;   // a count of scattering events, not weight
+const uint PHOTON_TALLY_WITHIN = 6u;        // 4 counters: weight absorbed above depth0..depth3
+const uint PHOTON_MAX_DEPTHS = 4u;
+const uint PHOTON_TALLY_STRIDE = 10u;
+const uint PHOTON_BIN_OFFSET = 160u;        // PHOTON_BATCHES * PHOTON_TALLY_STRIDE
+
+// Everything one dispatch needs; lengths in mm, coefficients in 1/mm.
+struct PhotonParams {
+    uint seed;              // run seed; photon i draws from rngSeed(seed, i)
+    uint photonStart;       // first photon index of this dispatch
+    uint photonEnd;         // one past the last photon index of this dispatch
+    uint invocationStride;  // invocations of this dispatch (a multiple of PHOTON_BATCHES)
+    uint beamShape;         // PHOTON_BEAM_*
+    float beamW0;           // Gaussian beam 1/e^2 intensity radius
+    float mua;              // absorption coefficient
+    float mus;              // scattering coefficient
+    float g;                // Henyey-Greenstein asymmetry
+    uint phaseModel;        // PHOTON_PHASE_*
+    uint phaseTableSize;    // entries of the inverse CDF table (>= 2 when tabulated)
+    float nMedium;          // refractive index inside the medium
+    float nAbove;           // refractive index above z = 0
+    float nBelow;           // refractive index below z = thickness
+    float thickness;        // slab thickness; 0 = semi-infinite
+    float lateralRadius;    // photons interacting beyond this radius escape sideways; 0 = unbounded
+    uint launchWeight;      // weight quanta of one launched photon
+    uint enteringWeight;    // quanta that enter the medium (launchWeight minus specular part)
+    float rBinWidth;        // cylindrical tally bin sizes
+    float zBinWidth;
+    uint rBins;
+    uint zBins;
+    float gridVoxel;        // Cartesian tally voxel edge; grid centred on the beam axis
+    uint gridNxy;           // voxels along x and y (0 = no Cartesian tally)
+    uint gridNz;            // voxels along z, from z = 0
+    float depth0;           // depths for the "absorbed above depth" tallies
+    float depth1;
+    float depth2;
+    float depth3;
+    uint depthCount;        // how many of depth0..3 are used
+    uint reserved0;
+    uint reserved1;
+};
+
+// One photon in flight (never stored in a buffer).
+struct PhotonState {
+    vec3 pos;  // mm, z = 0 at the top surface, +z into the medium
+    vec3 dir;  // unit direction
+};
+
+#endif

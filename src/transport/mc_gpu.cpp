@@ -1,0 +1,107 @@
+// Vulkan path of the photon Monte Carlo (shaders/photon_mc.comp), and the backend choice.
+
+#include <algorithm>
+#include <chrono>
+
+#include "photon_params.h"
+#include "vpsim/core/error.h"
+#include "vpsim/core/log.h"
+#include "vpsim/core/progress.h"
+#include "vpsim/gpu/context.h"
+#include "vpsim/shaders/photon_mc_spv.h"
+
+namespace vpsim::transport {
+
+namespace {
+
+/// Photons per submission: bounds each submission's run time (progress, no driver timeouts).
+constexpr uint64_t PHOTONS_PER_SUBMIT = 1u << 20;
+/// Each invocation traces about this many photons: enough to even out photon lengths, few
+/// enough that there are many invocations to fill the device.
+constexpr uint64_t PHOTONS_PER_INVOCATION = 32;
+constexpr uint64_t MAX_INVOCATIONS = 1u << 18;
+constexpr uint32_t LOCAL_SIZE = 64;  // photon_mc.comp local_size_x
+
+uint32_t invocationsFor(uint64_t photons) {
+    uint64_t n = std::clamp<uint64_t>(photons / PHOTONS_PER_INVOCATION, LOCAL_SIZE, MAX_INVOCATIONS);
+    return uint32_t((n + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE);  // a multiple of MC_BATCHES too
+}
+
+} // namespace
+
+McResult runPhotonMcGpu(const McSetup& setup, const std::shared_ptr<gpu::Context>& context) {
+    validateSetup(setup);
+    if (!context) throw GpuError("photon Monte Carlo: no Vulkan context");
+    const auto& info = context->info();
+    if (!info.int64 || !info.int64Atomics)
+        throw GpuError("photon Monte Carlo needs shaderInt64 and shaderBufferInt64Atomics for its exact "
+                       "integer tallies; device '" + info.name + "' lacks them (use --backend cpu)");
+
+    glsl::PhotonParams params = makePhotonParams(setup);
+    std::vector<float> table = makePhaseTable(setup);
+    const uint64_t rzBins = uint64_t(setup.bins.rBins) * setup.bins.zBins;
+    const uint64_t voxels = uint64_t(params.gridNxy) * params.gridNxy * params.gridNz;
+    const uint64_t tallyWords = glsl::PHOTON_BIN_OFFSET + rzBins;
+    for (uint64_t bytes : {tallyWords * 8, voxels * 8})
+        if (bytes > info.maxStorageBufferRange)
+            throw ResourceError("photon Monte Carlo tally of " + formatBytes(double(bytes)) +
+                                " exceeds the device's storage-buffer limit of " +
+                                formatBytes(double(info.maxStorageBufferRange)) + ": use fewer bins");
+
+    auto start = std::chrono::steady_clock::now();
+    const uint32_t capacity = uint32_t(std::max<size_t>(table.size(), 1));
+    gpu::Kernel kernel(context, photon_mc_spv, sizeof photon_mc_spv, 3, sizeof(glsl::PhotonParams),
+                       {gpu::SpecConstant{0, capacity}}, LOCAL_SIZE);
+    gpu::Buffer tallies(context, tallyWords * 8);
+    tallies.fill(0);
+    gpu::Buffer tableBuffer(context, std::max<uint64_t>(table.size(), 1) * sizeof(float));
+    if (!table.empty()) tableBuffer.upload(table);
+    gpu::Buffer grid(context, std::max<uint64_t>(voxels, 1) * 8);
+    grid.fill(0);
+
+    Progress progress("photon Monte Carlo (GPU)", setup.photons);
+    for (uint64_t first = 0; first < setup.photons; first += PHOTONS_PER_SUBMIT) {
+        uint64_t count = std::min(PHOTONS_PER_SUBMIT, setup.photons - first);
+        params.photonStart = uint32_t(first);
+        params.photonEnd = uint32_t(first + count);
+        params.invocationStride = invocationsFor(count);
+        context->submit([&](gpu::Recorder& r) {
+            r.dispatch1D(kernel, {&tallies, &tableBuffer, &grid}, &params, params.invocationStride);
+        });
+        progress.advance(count);
+    }
+    progress.finish();
+
+    McResult result;
+    result.setup = setup;
+    result.launchWeight = params.launchWeight;
+    std::vector<uint64_t> words = tallies.download<uint64_t>(tallyWords);
+    for (int b = 0; b < MC_BATCHES; ++b) {
+        const uint64_t* w = words.data() + size_t(b) * glsl::PHOTON_TALLY_STRIDE;
+        BatchTally& t = result.batches[size_t(b)];
+        t.photons = photonsInBatch(setup.photons, b);
+        t.specular = w[glsl::PHOTON_TALLY_SPECULAR];
+        t.diffuse = w[glsl::PHOTON_TALLY_DIFFUSE];
+        t.transmitted = w[glsl::PHOTON_TALLY_TRANSMITTED];
+        t.absorbed = w[glsl::PHOTON_TALLY_ABSORBED];
+        t.escaped = w[glsl::PHOTON_TALLY_ESCAPED];
+        t.scatterings = w[glsl::PHOTON_TALLY_SCATTERINGS];
+        for (size_t k = 0; k < 4; ++k) t.absorbedWithin[k] = w[glsl::PHOTON_TALLY_WITHIN + k];
+    }
+    result.absorbedRZ.assign(words.begin() + glsl::PHOTON_BIN_OFFSET, words.end());
+    if (voxels > 0) result.absorbedGrid = grid.download<uint64_t>(voxels);
+    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.backend = info.name;
+    return result;
+}
+
+McResult runPhotonMc(const McSetup& setup, const std::shared_ptr<gpu::Context>& context) {
+    if (context && !(context->info().int64 && context->info().int64Atomics)) {
+        logWarn("photon Monte Carlo: device '" + context->info().name +
+                "' lacks 64-bit buffer atomics; running on the CPU");
+        return runPhotonMcCpu(setup);
+    }
+    return context ? runPhotonMcGpu(setup, context) : runPhotonMcCpu(setup);
+}
+
+} // namespace vpsim::transport

@@ -1,0 +1,233 @@
+// Validation of a Monte Carlo setup, its push-constant block, and the statistics of a result.
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "photon_params.h"
+#include "vpsim/core/error.h"
+
+namespace vpsim::transport {
+
+namespace {
+
+void require(bool ok, const std::string& key, const std::string& reason) {
+    if (!ok) throw InputError(reason, "", key);
+}
+
+bool finite(double v) { return std::isfinite(v); }
+
+std::string text(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
+} // namespace
+
+void validateSetup(const McSetup& s) {
+    const auto& o = s.optics;
+    require(finite(o.mua) && o.mua >= 0, "mua", "absorption coefficient must be >= 0, got " + text(o.mua));
+    require(finite(o.mus) && o.mus >= 0, "mus", "scattering coefficient must be >= 0, got " + text(o.mus));
+    require(finite(o.g) && o.g > -1 && o.g < 1, "g", "anisotropy g must lie in (-1, 1), got " + text(o.g));
+    require(finite(o.refractiveIndex) && o.refractiveIndex >= 1, "refractive_index",
+            "refractive index of the medium must be >= 1, got " + text(o.refractiveIndex));
+    require(finite(s.nAbove) && s.nAbove >= 1, "n_outside", "refractive index above must be >= 1");
+    require(finite(s.nBelow) && s.nBelow >= 1, "n_outside", "refractive index below must be >= 1");
+    require(finite(s.thickness) && s.thickness >= 0, "thickness", "thickness must be >= 0 (0 = semi-infinite)");
+    require(s.thickness > 0 || o.mua > 0 || s.lateralRadius > 0, "mua",
+            "a semi-infinite medium needs mua > 0 (or a lateral radius) so that every photon ends");
+    require(finite(s.lateralRadius) && s.lateralRadius >= 0, "lateral_radius", "lateral radius must be >= 0");
+    if (s.beam == BeamShape::Gaussian)
+        require(finite(s.w0) && s.w0 > 0, "w0", "Gaussian beam radius W0 must be > 0, got " + text(s.w0));
+    require(s.photons >= 1 && s.photons <= MAX_PHOTONS, "photons",
+            "photon count must be between 1 and " + std::to_string(MAX_PHOTONS) + ", got " + std::to_string(s.photons));
+    if (o.phase == optics::PhaseModel::Tabulated) {
+        require(o.inverseCdf.size() >= 2, "phase", "tabulated phase function needs >= 2 inverse-CDF entries");
+        for (float c : o.inverseCdf)
+            require(std::isfinite(c) && c >= -1.0f && c <= 1.0f, "phase",
+                    "inverse-CDF entries must be cos(theta) values in [-1, 1]");
+    }
+    const auto& b = s.bins;
+    require(finite(b.rMax) && b.rMax > 0 && finite(b.zMax) && b.zMax > 0, "bins",
+            "cylindrical tally extent rMax, zMax must be > 0");
+    require(b.rBins >= 1 && b.zBins >= 1 && uint64_t(b.rBins) * b.zBins <= MAX_RZ_BINS, "bins",
+            "cylindrical tally needs 1.." + std::to_string(MAX_RZ_BINS) + " bins, got " +
+                std::to_string(uint64_t(b.rBins) * b.zBins));
+    const auto& g = s.grid;
+    if (g.nxy > 0) {
+        require(finite(g.voxel) && g.voxel > 0, "grid.voxel", "Cartesian voxel size must be > 0");
+        uint64_t voxels = uint64_t(g.nxy) * g.nxy * g.nz;
+        if (g.nz == 0 || voxels > MAX_GRID_VOXELS)
+            throw ResourceError("Cartesian absorption grid of " + std::to_string(voxels) + " voxels (" +
+                                formatBytes(double(voxels) * 8) + ") refused: use 1.." +
+                                std::to_string(MAX_GRID_VOXELS) + " voxels");
+    }
+    require(s.depths.size() <= 4, "depths", "at most 4 depths, got " + std::to_string(s.depths.size()));
+    for (double d : s.depths) require(finite(d) && d > 0, "depths", "depths must be > 0, got " + text(d));
+}
+
+glsl::PhotonParams makePhotonParams(const McSetup& s) {
+    glsl::PhotonParams p{};
+    p.seed = s.seed;
+    p.photonStart = 0;
+    p.photonEnd = uint32_t(s.photons);
+    p.invocationStride = 1;
+    p.beamShape = s.beam == BeamShape::Gaussian ? glsl::PHOTON_BEAM_GAUSSIAN : glsl::PHOTON_BEAM_PENCIL;
+    p.beamW0 = float(s.w0);
+    p.mua = float(s.optics.mua);
+    p.mus = float(s.optics.mus);
+    p.g = float(s.optics.g);
+    bool table = s.optics.phase == optics::PhaseModel::Tabulated;
+    p.phaseModel = table ? glsl::PHOTON_PHASE_TABLE : glsl::PHOTON_PHASE_HG;
+    p.phaseTableSize = table ? uint32_t(std::min(s.optics.inverseCdf.size(), MAX_PHASE_TABLE)) : 0u;
+    p.nMedium = float(s.optics.refractiveIndex);
+    p.nAbove = float(s.nAbove);
+    p.nBelow = float(s.nBelow);
+    p.thickness = float(s.thickness);
+    p.lateralRadius = float(s.lateralRadius);
+    // Specular reflection at normal entry (both beams are at normal incidence): split off as a
+    // whole number of quanta, the same for every photon.
+    double r = (s.nAbove - s.optics.refractiveIndex) / (s.nAbove + s.optics.refractiveIndex);
+    double rsp = r * r;
+    p.launchWeight = LAUNCH_WEIGHT;
+    p.enteringWeight = LAUNCH_WEIGHT - uint32_t(std::llround(rsp * LAUNCH_WEIGHT));
+    p.rBinWidth = float(s.bins.rMax / s.bins.rBins);
+    p.zBinWidth = float(s.bins.zMax / s.bins.zBins);
+    p.rBins = s.bins.rBins;
+    p.zBins = s.bins.zBins;
+    p.gridVoxel = float(s.grid.voxel);
+    p.gridNxy = s.grid.nxy;
+    p.gridNz = s.grid.nxy > 0 ? s.grid.nz : 0u;
+    float depth[4] = {-1.0f, -1.0f, -1.0f, -1.0f};  // unused slots: nothing lies above z < 0
+    for (size_t k = 0; k < s.depths.size() && k < 4; ++k) depth[k] = float(s.depths[k]);
+    p.depth0 = depth[0];
+    p.depth1 = depth[1];
+    p.depth2 = depth[2];
+    p.depth3 = depth[3];
+    p.depthCount = uint32_t(s.depths.size());
+    return p;
+}
+
+std::vector<float> makePhaseTable(const McSetup& s) {
+    if (s.optics.phase != optics::PhaseModel::Tabulated) return {};
+    const auto& in = s.optics.inverseCdf;
+    if (in.size() <= MAX_PHASE_TABLE) return in;
+    // Resample the inverse CDF (linear in u) onto MAX_PHASE_TABLE points.
+    std::vector<float> out(MAX_PHASE_TABLE);
+    for (size_t i = 0; i < out.size(); ++i) {
+        double x = double(i) / double(out.size() - 1) * double(in.size() - 1);
+        size_t j = std::min(size_t(x), in.size() - 2);
+        double f = x - double(j);
+        out[i] = float(in[j] * (1 - f) + in[j + 1] * f);
+    }
+    return out;
+}
+
+uint64_t photonsInBatch(uint64_t photons, int batch) {
+    return photons / MC_BATCHES + (uint64_t(batch) < photons % MC_BATCHES ? 1 : 0);
+}
+
+// ---------------------------------------------------------------------------------- McResult
+
+BatchTally McResult::total() const {
+    BatchTally t;
+    for (const auto& b : batches) {
+        t.photons += b.photons;
+        t.specular += b.specular;
+        t.diffuse += b.diffuse;
+        t.transmitted += b.transmitted;
+        t.absorbed += b.absorbed;
+        t.escaped += b.escaped;
+        t.scatterings += b.scatterings;
+        for (size_t k = 0; k < 4; ++k) t.absorbedWithin[k] += b.absorbedWithin[k];
+    }
+    return t;
+}
+
+uint64_t McResult::launched() const { return total().photons * launchWeight; }
+
+namespace {
+
+/// Mean over all photons and standard error from the spread of the batch means.
+template <class Get> Fraction batchFraction(const McResult& r, Get get) {
+    Fraction f;
+    uint64_t launched = r.launched();
+    if (launched == 0) return f;
+    uint64_t sum = 0;
+    for (const auto& b : r.batches) sum += get(b);
+    f.value = double(sum) / double(launched);
+    int used = 0;
+    double squares = 0;
+    for (const auto& b : r.batches) {
+        if (b.photons == 0) continue;
+        double fb = double(get(b)) / double(b.photons * r.launchWeight);
+        squares += (fb - f.value) * (fb - f.value);
+        ++used;
+    }
+    if (used > 1) f.standardError = std::sqrt(squares / (double(used) * (used - 1)));
+    return f;
+}
+
+} // namespace
+
+Fraction McResult::specular() const { return batchFraction(*this, [](const BatchTally& b) { return b.specular; }); }
+Fraction McResult::diffuse() const { return batchFraction(*this, [](const BatchTally& b) { return b.diffuse; }); }
+Fraction McResult::transmitted() const {
+    return batchFraction(*this, [](const BatchTally& b) { return b.transmitted; });
+}
+Fraction McResult::absorbed() const { return batchFraction(*this, [](const BatchTally& b) { return b.absorbed; }); }
+Fraction McResult::escaped() const { return batchFraction(*this, [](const BatchTally& b) { return b.escaped; }); }
+Fraction McResult::absorbedWithin(size_t k) const {
+    if (k >= 4) throw InputError("depth index " + std::to_string(k) + " out of range 0..3", "", "depths");
+    return batchFraction(*this, [k](const BatchTally& b) { return b.absorbedWithin[k]; });
+}
+
+double McResult::scatteringsPerPhoton() const {
+    BatchTally t = total();
+    return t.photons ? double(t.scatterings) / double(t.photons) : 0.0;
+}
+
+double McResult::photonsPerSecond() const { return seconds > 0 ? double(total().photons) / seconds : 0.0; }
+
+bool McResult::energyBalanced() const {
+    BatchTally t = total();
+    return t.photons * launchWeight == t.specular + t.diffuse + t.transmitted + t.absorbed + t.escaped;
+}
+
+nlohmann::json McResult::summaryJson() const {
+    nlohmann::json j;
+    auto put = [&j](const std::string& name, const Fraction& f) {
+        j[name] = f.value;
+        j[name + "_stderr"] = f.standardError;
+    };
+    j["photons"] = total().photons;
+    put("specular_reflectance", specular());
+    put("diffuse_reflectance", diffuse());
+    put("transmittance", transmitted());
+    put("absorbed", absorbed());
+    if (setup.lateralRadius > 0) put("escaped", escaped());
+    j["scatterings_per_photon"] = scatteringsPerPhoton();
+    j["photons_per_second"] = photonsPerSecond();
+    j["seconds"] = seconds;
+    j["backend"] = backend;
+    j["energy_balanced"] = energyBalanced();
+    if (!setup.depths.empty()) {
+        nlohmann::json depths = nlohmann::json::array(), within = nlohmann::json::array(),
+                       withinErr = nlohmann::json::array();
+        for (size_t k = 0; k < setup.depths.size(); ++k) {
+            Fraction f = absorbedWithin(k);
+            depths.push_back(setup.depths[k] * 1000.0);
+            within.push_back(f.value);
+            withinErr.push_back(f.standardError);
+        }
+        j["depths_um"] = depths;
+        j["absorbed_within"] = within;
+        j["absorbed_within_stderr"] = withinErr;
+    }
+    return j;
+}
+
+} // namespace vpsim::transport

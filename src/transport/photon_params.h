@@ -1,0 +1,36 @@
+#pragma once
+// Internal: the shared photon Monte Carlo types (shaders/include/photon_types.glsl) seen from
+// C++, and the host-side preparation common to the CPU and GPU paths.
+
+#include <vector>
+
+#include "vpsim/core/glsl_shim.h"
+#include "vpsim/transport/photon_mc.h"
+
+namespace vpsim::glsl {
+#include "photon_types.glsl"
+}
+
+namespace vpsim::transport {
+
+// The push-constant block is 32 four-byte scalars: the 128 bytes every Vulkan device accepts.
+static_assert(sizeof(glsl::PhotonParams) == 128, "PhotonParams must stay 32 x 4 bytes");
+
+/// Weight quanta of one launched photon (2^24: specular split resolved to 6e-8).
+constexpr uint32_t LAUNCH_WEIGHT = 1u << 24;
+/// Most inverse-CDF entries (the GPU keeps the table in 32 KiB of shared memory).
+constexpr size_t MAX_PHASE_TABLE = 7936;
+/// Most cylindrical bins and Cartesian voxels (tally memory stays bounded whatever the photons).
+constexpr uint64_t MAX_RZ_BINS = 1u << 22;
+constexpr uint64_t MAX_GRID_VOXELS = 1u << 24;
+
+/// Push-constant block for photons [0, photons) of a validated setup (photon range and stride
+/// are filled in by the caller).
+glsl::PhotonParams makePhotonParams(const McSetup& setup);
+/// The inverse CDF as the shaders read it (resampled to MAX_PHASE_TABLE entries when longer);
+/// empty for Henyey-Greenstein.
+std::vector<float> makePhaseTable(const McSetup& setup);
+/// Photons of batch b among photon indices [0, photons).
+uint64_t photonsInBatch(uint64_t photons, int batch);
+
+} // namespace vpsim::transport

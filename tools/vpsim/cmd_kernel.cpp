@@ -1,0 +1,125 @@
+// `vpsim kernel`: the beam kernel of a material (seed 000 Section II-C): photon Monte Carlo of a
+// Gaussian beam, intensity by Eq. 11, fit of Eq. 12, written as kernel.json, kernel.vdb and
+// pictures (Fig. 11-13) into --out.
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "vpsim/core/error.h"
+#include "vpsim/core/io.h"
+#include "vpsim/core/units.h"
+#include "vpsim/kernel/beam_kernel.h"
+#include "vpsim/transport/photon_mc.h"
+
+namespace {
+
+using vpsim::InputError;
+using namespace vpsim::transport;
+using namespace vpsim::kernel;
+
+struct KernelOptions {
+    std::string material, power = "10 mW", w0 = "50 um", out;
+    std::string photons = "1000000";
+    uint32_t seed = 1;
+    std::string thickness;  ///< empty = semi-infinite
+    double nOutside = 1.0;
+    std::string rMax, zMax;  ///< empty = chosen from W0 and mua
+    uint32_t bins = 80;
+    bool json = false;
+};
+
+double quantity(const std::string& text, vpsim::Dimension dimension, const std::string& option) {
+    double v = vpsim::parseQuantity(text, dimension, option);
+    if (!(v > 0)) throw InputError(option + ": must be > 0, got '" + text + "'");
+    return v;
+}
+
+uint64_t photonCount(const std::string& text) {
+    double n = 0;
+    size_t used = 0;
+    try {
+        n = std::stod(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used != text.size() || !(n >= 1) || n > double(MAX_PHOTONS) || n != std::floor(n))
+        throw InputError("--photons: expected a whole number from 1 to " + std::to_string(MAX_PHOTONS) +
+                         ", got '" + text + "'");
+    return uint64_t(n);
+}
+
+void runKernel(const KernelOptions& o, const vpsim::cli::Globals& g) {
+    McSetup s;
+    s.optics = vpsim::optics::loadMediumOptics(o.material, g.overrides);
+    if (!(s.optics.mua > 0))
+        throw InputError("the beam kernel needs an absorbing material (mua > 0): Eq. 11 divides by mua", o.material,
+                         "mua");
+    const double power = quantity(o.power, vpsim::dim::POWER, "--power");
+    s.beam = BeamShape::Gaussian;
+    s.w0 = quantity(o.w0, vpsim::dim::LENGTH, "--w0");
+    s.photons = photonCount(o.photons);
+    s.seed = o.seed;
+    s.thickness = o.thickness.empty() ? 0.0 : quantity(o.thickness, vpsim::dim::LENGTH, "--thickness");
+    s.nAbove = s.nBelow = o.nOutside;
+    // Defaults: 4 W0 across (the Gaussian is 1e-14 there) and 3 absorption lengths deep.
+    s.bins.rMax = o.rMax.empty() ? 4 * s.w0 : quantity(o.rMax, vpsim::dim::LENGTH, "--r-max");
+    double deep = 3.0 / s.optics.mua;
+    if (s.thickness > 0) deep = std::min(deep, s.thickness);
+    s.bins.zMax = o.zMax.empty() ? deep : quantity(o.zMax, vpsim::dim::LENGTH, "--z-max");
+    if (o.bins < 4 || o.bins > 1000) throw InputError("--bins: expected 4..1000, got " + std::to_string(o.bins));
+    s.bins.rBins = s.bins.zBins = o.bins;
+
+    McResult mc = runPhotonMc(s, g.gpu());
+    BeamKernel k = kernelFromMonteCarlo(mc, power);
+    vpsim::createDirectories(o.out);
+    k.save(o.out + "/kernel.json");
+    writeKernelVdb(o.out + "/kernel.vdb", k);
+    writeKernelFigures(o.out, k);
+
+    nlohmann::json out{{"kernel", o.out + "/kernel.json"},
+                       {"We3D_um", k.fit.we3d * 1000},
+                       {"De3D_um", k.fit.de3d * 1000},
+                       {"zmax_um", k.zmax * 1000},
+                       {"amplitude_mW_per_mm2", k.fit.amplitude},
+                       {"residual", k.fit.residual},
+                       {"W0_um", s.w0 * 1000},
+                       {"Dp_no_scattering_um", 1000 / s.optics.mua},
+                       {"no_scattering_peak_mW_per_mm2", k.beerLambert(0, 0)},
+                       {"monte_carlo", mc.summaryJson()}};
+    if (o.json) {
+        vpsim::cli::printJson(out);
+        return;
+    }
+    std::printf("Beam kernel of %s (%llu photons on %s) -> %s\n", o.material.c_str(),
+                static_cast<unsigned long long>(k.photons), mc.backend.c_str(), o.out.c_str());
+    std::printf("  We3D  %.2f um   (incident W0 %.2f um)\n", k.fit.we3d * 1000, s.w0 * 1000);
+    std::printf("  De3D  %.2f um   (no scattering 1/mua = %.2f um)\n", k.fit.de3d * 1000, 1000 / s.optics.mua);
+    std::printf("  zmax  %.2f um   (depth of the largest Ie(0,z))\n", k.zmax * 1000);
+    std::printf("  Ie3D(0,0) %.4g mW/mm^2 (no scattering %.4g), fit residual %.3f\n", k.fit.amplitude,
+                k.beerLambert(0, 0), k.fit.residual);
+}
+
+vpsim::cli::CommandRegistration registerKernel{"kernel", [](CLI::App& app, const vpsim::cli::Globals& g) {
+    auto* cmd = app.add_subcommand("kernel", "Beam kernel I(r,z) of a material by photon Monte Carlo (Eq. 11-12)");
+    auto o = std::make_shared<KernelOptions>();
+    cmd->add_option("--material", o->material, "material JSON file")->required();
+    cmd->add_option("--power", o->power, "laser power, e.g. 10mW");
+    cmd->add_option("--w0", o->w0, "Gaussian beam 1/e^2 intensity radius W0, e.g. 50um");
+    cmd->add_option("--out", o->out, "output directory")->required();
+    cmd->add_option("--photons", o->photons, "photons to launch (e.g. 1e6)");
+    cmd->add_option("--seed", o->seed, "random seed");
+    cmd->add_option("--thickness", o->thickness, "slab thickness (default: semi-infinite)");
+    cmd->add_option("--n-outside", o->nOutside, "refractive index above (and below) the medium");
+    cmd->add_option("--r-max", o->rMax, "radius of the tabulated kernel (default 4 W0)");
+    cmd->add_option("--z-max", o->zMax, "depth of the tabulated kernel (default 3/mua)");
+    cmd->add_option("--bins", o->bins, "bins along r and along z");
+    cmd->add_flag("--json", o->json, "print JSON");
+    cmd->callback([o, &g] { runKernel(*o, g); });
+}};
+
+} // namespace
