@@ -6,6 +6,7 @@ layout(local_size_x = 1) in;
 
 #include "glsl_common.glsl"
 #include "shared_structs.glsl"
+#include "photon_types.glsl"
 
 layout(std430, binding = 0) buffer ProbeRngStreamParams { RngStreamParams probeRngStreamParams[]; };
 
@@ -13,9 +14,11 @@ layout(std430, binding = 1) buffer ProbeExposureBlurParams { ExposureBlurParams 
 layout(std430, binding = 2) buffer ProbeExposureRecursionParams {
     ExposureRecursionParams probeExposureRecursionParams[];
 };
+layout(std430, binding = 3) buffer ProbePhotonParams { PhotonParams probePhotonParams[]; };
 
 void main() {
     probeRngStreamParams[0].seed = 0u;
     probeExposureBlurParams[0].nx = 0u;
     probeExposureRecursionParams[0].count = 0u;
+    probePhotonParams[0].seed = 0u;
 }

@@ -95,7 +95,7 @@ Job loadJob(const std::string& path, const std::vector<std::string>& overrides) 
 
     if (root.has("material")) job.materialFile = resolve(root, "material");
     readKernel(root.has("kernel") ? root.child("kernel") : ConfigNode(nlohmann::json::object(), path), job);
-    if (job.kernelSource == KernelSource::MonteCarlo && job.materialFile.empty())
+    if (job.process == Process::Laser && job.kernelSource == KernelSource::MonteCarlo && job.materialFile.empty())
         throw root.error("material", "a Monte Carlo kernel needs a material file");
     readPlan(root.child("plan"), job);
     if (job.process == Process::Laser && job.strategy != PlanStrategy::Aces)
@@ -112,6 +112,23 @@ Job loadJob(const std::string& path, const std::vector<std::string>& overrides) 
         job.margin = sim.quantity("margin", dim::LENGTH, -1.0);
         job.writeVdb = sim.boolean("write_vdb", true);
     }
+    if (root.has("features"))
+        for (const ConfigNode& f : root.children("features")) {
+            validate::FeatureProbe probe;
+            probe.name = f.string("name");
+            probe.x = f.quantity("x", dim::LENGTH);
+            probe.y = f.quantity("y", dim::LENGTH);
+            probe.zMin = f.quantity("z_min", dim::LENGTH);
+            probe.zMax = f.quantity("z_max", dim::LENGTH);
+            probe.gap = f.choice("kind", {"gap", "solid"}) == "gap";
+            probe.objective = f.quantity("objective", dim::LENGTH);
+            if (f.has("measured"))
+                for (const auto& m : f.raw("measured")) {
+                    if (!m.is_number()) throw f.error("measured", "expected a list of lengths in mm");
+                    probe.measured.push_back(m.get<double>());
+                }
+            job.features.push_back(probe);
+        }
     root.checkUnknownKeys();
     return job;
 }

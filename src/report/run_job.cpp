@@ -171,12 +171,14 @@ nlohmann::json runJob(const Job& job, const std::string& outDir, const std::shar
     const int middle = int(layers.size()) / 2;
     SectionRecorder sections(part, grid, int(layers.size()) * job.slicesPerLayer, ec, middle,
                              busiestRow(layers[middle].region, grid));
+    validate::FeatureProbes features(job.features, grid, ec, voxelHeight);
     double sinkSeconds = 0;
     double engineSeconds = engine.run(plan, [&](const exposure::ExposureSlice& slice) {
         auto start = std::chrono::steady_clock::now();
         volume.add(slice);
         validator.add(slice);
         sections.add(slice);
+        features.add(slice);
         sinkSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     });
     report["exposure"] = {{"grid", {grid.nx, grid.ny, int(layers.size()) * job.slicesPerLayer}},
@@ -204,8 +206,9 @@ nlohmann::json runJob(const Job& job, const std::string& outDir, const std::shar
     validate::SurfaceDeviation deviation = validate::measureSurfaceDeviation(cured, reference);
     report["iou"] = slices.iou;
     report["surface_deviation_mm"] = deviation.toJson();
-    report["overcure_below_downfacing_mm"] = slices.overcureBelowDownFacingMax;
+    report["overcure_below_downfacing_mm"] = slices.overcureBelowDownFacingMedian;
     report["validation"] = slices.toJson();
+    if (!job.features.empty()) report["features"] = features.toJson();
     timer.finish("validate");
 
     sections.write(outDir);

@@ -25,7 +25,7 @@ struct SliceValidator::State {
     std::vector<uint8_t> inRun;           ///< column is in cured resin directly below the reference
     std::vector<float> run;               ///< depth of that run so far (mm)
     uint64_t intersection = 0, unionCount = 0, cured = 0, reference = 0;
-    double runSum = 0, runMax = 0;
+    std::vector<float> runs;  ///< finished over-cure runs (mm), one per down-facing column event
     long downFacing = 0;
     std::vector<LayerComparison> layers;
 
@@ -42,8 +42,7 @@ struct SliceValidator::State {
     }
 
     void finishRun(size_t c) {
-        runSum += run[c];
-        runMax = std::max(runMax, double(run[c]));
+        runs.push_back(run[c]);
         inRun[c] = 0;
         run[c] = 0;
     }
@@ -112,8 +111,15 @@ SliceValidationSummary SliceValidator::summary() const {
     out.curedVolume = double(s.cured) * voxelVolume;
     out.referenceVolume = double(s.reference) * voxelVolume;
     out.downFacingColumns = s.downFacing;
-    out.overcureBelowDownFacingMax = s.runMax;
-    out.overcureBelowDownFacingMean = s.downFacing ? s.runSum / double(s.downFacing) : 0.0;
+    if (!s.runs.empty()) {
+        std::vector<float> runs = s.runs;
+        std::sort(runs.begin(), runs.end());
+        double sum = 0;
+        for (float r : runs) sum += r;
+        out.overcureBelowDownFacingMean = sum / double(runs.size());
+        out.overcureBelowDownFacingMedian = runs[runs.size() / 2];
+        out.overcureBelowDownFacingMax = runs.back();
+    }
     out.layers.assign(s.layers.rbegin(), s.layers.rend());
     int counted = 0;
     for (const auto& layer : out.layers)
@@ -134,7 +140,8 @@ nlohmann::json SliceValidationSummary::toJson() const {
     return {{"iou", iou},
             {"cured_volume_mm3", curedVolume},
             {"reference_volume_mm3", referenceVolume},
-            {"overcure_below_downfacing_mm", {{"max", overcureBelowDownFacingMax},
+            {"overcure_below_downfacing_mm", {{"median", overcureBelowDownFacingMedian},
+                                              {"max", overcureBelowDownFacingMax},
                                               {"mean", overcureBelowDownFacingMean},
                                               {"columns", downFacingColumns}}},
             {"xy_contour_error_mm", {{"mean", xyContourErrorMean}, {"max", xyContourErrorMax}}},

@@ -8,6 +8,7 @@
 
 namespace vpsim::glsl {
 #include "shared_structs.glsl"
+#include "photon_types.glsl"
 } // namespace vpsim::glsl
 
 using namespace vpsim;
@@ -57,4 +58,17 @@ TEST_CASE("shared structs have the same layout in C++ and std430 GLSL", "[gpu][l
     checkStruct("ExposureRecursionParams", sizeof(ExposureRecursionParams),
                 {VPSIM_MEMBER(ExposureRecursionParams, count), VPSIM_MEMBER(ExposureRecursionParams, decay),
                  VPSIM_MEMBER(ExposureRecursionParams, pad0), VPSIM_MEMBER(ExposureRecursionParams, pad1)});
+    using glsl::PhotonParams;
+    checkStruct("PhotonParams", sizeof(PhotonParams),
+                {VPSIM_MEMBER(PhotonParams, seed), VPSIM_MEMBER(PhotonParams, photonStart), VPSIM_MEMBER(PhotonParams, photonEnd),
+                 VPSIM_MEMBER(PhotonParams, invocationStride), VPSIM_MEMBER(PhotonParams, beamShape), VPSIM_MEMBER(PhotonParams, beamW0),
+                 VPSIM_MEMBER(PhotonParams, mua), VPSIM_MEMBER(PhotonParams, mus), VPSIM_MEMBER(PhotonParams, g),
+                 VPSIM_MEMBER(PhotonParams, phaseModel), VPSIM_MEMBER(PhotonParams, phaseTableSize), VPSIM_MEMBER(PhotonParams, nMedium),
+                 VPSIM_MEMBER(PhotonParams, nAbove), VPSIM_MEMBER(PhotonParams, nBelow), VPSIM_MEMBER(PhotonParams, thickness),
+                 VPSIM_MEMBER(PhotonParams, lateralRadius), VPSIM_MEMBER(PhotonParams, launchWeight), VPSIM_MEMBER(PhotonParams, enteringWeight),
+                 VPSIM_MEMBER(PhotonParams, rBinWidth), VPSIM_MEMBER(PhotonParams, zBinWidth), VPSIM_MEMBER(PhotonParams, rBins),
+                 VPSIM_MEMBER(PhotonParams, zBins), VPSIM_MEMBER(PhotonParams, gridVoxel), VPSIM_MEMBER(PhotonParams, gridNxy),
+                 VPSIM_MEMBER(PhotonParams, gridNz), VPSIM_MEMBER(PhotonParams, depth0), VPSIM_MEMBER(PhotonParams, depth1),
+                 VPSIM_MEMBER(PhotonParams, depth2), VPSIM_MEMBER(PhotonParams, depth3), VPSIM_MEMBER(PhotonParams, depthCount),
+                 VPSIM_MEMBER(PhotonParams, reserved0), VPSIM_MEMBER(PhotonParams, reserved1)});
 }

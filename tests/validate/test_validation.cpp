@@ -56,6 +56,7 @@ TEST_CASE("validation metrics of a grown and lowered block are exact", "[validat
     CHECK(summary.curedVolume == Approx(1.44 * 0.7).epsilon(1e-9));
     CHECK(summary.overcureBelowDownFacingMax == Approx(0.2).epsilon(1e-6));
     CHECK(summary.overcureBelowDownFacingMean == Approx(0.2).epsilon(1e-6));
+    CHECK(summary.overcureBelowDownFacingMedian == Approx(0.2).epsilon(1e-6));
     CHECK(summary.downFacingColumns == 400);
     CHECK(summary.xyContourErrorMax == Approx(0.44 / 4).epsilon(1e-9));
     REQUIRE(summary.layers.size() == 10);

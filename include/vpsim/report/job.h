@@ -10,6 +10,7 @@
 
 #include "vpsim/cure/cure_model.h"
 #include "vpsim/geometry/test_parts.h"
+#include "vpsim/validate/feature_probe.h"
 
 namespace vpsim::report {
 
@@ -50,6 +51,8 @@ struct Job {
     int slicesPerLayer = 5;
     double margin = -1;            ///< mm around the part; < 0: 3 beam radii
     bool writeVdb = true;
+
+    std::vector<validate::FeatureProbe> features;  ///< Z dimensions to measure (seed 001 Table 2)
 };
 
 /// Reads and checks a job file (unknown keys, units, ranges, referenced files).

@@ -36,8 +36,12 @@ struct SliceValidationSummary {
     double iou = 0;                       ///< |cured AND reference| / |cured OR reference| (volume)
     double curedVolume = 0;               ///< mm^3
     double referenceVolume = 0;           ///< mm^3 (of the voxelised reference)
-    double overcureBelowDownFacingMax = 0;   ///< mm
-    double overcureBelowDownFacingMean = 0;  ///< mm, over down-facing columns (0 where none)
+    /// Over-cure below down-facing surfaces (mm) over the columns where the reference ends going
+    /// down. The median is the robust figure: columns beside a vertical wall carry the wall's
+    /// lateral over-cure all the way down and dominate the max.
+    double overcureBelowDownFacingMedian = 0;
+    double overcureBelowDownFacingMax = 0;
+    double overcureBelowDownFacingMean = 0;
     long downFacingColumns = 0;
     double xyContourErrorMean = 0;        ///< mm, mean over layers with reference area
     double xyContourErrorMax = 0;         ///< mm

@@ -1,0 +1,142 @@
+// `vpsim slice FILE.stl --layer 25um`: slices a part (geometry/slicer.h) and reports each layer's
+// area and contours; with --out DIR it also writes pictures of chosen layers: SVG of the polygons,
+// anti-aliased coverage PNG, binary mask PNG and a signed-distance heat map.
+
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "vpsim/core/error.h"
+#include "vpsim/core/image.h"
+#include "vpsim/core/io.h"
+#include "vpsim/core/log.h"
+#include "vpsim/core/units.h"
+#include "vpsim/geometry/layer_stack.h"
+#include "vpsim/geometry/raster.h"
+#include "vpsim/geometry/slicer.h"
+#include "vpsim/geometry/stl_io.h"
+
+namespace {
+
+using namespace vpsim;
+using namespace vpsim::geometry;
+
+struct SliceCliOptions {
+    std::string file, layer = "50um", pitch = "10um", zStart, outDir, save;
+    double plane = 0.5, scale = 1.0;
+    std::vector<int> layers;
+    bool json = false;
+};
+
+nlohmann::json layerJson(const Layer& layer) {
+    return {{"index", layer.index}, {"z", layer.z}, {"area", layer.region.area()},
+            {"perimeter", layer.region.perimeter()}, {"outer_contours", layer.region.outerCount()},
+            {"holes", layer.region.holeCount()}};
+}
+
+/// Layers to draw: the ones asked for, else five spread over the part.
+std::vector<int> pictureLayers(const std::vector<int>& asked, int count) {
+    if (!asked.empty()) return asked;
+    std::vector<int> chosen;
+    for (int q = 0; q < 5 && count > 0; ++q) chosen.push_back(std::min(count - 1, q * (count - 1) / 4));
+    chosen.erase(std::unique(chosen.begin(), chosen.end()), chosen.end());
+    return chosen;
+}
+
+void writePictures(const std::vector<Layer>& layers, const RasterGrid& grid, const std::string& dir) {
+    createDirectories(dir);
+    for (const Layer& layer : layers) {
+        char stem[64];
+        std::snprintf(stem, sizeof stem, "/layer_%05d", layer.index);
+        const std::string base = dir + stem;
+        writePolygonSvg(base + ".svg", layer.region, "layer " + std::to_string(layer.index) + " at z = " +
+                                                         std::to_string(layer.z) + " mm");
+        writePngGrey(base + "_coverage.png", grid.width, grid.height,
+                     toGreyImage(rasterizeCoverage(layer.region, grid), grid));
+        std::vector<uint8_t> mask = rasterizeBinary(layer.region, grid);
+        for (auto& v : mask) v = v ? 255 : 0;
+        writePngGrey(base + "_mask.png", grid.width, grid.height, flipRows(mask, grid.width, grid.height));
+        const double band = 20.0 * grid.pitch;
+        const TargetMap target = makeTargetMap(layer.region, grid, band);
+        writePng(base + "_distance.png",
+                 heatMap(flipRows(target.signedDistance, grid.width, grid.height), grid.width, grid.height, -band,
+                         band, {0.0}));
+    }
+    logInfo("wrote pictures of " + std::to_string(layers.size()) + " layers to " + dir + " (pitch " +
+            std::to_string(grid.pitch * 1000.0) + " um, " + std::to_string(grid.width) + " x " +
+            std::to_string(grid.height) + " pixels, origin (" + std::to_string(grid.origin.x) + ", " +
+            std::to_string(grid.origin.y) + ") mm)");
+}
+
+void runSlice(const SliceCliOptions& o) {
+    StlReadOptions read;
+    read.scale = o.scale;
+    const Mesh mesh = readStl(o.file, read);
+    SliceOptions options;
+    options.layerThickness = parseQuantity(o.layer, dim::LENGTH, "--layer");
+    if (options.layerThickness > 1.0) {
+        logWarn("layer thickness " + std::to_string(options.layerThickness) +
+                " mm is unusually thick (a bare number is in mm; write e.g. 25um)");
+    }
+    options.planePosition = o.plane;
+    if (!o.zStart.empty()) options.zStart = parseQuantity(o.zStart, dim::LENGTH, "--z-start");
+    const int count = layerCount(mesh, options);
+    const LayerStack stack = sliceToStack(mesh, options, o.file, o.layers);
+    const std::vector<Layer>& layers = stack.layers;
+    if (!o.save.empty()) stack.save(o.save);
+
+    nlohmann::json out{{"file", o.file}, {"layer_thickness_mm", options.layerThickness},
+                       {"plane_position", options.planePosition}, {"layer_count", count}};
+    out["layers"] = nlohmann::json::array();
+    for (const Layer& layer : layers) out["layers"].push_back(layerJson(layer));
+
+    if (!o.outDir.empty()) {
+        const double pitch = parseQuantity(o.pitch, dim::LENGTH, "--pitch");
+        const Bounds b = mesh.bounds();
+        const RasterGrid grid = RasterGrid::covering({b.lo.x, b.lo.y}, {b.hi.x, b.hi.y}, pitch, 2);
+        std::vector<Layer> chosen;
+        for (int k : pictureLayers(o.layers, count)) {
+            auto it = std::find_if(layers.begin(), layers.end(), [k](const Layer& l) { return l.index == k; });
+            if (it != layers.end()) chosen.push_back(*it);
+        }
+        writePictures(chosen, grid, o.outDir);
+        writeFileAtomic(o.outDir + "/slices.json", out.dump(2) + "\n");
+    }
+    if (o.json) {
+        cli::printJson(out);
+        return;
+    }
+    std::printf("%s: %d layers of %g um (plane at %g of each layer)\n", o.file.c_str(), count,
+                options.layerThickness * 1000.0, options.planePosition);
+    const bool all = o.layers.empty() && layers.size() > 20;
+    std::printf("  %6s %10s %12s %8s %6s\n", "layer", "z (mm)", "area (mm^2)", "outers", "holes");
+    for (size_t i = 0; i < layers.size(); ++i) {
+        if (all && i % (layers.size() / 10) != 0 && i + 1 != layers.size()) continue;  // a sample
+        const Layer& l = layers[i];
+        std::printf("  %6d %10.4f %12.6g %8zu %6zu\n", l.index, l.z, l.region.area(), l.region.outerCount(),
+                    l.region.holeCount());
+    }
+}
+
+vpsim::cli::CommandRegistration registerSlice{"slice", [](CLI::App& app, const vpsim::cli::Globals&) {
+    auto* cmd = app.add_subcommand("slice", "slice an STL part into layers (areas, contours, pictures)");
+    auto o = std::make_shared<SliceCliOptions>();
+    cmd->add_option("file", o->file, "STL file (binary or ASCII; mm)")->required();
+    cmd->add_option("--layer", o->layer, "layer thickness, e.g. 25um (default 50um)");
+    cmd->add_option("--plane", o->plane, "where the slicing plane lies in each layer, 0 = bottom, 0.5 = middle "
+                                         "(default), 1 = top");
+    cmd->add_option("--z-start", o->zStart, "z of the bottom of layer 0 (default: the part's lowest z)");
+    cmd->add_option("--scale", o->scale, "multiply STL coordinates (25.4 for inches)");
+    cmd->add_option("--layers", o->layers, "only these layer indices, e.g. 0,10,20")->delimiter(',');
+    cmd->add_option("--out", o->outDir, "write pictures of the chosen layers (--layers, else 5 spread) here");
+    cmd->add_option("--save", o->save, "save the layers' polygons as a layer stack JSON (geometry/layer_stack.h)");
+    cmd->add_option("--pitch", o->pitch, "pixel pitch of the raster pictures (default 10um)");
+    cmd->add_flag("--json", o->json, "print {\"layers\": [{\"z\" (mm), \"area\" (mm^2), \"outer_contours\", "
+                                     "\"holes\"}, ...]}");
+    cmd->callback([o] { runSlice(*o); });
+}};
+
+} // namespace
