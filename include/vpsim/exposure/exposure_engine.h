@@ -30,6 +30,10 @@ namespace vpsim::exposure {
 struct SeparableBeam {
     double radius = 0.05;            ///< mm, 1/e^2 intensity radius (We3D)
     double attenuationLength = 0.1;  ///< mm, 1/e depth of the exposure (De3D)
+    /// Surface exposure per delivered energy relative to a lossless Gaussian: the fitted
+    /// amplitude Ie3D(0,0) pi We3D^2 / (2 P) of a Monte Carlo kernel (reflection losses and
+    /// scattering lower it), 1 for an ideal beam.
+    double efficiency = 1.0;
 };
 
 /// The build-volume grid the exposure is computed on.
