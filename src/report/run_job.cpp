@@ -197,9 +197,13 @@ nlohmann::json runJob(const Job& job, const std::string& outDir, const std::shar
     timer.finish("cure");
 
     validate::SliceValidationSummary slices = validator.summary();
+    // The reference distance field needs a band as wide as the deviations it measures (up to a
+    // few beam radii, 0.25 mm at least: print-through over-cure), but not the exposure's voxel:
+    // trilinear interpolation of an exact distance field is accurate to a small part of its voxel.
     geometry::LevelSetOptions levelSetOptions;
-    levelSetOptions.voxelSize = job.voxel;
-    levelSetOptions.halfWidthVoxels = std::max(3.0, std::ceil(10 * job.beamRadius / job.voxel));
+    levelSetOptions.voxelSize = std::max(job.voxel, 0.02);
+    levelSetOptions.halfWidthVoxels =
+        std::ceil(std::max(0.25, 4.0 * job.beamRadius) / levelSetOptions.voxelSize);
     geometry::LevelSet reference = geometry::LevelSet::fromMesh(part, levelSetOptions);
     if (job.writeVdb) reference.save(outDir + "/reference.vdb");
     std::vector<float> deviations = validate::vertexDeviations(cured, reference);

@@ -39,20 +39,6 @@ double quantity(const std::string& text, vpsim::Dimension dimension, const std::
     return v;
 }
 
-uint64_t photonCount(const std::string& text) {
-    double n = 0;
-    size_t used = 0;
-    try {
-        n = std::stod(text, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used != text.size() || !(n >= 1) || n > double(MAX_PHOTONS) || n != std::floor(n))
-        throw InputError("--photons: expected a whole number from 1 to " + std::to_string(MAX_PHOTONS) +
-                         ", got '" + text + "'");
-    return uint64_t(n);
-}
-
 void runKernel(const KernelOptions& o, const vpsim::cli::Globals& g) {
     McSetup s;
     s.optics = vpsim::optics::loadMediumOptics(o.material, g.overrides);
@@ -62,7 +48,7 @@ void runKernel(const KernelOptions& o, const vpsim::cli::Globals& g) {
     const double power = quantity(o.power, vpsim::dim::POWER, "--power");
     s.beam = BeamShape::Gaussian;
     s.w0 = quantity(o.w0, vpsim::dim::LENGTH, "--w0");
-    s.photons = photonCount(o.photons);
+    s.photons = vpsim::cli::parseCount(o.photons, MAX_PHOTONS, "--photons");
     s.seed = o.seed;
     s.thickness = o.thickness.empty() ? 0.0 : quantity(o.thickness, vpsim::dim::LENGTH, "--thickness");
     s.nAbove = s.nBelow = o.nOutside;

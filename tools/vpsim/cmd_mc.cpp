@@ -39,25 +39,10 @@ double length(const std::string& text, const std::string& option) {
     return vpsim::parseQuantity(text, vpsim::dim::LENGTH, option);
 }
 
-/// Photon counts may be written 1e6.
-uint64_t photonCount(const std::string& text) {
-    double n = 0;
-    size_t used = 0;
-    try {
-        n = std::stod(text, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used != text.size() || !(n >= 1) || n > double(MAX_PHOTONS) || n != std::floor(n))
-        throw InputError("--photons: expected a whole number from 1 to " + std::to_string(MAX_PHOTONS) +
-                         ", got '" + text + "'");
-    return uint64_t(n);
-}
-
 McSetup setupFrom(const McOptions& o, const vpsim::cli::Globals& g) {
     McSetup s;
     s.optics = vpsim::optics::loadMediumOptics(o.material, g.overrides);
-    s.photons = photonCount(o.photons);
+    s.photons = vpsim::cli::parseCount(o.photons, MAX_PHOTONS, "--photons");
     s.seed = o.seed;
     s.thickness = o.thickness.empty() ? 0.0 : length(o.thickness, "--thickness");
     if (!o.thickness.empty() && !(s.thickness > 0))

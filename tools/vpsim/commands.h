@@ -51,6 +51,10 @@ struct CommandRegistration {
 /// All registered setups, in registration order.
 std::vector<std::pair<std::string, CommandSetup>>& commandRegistry();
 
+/// A whole count written as an integer or in exponent form ("1e6"), from 1 to `max`.
+/// @throw InputError naming the option
+uint64_t parseCount(const std::string& text, uint64_t max, const std::string& option);
+
 /// Prints JSON to stdout with 2-space indentation.
 void printJson(const nlohmann::json& value);
 

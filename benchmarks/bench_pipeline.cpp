@@ -1,0 +1,64 @@
+// The main job on a 10 x 10 x 5 mm block at 10 um voxels (~5e8 voxels): ACES plan, exposure with
+// print-through, cure, and validation against the model. Prints JSON: seconds per stage, peak
+// memory, voxels per second, and the ratio of the expose+cure+validate time to the memory-bandwidth
+// floor (touching every voxel's 4 bytes once at ~30 GB/s, DESIGN.md). Target: under 60 s and
+// 4 GiB on the 2-core reference machine. Usage: bench_pipeline [--vulkan]
+#include <sys/resource.h>
+
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+
+#include <nlohmann/json.hpp>
+
+#include "vpsim/core/error.h"
+#include "vpsim/core/log.h"
+#include "vpsim/gpu/context.h"
+#include "vpsim/report/run_job.h"
+
+int main(int argc, char** argv) {
+    using namespace vpsim;
+    setLogLevel(LogLevel::Warn);
+    bool vulkan = argc > 1 && std::strcmp(argv[1], "--vulkan") == 0;
+    nlohmann::json out{{"benchmark", "pipeline"}, {"part_mm", {10, 10, 5}}, {"voxel_um", 10}};
+    try {
+        report::Job job;
+        job.name = "bench-block";
+        job.file = "(benchmark)";
+        job.cure = cure::CureModel::threshold(0.1);
+        job.testPart = "box";
+        job.testPartOptions.size = 10.0;
+        job.testPartOptions.height = 5.0;
+        job.kernelSource = report::KernelSource::Given;
+        job.givenWe3d = 0.063;
+        job.givenDe3d = 0.037;
+        job.edgeFivePercent = false;
+        job.voxel = 0.01;
+        job.slicesPerLayer = 5;
+        job.writeVdb = false;
+        auto dir = std::filesystem::temp_directory_path() / "vpsim_bench_pipeline";
+        std::shared_ptr<gpu::Context> context = vulkan ? gpu::Context::create() : nullptr;
+        nlohmann::json report = report::runJob(job, dir.string(), context);
+        const auto& grid = report["exposure"]["grid"];
+        double voxels = grid[0].get<double>() * grid[1].get<double>() * grid[2].get<double>();
+        const auto& stages = report["stage_seconds"];
+        double core = stages["expose"].get<double>() + stages["cure"].get<double>() + stages["validate"].get<double>();
+        rusage usage{};
+        getrusage(RUSAGE_SELF, &usage);
+        out["backend"] = report["backend"];
+        out["voxels"] = voxels;
+        out["stage_seconds"] = stages;
+        out["expose_cure_validate_seconds"] = core;
+        out["voxels_per_second"] = voxels / core;
+        out["memory_floor_seconds"] = voxels * 4 / 30e9;
+        out["ratio_to_memory_floor"] = core / (voxels * 4 / 30e9);
+        out["peak_memory_GiB"] = usage.ru_maxrss / 1024.0 / 1024.0;
+        out["targets"] = {{"seconds", 60}, {"memory_GiB", 4}};
+        out["iou"] = report["iou"];
+        std::filesystem::remove_all(dir);
+    } catch (const Error& e) {
+        out["error"] = e.what();
+    }
+    std::cout << out.dump(2) << std::endl;
+    return 0;
+}
