@@ -110,20 +110,30 @@ void writeDeviationFigures(const std::string& directory, const geometry::Mesh& c
     writeSvgLinePlot(directory + "/deviation_histogram.svg", "Signed deviation of the cured surface from the model",
                      "deviation (mm), positive = outside the model", "vertices", {histogram});
 
-    // Deviation map: vertices projected on x-z, blue (inside) - white - red (outside).
+    // Deviation map: the cured surface seen from above; each pixel shows the vertex below it with
+    // the largest |deviation|, blue (inside the model) - white - red (outside), dark where none.
     geometry::Bounds b = cured.bounds();
     const int width = 800;
-    double scale = (width - 1) / std::max(1e-9, b.hi.x - b.lo.x);
-    int height = std::max(50, int((b.hi.z - b.lo.z) * scale) + 1);
-    RgbImage image(width, height, 40);
+    double scale = (width - 1) / std::max(1e-9, std::max(b.hi.x - b.lo.x, b.hi.y - b.lo.y));
+    int w = int((b.hi.x - b.lo.x) * scale) + 1, h = int((b.hi.y - b.lo.y) * scale) + 1;
+    std::vector<float> worst(size_t(w) * h, 0.0f);
+    std::vector<uint8_t> seen(size_t(w) * h, 0);
     for (size_t v = 0; v < cured.vertices.size(); ++v) {
         const auto& p = cured.vertices[v];
-        double t = std::clamp(double(deviations[v]) / limit, -1.0, 1.0);
-        uint8_t r = uint8_t(t > 0 ? 255 : 255 * (1 + t)), g = uint8_t(255 * (1 - std::abs(t))),
-                bl = uint8_t(t < 0 ? 255 : 255 * (1 - t));
-        image.set(int((p.x - b.lo.x) * scale), height - 1 - int((p.z - b.lo.z) * scale), r, g, bl);
+        size_t index = size_t(h - 1 - int((p.y - b.lo.y) * scale)) * w + int((p.x - b.lo.x) * scale);
+        if (!seen[index] || std::abs(deviations[v]) > std::abs(worst[index])) worst[index] = deviations[v];
+        seen[index] = 1;
     }
-    writePng(directory + "/deviation_map_xz.png", image);
+    RgbImage image(w, h, 40);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            size_t index = size_t(y) * w + x;
+            if (!seen[index]) continue;
+            double t = std::clamp(double(worst[index]) / limit, -1.0, 1.0);
+            image.set(x, y, uint8_t(t > 0 ? 255 : 255 * (1 + t)), uint8_t(255 * (1 - std::abs(t))),
+                      uint8_t(t < 0 ? 255 : 255 * (1 - t)));
+        }
+    writePng(directory + "/deviation_map_top.png", image);
 }
 
 void writeLayerErrorPlot(const std::string& path, const validate::SliceValidationSummary& summary) {

@@ -35,7 +35,7 @@ private:
 /// The grid row crossing most of `region` (where an x-z section shows the most of the part).
 int busiestRow(const geometry::PolygonSet& region, const exposure::ExposureGrid& grid);
 
-/// Histogram of signed surface deviations (SVG) and an x-z map of the cured surface coloured by
+/// Histogram of signed surface deviations (SVG) and a top view of the cured surface coloured by
 /// deviation (PNG, blue inside the model, red outside).
 void writeDeviationFigures(const std::string& directory, const geometry::Mesh& cured,
                            const std::vector<float>& deviations);

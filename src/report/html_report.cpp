@@ -51,7 +51,8 @@ void writeHtmlReport(const std::string& outDir, const nlohmann::json& report) {
             "outline, white: the cured outline at the critical dose.</p>\n";
     figure(html, outDir, "exposure_xz.png", "x-z cross-section through the middle of the part");
     figure(html, outDir, "exposure_xy.png", "x-y exposure of the middle layer");
-    figure(html, outDir, "deviation_map_xz.png", "cured surface coloured by deviation (blue inside, red outside)");
+    figure(html, outDir, "deviation_map_top.png",
+           "cured surface from above, coloured by its largest deviation (blue inside the model, red outside)");
     figure(html, outDir, "deviation_histogram.svg", "histogram of the signed surface deviation");
     figure(html, outDir, "xy_error_per_layer.svg", "XY contour error per layer");
     figure(html, outDir, "kernel/intensity_scattered.png", "beam kernel with scattering (Monte Carlo)");
