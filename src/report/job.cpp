@@ -47,6 +47,7 @@ void readKernel(const ConfigNode& kernel, Job& job) {
         if (photons < 1000 || photons > 4000000000LL) throw kernel.error("photons", "expected 1000 .. 4e9");
         job.photons = uint64_t(photons);
         job.seed = uint32_t(kernel.integer("seed", 1));
+        job.tabulatedKernel = kernel.choice("use", {"fitted", "tabulated"}, std::string("fitted")) == "tabulated";
     } else {
         job.kernelSource = KernelSource::Given;
         job.givenWe3d = positive(kernel, "We3D", dim::LENGTH, 0.05);

@@ -2,6 +2,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <functional>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -12,6 +14,7 @@
 #include "vpsim/core/io.h"
 #include "vpsim/core/log.h"
 #include "vpsim/exposure/dose_volume.h"
+#include "vpsim/exposure/tabulated_engine.h"
 #include "vpsim/geometry/level_set.h"
 #include "vpsim/gpu/context.h"
 #include "vpsim/geometry/slicer.h"
@@ -55,7 +58,7 @@ geometry::Mesh loadPart(const Job& job) {
 
 /// The separable beam the engine uses, and the depth of the sub-surface maximum (mm).
 exposure::SeparableBeam beamOf(const Job& job, const std::string& outDir, const std::shared_ptr<gpu::Context>& context,
-                               double& zmax, nlohmann::json& report) {
+                               double& zmax, std::optional<kernel::BeamKernel>& table, nlohmann::json& report) {
     exposure::SeparableBeam beam;
     zmax = 0;
     if (job.process == Process::Dlp) {
@@ -77,9 +80,11 @@ exposure::SeparableBeam beamOf(const Job& job, const std::string& outDir, const 
         beam.attenuationLength = k.fit.de3d;
         beam.efficiency = k.fit.amplitude * M_PI * k.fit.we3d * k.fit.we3d / (2.0 * job.laserPower);
         zmax = k.zmax;
+        if (job.tabulatedKernel) table = k;
         report["kernel"] = {{"We3D_um", k.fit.we3d * 1e3}, {"De3D_um", k.fit.de3d * 1e3}, {"zmax_um", k.zmax * 1e3},
                             {"fit_residual", k.fit.residual}, {"efficiency", beam.efficiency},
-                            {"photons", k.photons}, {"from_cache", cached}};
+                            {"photons", k.photons}, {"from_cache", cached},
+                            {"exposure_uses", job.tabulatedKernel ? "table" : "fit"}};
     }
     return beam;
 }
@@ -148,7 +153,8 @@ nlohmann::json runJob(const Job& job, const std::string& outDir, const std::shar
     timer.finish("part");
 
     double zmax = 0;
-    exposure::SeparableBeam beam = beamOf(job, outDir, context, zmax, report);
+    std::optional<kernel::BeamKernel> table;
+    exposure::SeparableBeam beam = beamOf(job, outDir, context, zmax, table, report);
     timer.finish("kernel");
 
     geometry::SliceOptions sliceOptions;
@@ -165,7 +171,16 @@ nlohmann::json runJob(const Job& job, const std::string& outDir, const std::shar
     exposure::ExposureGrid grid = exposure::ExposureGrid::covering(bounds.lo.x, bounds.lo.y, bounds.hi.x, bounds.hi.y,
                                                                    margin, job.voxel, job.slicesPerLayer);
     const double voxelHeight = job.layerThickness / job.slicesPerLayer, ec = job.cure.criticalDose();
-    exposure::ExposureEngine engine(grid, beam, job.layerThickness, context);
+    // The fitted kernel runs in the separable engine (shaders or CPU); the tabulated one in the
+    // depth-sliced convolution engine (CPU).
+    std::function<double(const plan::ScanPlan&, const exposure::SliceSink&)> expose;
+    if (table) {
+        auto engine = std::make_shared<exposure::TabulatedExposureEngine>(grid, *table, job.layerThickness);
+        expose = [engine](const plan::ScanPlan& p, const exposure::SliceSink& sink) { return engine->run(p, sink); };
+    } else {
+        auto engine = std::make_shared<exposure::ExposureEngine>(grid, beam, job.layerThickness, context);
+        expose = [engine](const plan::ScanPlan& p, const exposure::SliceSink& sink) { return engine->run(p, sink); };
+    }
     exposure::DoseVolume volume(grid, voxelHeight, 0.0, float(0.02 * ec));
     validate::SliceValidator validator(part, grid, ec, voxelHeight);
     const int middle = int(layers.size()) / 2;
@@ -173,7 +188,7 @@ nlohmann::json runJob(const Job& job, const std::string& outDir, const std::shar
                              busiestRow(layers[middle].region, grid));
     validate::FeatureProbes features(job.features, grid, ec, voxelHeight);
     double sinkSeconds = 0;
-    double engineSeconds = engine.run(plan, [&](const exposure::ExposureSlice& slice) {
+    double engineSeconds = expose(plan, [&](const exposure::ExposureSlice& slice) {
         auto start = std::chrono::steady_clock::now();
         volume.add(slice);
         validator.add(slice);

@@ -65,3 +65,24 @@ TEST_CASE("a small job runs end to end and reproduces its part", "[report][slow]
         CHECK(std::filesystem::exists(out / file));
     CHECK(report["stage_seconds"].contains("expose"));
 }
+
+// The Monte Carlo kernel path end to end, exposing with the tabulated kernel: a small photon
+// budget keeps it fast; the check is that the table drives the exposure and the part still cures
+// close to the model (IoU > 0.7: the 20,000-photon table is noisy), and that the kernel is cached.
+TEST_CASE("a Monte Carlo job can expose with the tabulated kernel", "[report][slow]") {
+    auto cache = std::filesystem::temp_directory_path() / "vpsim_kernel_cache_test";
+    std::filesystem::remove_all(cache);
+    setenv("VPSIM_CACHE_DIR", cache.c_str(), 1);
+    auto job = givenKernelJob();
+    job["material"] = std::string(VPSIM_SOURCE_DIR) + "/examples/materials/alumina-seed000.json";
+    job["kernel"] = {{"source", "monte-carlo"}, {"photons", 20000}, {"seed", 2}, {"use", "tabulated"}};
+    auto out = std::filesystem::temp_directory_path() / "vpsim_job_tabulated";
+    auto first = report::runJob(report::loadJob(writeJob("tabulated", job)), out.string(), nullptr);
+    CHECK(first["kernel"]["exposure_uses"] == "table");
+    CHECK(first["kernel"]["from_cache"] == false);
+    CHECK(first["iou"].get<double>() > 0.7);
+    auto second = report::runJob(report::loadJob(writeJob("tabulated", job)), out.string(), nullptr);
+    CHECK(second["kernel"]["from_cache"] == true);
+    CHECK(second["iou"].get<double>() == first["iou"].get<double>());
+    unsetenv("VPSIM_CACHE_DIR");
+}

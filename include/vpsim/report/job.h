@@ -37,6 +37,7 @@ struct Job {
     double pixelPitch = 0.0625;    ///< mm (DLP)
 
     KernelSource kernelSource = KernelSource::MonteCarlo;
+    bool tabulatedKernel = false;  ///< expose with the Monte Carlo table instead of the Eq. 12 fit
     uint64_t photons = 300000;
     uint32_t seed = 1;
     double givenWe3d = 0.05, givenDe3d = 0.1, givenZmax = 0.0, givenEfficiency = 1.0;  ///< mm, -

@@ -1,0 +1,227 @@
+#include "vpsim/exposure/tabulated_engine.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "vpsim/core/error.h"
+#include "vpsim/core/progress.h"
+#include "vpsim/exposure/deposit.h"
+
+namespace vpsim::exposure {
+namespace {
+
+constexpr double DEPTH_CUTOFF = 1e-3;   ///< on-axis intensity relative to its maximum where stencils stop
+constexpr double RADIUS_CUTOFF = 0.01;  ///< intensity relative to the axis at Reff (seed 000's Reff)
+constexpr int SUBSAMPLES = 4;           ///< per cell side: the cell average matters near the axis
+
+/// The kernel's table with its extents (lookups through kernel::BeamKernel::sample: bilinear
+/// between bin centres, nearest at the edges, 0 outside).
+class KernelTable {
+public:
+    explicit KernelTable(const kernel::BeamKernel& k) : mK(k) {}
+    double sample(double r, double z) const { return mK.sample(r, z); }
+    double radialExtent() const { return mK.rBin * mK.rBins; }
+    double depthExtent() const { return mK.zBin * mK.zBins; }
+
+private:
+    const kernel::BeamKernel& mK;
+};
+
+void validateKernel(const kernel::BeamKernel& k) {
+    if (!(k.power > 0)) throw InputError("beam kernel power must be positive (got " + std::to_string(k.power) + " mW)");
+    if (k.rBins == 0 || k.zBins == 0 || k.intensity.empty())
+        throw InputError("beam kernel has an empty intensity table: compute it with 'vpsim kernel'");
+    if (!(k.rBin > 0) || !(k.zBin > 0)) throw InputError("beam kernel bin sizes must be positive");
+    if (k.intensity.size() != size_t(k.rBins) * k.zBins)
+        throw InputError("beam kernel table holds " + std::to_string(k.intensity.size()) + " values, expected rBins x zBins = " +
+                         std::to_string(size_t(k.rBins) * k.zBins));
+    bool any = false;
+    for (float v : k.intensity) {
+        if (!std::isfinite(v) || v < 0) throw InputError("beam kernel table holds a negative or non-finite intensity");
+        any = any || v > 0;
+    }
+    if (!any) throw InputError("beam kernel table is all zero: no usable intensity");
+}
+
+/// Depth below which no stencil is needed: the on-axis intensity has fallen below DEPTH_CUTOFF of
+/// its maximum (or the table ends), mm.
+double cutoffDepth(const kernel::BeamKernel& k) {
+    float peak = 0;
+    for (uint32_t iz = 0; iz < k.zBins; ++iz) peak = std::max(peak, k.intensity[size_t(iz) * k.rBins]);
+    if (peak <= 0) return k.zBin * k.zBins;  // no on-axis signal (noise): keep the whole table
+    uint32_t last = 0;
+    for (uint32_t iz = 0; iz < k.zBins; ++iz)
+        if (k.intensity[size_t(iz) * k.rBins] >= DEPTH_CUTOFF * peak) last = iz;
+    return std::min(double(last + 1) * k.zBin, double(k.zBins) * k.zBin);
+}
+
+/// Reff(d): the largest r where I(r, d) >= RADIUS_CUTOFF I(0, d), linearly interpolated to the
+/// crossing; the outermost crossing, so Monte Carlo noise can only widen the stencil. Where the
+/// axis bin is empty (noise) the reference is the largest intensity at that depth.
+double effectiveRadius(const KernelTable& table, double depth, double rBin) {
+    const double step = rBin / 4, extent = table.radialExtent();
+    double reference = table.sample(0, depth);
+    if (reference <= 0)
+        for (double r = 0; r <= extent; r += step) reference = std::max(reference, table.sample(r, depth));
+    if (reference <= 0) return 0;
+    const double threshold = RADIUS_CUTOFF * reference;
+    double radius = 0;
+    for (double r = 0; r <= extent; r += step) {
+        double v = table.sample(r, depth);
+        if (v < threshold) continue;
+        double next = table.sample(r + step, depth);
+        radius = next < threshold ? r + step * (v - threshold) / std::max(v - next, 1e-300) : r + step;
+    }
+    return std::min(radius, extent);
+}
+
+/// Non-zero columns [first, last] of each deposit row (first > last for an empty row), so the
+/// convolution skips the empty parts of a sparse scan.
+struct RowExtent {
+    int first, last;
+};
+
+std::vector<RowExtent> rowExtents(const SurfaceGrid& grid) {
+    std::vector<RowExtent> extents(grid.ny);
+    tbb::parallel_for(0, grid.ny, [&](int j) {
+        const float* row = grid.values.data() + size_t(j) * grid.nx;
+        int first = 0, last = grid.nx - 1;
+        while (first < grid.nx && row[first] == 0.0f) ++first;
+        while (last >= first && row[last] == 0.0f) --last;
+        extents[j] = {first, last};
+    });
+    return extents;
+}
+
+} // namespace
+
+TabulatedExposureEngine::TabulatedExposureEngine(const ExposureGrid& grid, const kernel::BeamKernel& kernel,
+                                                 double layerThickness)
+    : mGrid(grid), mLayerThickness(layerThickness) {
+    if (grid.nx <= 0 || grid.ny <= 0) throw InputError("exposure grid has no cells");
+    if (!(grid.pitch > 0) || !std::isfinite(grid.pitch)) throw InputError("exposure grid pitch must be positive");
+    if (grid.slicesPerLayer < 1) throw InputError("at least one voxel slice per layer is needed");
+    if (!(layerThickness > 0) || !std::isfinite(layerThickness)) throw InputError("layer thickness must be positive");
+    validateKernel(kernel);
+    buildStencils(kernel);
+}
+
+void TabulatedExposureEngine::buildStencils(const kernel::BeamKernel& kernel) {
+    const KernelTable table(kernel);
+    const int n = mGrid.slicesPerLayer;
+    const double dz = mLayerThickness / n, pitch = mGrid.pitch;
+    // Slice centres (m + 0.5) dz above the cutoff depth get a stencil; always at least one.
+    const double cutoff = cutoffDepth(kernel);
+    const int depthCount = std::max(1, int(std::ceil(cutoff / dz - 0.5)));
+    mLayersInFlight = (depthCount + n - 1) / n;
+
+    // Size everything before allocating: the radii fix the stencil sizes.
+    mStencils.resize(depthCount);
+    double stencilBytes = 0;
+    for (int m = 0; m < depthCount; ++m) {
+        DepthStencil& st = mStencils[m];
+        st.depth = (m + 0.5) * dz;
+        st.radius = effectiveRadius(table, st.depth, kernel.rBin);
+        // A cell at offset di holds sub-samples down to (|di| - 0.5) pitch from the axis.
+        const double halfWidth = std::ceil(st.radius / pitch + 0.5);
+        stencilBytes += std::pow(2.0 * halfWidth + 1, 2) * sizeof(float);
+        st.halfWidth = int(std::min(halfWidth, 1e6));  // larger ones are refused just below
+    }
+    const double cells = double(mGrid.nx) * mGrid.ny;
+    mWorkingBytes = stencilBytes + cells * sizeof(float) * (double(mLayersInFlight) * n + 1);
+    if (mWorkingBytes > TABULATED_ENGINE_MAX_BYTES)
+        throw ResourceError("tabulated exposure of a " + std::to_string(mGrid.nx) + " x " + std::to_string(mGrid.ny) +
+                            " grid (pitch " + std::to_string(pitch * 1e3) + " um) with " + std::to_string(depthCount) +
+                            " depth stencils over " + std::to_string(mLayersInFlight) + " layers needs " +
+                            formatBytes(mWorkingBytes) + " (limit " + formatBytes(TABULATED_ENGINE_MAX_BYTES) +
+                            "); use a coarser pitch, fewer slices per layer or a smaller build area");
+
+    // w(di, dj) = pitch^2 <I(r, d)>_cell / P: exposure (mJ/mm^2) per deposit (mJ/mm^2) of a cell.
+    const double scale = pitch * pitch / kernel.power;
+    tbb::parallel_for(0, depthCount, [&](int m) {
+        DepthStencil& st = mStencils[m];
+        const int H = st.halfWidth, side = 2 * H + 1;
+        st.weights.assign(size_t(side) * side, 0.0f);
+        st.rowHalfWidth.assign(side, -1);
+        for (int dj = -H; dj <= H; ++dj)
+            for (int di = -H; di <= H; ++di) {
+                double sum = 0;
+                for (int sy = 0; sy < SUBSAMPLES; ++sy)
+                    for (int sx = 0; sx < SUBSAMPLES; ++sx) {
+                        double x = (di + (sx + 0.5) / SUBSAMPLES - 0.5) * pitch;
+                        double y = (dj + (sy + 0.5) / SUBSAMPLES - 0.5) * pitch;
+                        double r = std::sqrt(x * x + y * y);
+                        if (r <= st.radius) sum += table.sample(r, st.depth);
+                    }
+                float w = float(scale * sum / (SUBSAMPLES * SUBSAMPLES));
+                st.weights[size_t(dj + H) * side + size_t(di + H)] = w;
+                if (w != 0.0f) st.rowHalfWidth[dj + H] = std::max(st.rowHalfWidth[dj + H], std::abs(di));
+            }
+    });
+}
+
+double TabulatedExposureEngine::run(const plan::ScanPlan& plan, const SliceSink& sink) {
+    const ExposureGrid& g = mGrid;
+    const int n = g.slicesPerLayer, L = mLayersInFlight, M = int(mStencils.size());
+    const int nx = g.nx, ny = g.ny;
+    const double dz = mLayerThickness / n;
+    // Ring of accumulators: layer k's slice s lives in slot (k mod L) n + s.
+    std::vector<SurfaceGrid> acc(size_t(L) * n, SurfaceGrid(nx, ny, g.originX, g.originY, g.pitch));
+    SurfaceGrid deposit(nx, ny, g.originX, g.originY, g.pitch);
+    struct Target {
+        const DepthStencil* stencil;
+        float* values;
+    };
+    double seconds = 0;
+    Progress progress("tabulated exposure", plan.layers.size());
+    for (int source = int(plan.layers.size()) - 1; source >= 0; --source) {
+        std::fill(deposit.values.begin(), deposit.values.end(), 0.0f);
+        depositLayer(plan.layers[source], deposit);
+        auto start = std::chrono::steady_clock::now();
+        const std::vector<RowExtent> extents = rowExtents(deposit);
+        std::vector<Target> targets;
+        for (int k = source; k >= 0 && k > source - L; --k)
+            for (int s = 0; s < n; ++s) {
+                int m = (source - k) * n + s;
+                if (m < M) targets.push_back({&mStencils[m], acc[size_t(k % L) * n + s].values.data()});
+            }
+        // Gather per output row: each row is written by one task, and the row axpy vectorises.
+        tbb::parallel_for(tbb::blocked_range<int>(0, ny), [&](const tbb::blocked_range<int>& rows) {
+            for (int j = rows.begin(); j < rows.end(); ++j)
+                for (const Target& t : targets) {
+                    const DepthStencil& st = *t.stencil;
+                    const int H = st.halfWidth;
+                    float* out = t.values + size_t(j) * nx;
+                    for (int dj = -H; dj <= H; ++dj) {
+                        const int sj = j + dj, hw = st.rowHalfWidth[dj + H];
+                        if (sj < 0 || sj >= ny || hw < 0 || extents[sj].first > extents[sj].last) continue;
+                        const float* src = deposit.values.data() + size_t(sj) * nx;
+                        for (int di = -hw; di <= hw; ++di) {
+                            const float w = st.at(di, dj);
+                            if (w == 0.0f) continue;
+                            // out[i] gathers src[i + di]; only the row's non-zero columns matter.
+                            const int lo = std::max(0, extents[sj].first - di);
+                            const int hi = std::min(nx - 1, extents[sj].last - di);
+                            for (int i = lo; i <= hi; ++i) out[i] += w * src[i + di];
+                        }
+                    }
+                }
+        });
+        seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        // Every layer above `source` has been processed, so its slices are final.
+        for (int s = 0; s < n; ++s) {
+            SurfaceGrid& slice = acc[size_t(source % L) * n + s];
+            sink({source, s, plan.layers[source].z - (s + 0.5) * dz, &slice});
+            std::fill(slice.values.begin(), slice.values.end(), 0.0f);  // the slot serves layer source - L next
+        }
+        progress.advance();
+    }
+    return seconds;
+}
+
+} // namespace vpsim::exposure
