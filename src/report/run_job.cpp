@@ -222,7 +222,7 @@ nlohmann::json runJob(const Job& job, const std::string& outDir, const std::shar
     geometry::LevelSet reference = geometry::LevelSet::fromMesh(part, levelSetOptions);
     if (job.writeVdb) reference.save(outDir + "/reference.vdb");
     std::vector<float> deviations = validate::vertexDeviations(cured, reference);
-    validate::SurfaceDeviation deviation = validate::measureSurfaceDeviation(cured, reference);
+    validate::SurfaceDeviation deviation = validate::summarizeDeviations(deviations, reference.halfWidth());
     report["iou"] = slices.iou;
     report["surface_deviation_mm"] = deviation.toJson();
     report["overcure_below_downfacing_mm"] = slices.overcureBelowDownFacingMedian;

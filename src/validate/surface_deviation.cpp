@@ -17,10 +17,14 @@ std::vector<float> vertexDeviations(const geometry::Mesh& cured, const geometry:
 
 SurfaceDeviation measureSurfaceDeviation(const geometry::Mesh& cured, const geometry::LevelSet& reference) {
     if (cured.vertices.empty()) throw InputError("nothing cured: the cured surface is empty");
-    std::vector<float> d = vertexDeviations(cured, reference);
+    return summarizeDeviations(vertexDeviations(cured, reference), reference.halfWidth());
+}
+
+SurfaceDeviation summarizeDeviations(const std::vector<float>& d, double bandHalfWidth) {
+    if (d.empty()) throw InputError("nothing cured: the cured surface is empty");
     SurfaceDeviation out;
     out.samples = d.size();
-    const double band = reference.halfWidth() * (1.0 - 1e-6);
+    const double band = bandHalfWidth * (1.0 - 1e-6);
     double sum = 0, sumSq = 0;
     std::vector<float> magnitude(d.size());
     for (size_t i = 0; i < d.size(); ++i) {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <random>
 
+#include "exposure/exposure_test_util.h"
 #include "support/gpu_test.h"
 #include "vpsim/core/error.h"
 #include "vpsim/exposure/deposit.h"
@@ -20,29 +21,6 @@ plan::LayerPlan lineLayer(double z, double y, double power, double speed) {
     layer.z = z;
     layer.vectors.push_back({-1.0, y, 1.0, y, power, speed});
     return layer;
-}
-
-/// Runs the engine and keeps every slice, indexed [layer][slice].
-std::vector<std::vector<SurfaceGrid>> exposeAll(ExposureEngine& engine, const plan::ScanPlan& plan) {
-    std::vector<std::vector<SurfaceGrid>> slices(plan.layers.size(),
-                                                 std::vector<SurfaceGrid>(engine.grid().slicesPerLayer));
-    engine.run(plan, [&](const ExposureSlice& s) { slices[s.layer][s.slice] = *s.values; });
-    return slices;
-}
-
-plan::ScanPlan randomPlan(int layers, double h, unsigned seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> pos(-0.3, 0.3), power(1.0, 20.0);
-    plan::ScanPlan plan;
-    plan.machine.layerThickness = h;
-    for (int k = 0; k < layers; ++k) {
-        plan::LayerPlan layer;
-        layer.z = (k + 1) * h;
-        for (int v = 0; v < 3; ++v) layer.vectors.push_back({pos(rng), pos(rng), pos(rng), pos(rng), power(rng), 500.0});
-        layer.points.push_back({pos(rng), pos(rng), 0.01 * power(rng)});
-        plan.layers.push_back(layer);
-    }
-    return plan;
 }
 
 } // namespace
@@ -90,10 +68,10 @@ TEST_CASE("an ACES field reaches the plateau exposure of Eq. C.8", "[exposure]")
 // Tolerance 1e-5 relative: float accumulation over 6 layers.
 TEST_CASE("the print-through recursion equals the direct sum over layers", "[exposure]") {
     const double h = 0.04, pitch = 0.01;
-    plan::ScanPlan plan = randomPlan(6, h, 3);
+    plan::ScanPlan plan = test::randomPlan(6, h, 3);
     ExposureGrid grid = ExposureGrid::covering(-0.4, -0.4, 0.4, 0.4, 0.15, pitch, 2);
     ExposureEngine engine(grid, BEAM, h);
-    auto slices = exposeAll(engine, plan);
+    auto slices = test::exposeAll(engine, plan);
     std::vector<SurfaceGrid> maps;
     for (const auto& layer : plan.layers) {
         SurfaceGrid deposit(grid.nx, grid.ny, grid.originX, grid.originY, pitch);
@@ -115,7 +93,7 @@ TEST_CASE("the print-through recursion equals the direct sum over layers", "[exp
 // the sum of the two run alone. Tolerance: float rounding, 1e-5 relative.
 TEST_CASE("exposure obeys superposition and linearity", "[exposure]") {
     const double h = 0.05;
-    plan::ScanPlan a = randomPlan(3, h, 11), b = randomPlan(3, h, 12), sum = a, doubled = a;
+    plan::ScanPlan a = test::randomPlan(3, h, 11), b = test::randomPlan(3, h, 12), sum = a, doubled = a;
     for (int k = 0; k < 3; ++k) {
         for (const auto& v : b.layers[k].vectors) sum.layers[k].vectors.push_back(v);
         for (const auto& p : b.layers[k].points) sum.layers[k].points.push_back(p);
@@ -124,7 +102,7 @@ TEST_CASE("exposure obeys superposition and linearity", "[exposure]") {
     }
     ExposureGrid grid = ExposureGrid::covering(-0.4, -0.4, 0.4, 0.4, 0.1, 0.01, 1);
     ExposureEngine engine(grid, BEAM, h);
-    auto ea = exposeAll(engine, a), eb = exposeAll(engine, b), es = exposeAll(engine, sum), ed = exposeAll(engine, doubled);
+    auto ea = test::exposeAll(engine, a), eb = test::exposeAll(engine, b), es = test::exposeAll(engine, sum), ed = test::exposeAll(engine, doubled);
     for (int k = 0; k < 3; ++k)
         for (size_t c = 0; c < ea[k][0].values.size(); c += 13) {
             CHECK(es[k][0].values[c] == Approx(ea[k][0].values[c] + eb[k][0].values[c]).epsilon(1e-5).margin(1e-7));
@@ -137,11 +115,11 @@ TEST_CASE("exposure obeys superposition and linearity", "[exposure]") {
 TEST_CASE("GPU and CPU exposure agree", "[exposure][gpu]") {
     auto ctx = test::gpuContext();
     const double h = 0.05;
-    plan::ScanPlan plan = randomPlan(4, h, 21);
+    plan::ScanPlan plan = test::randomPlan(4, h, 21);
     ExposureGrid grid = ExposureGrid::covering(-0.4, -0.4, 0.4, 0.4, 0.1, 0.01, 2);
     ExposureEngine cpu(grid, BEAM, h), gpu(grid, BEAM, h, ctx);
     REQUIRE(gpu.usesGpu());
-    auto ec = exposeAll(cpu, plan), eg = exposeAll(gpu, plan);
+    auto ec = test::exposeAll(cpu, plan), eg = test::exposeAll(gpu, plan);
     for (int k = 0; k < 4; ++k)
         for (int s = 0; s < 2; ++s)
             for (size_t c = 0; c < ec[k][s].values.size(); ++c)
@@ -162,13 +140,13 @@ TEST_CASE("impossible exposure parameters are refused clearly", "[exposure]") {
 // The beam efficiency scales the exposure once (linearity in the kernel amplitude), on both paths.
 TEST_CASE("the beam efficiency scales the exposure linearly", "[exposure][gpu]") {
     auto ctx = test::gpuContext();
-    plan::ScanPlan plan = randomPlan(2, 0.05, 5);
+    plan::ScanPlan plan = test::randomPlan(2, 0.05, 5);
     ExposureGrid grid = ExposureGrid::covering(-0.4, -0.4, 0.4, 0.4, 0.1, 0.01, 1);
     SeparableBeam scaled = BEAM;
     scaled.efficiency = 2.5;
     for (auto context : {std::shared_ptr<gpu::Context>(), ctx}) {
         ExposureEngine plain(grid, BEAM, 0.05, context), efficient(grid, scaled, 0.05, context);
-        auto a = exposeAll(plain, plan), b = exposeAll(efficient, plan);
+        auto a = test::exposeAll(plain, plan), b = test::exposeAll(efficient, plan);
         for (size_t c = 0; c < a[0][0].values.size(); c += 7)
             CHECK(b[0][0].values[c] == Approx(2.5 * a[0][0].values[c]).epsilon(1e-5).margin(1e-8));
     }

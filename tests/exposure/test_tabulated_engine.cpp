@@ -6,6 +6,7 @@
 #include <limits>
 #include <random>
 
+#include "exposure/exposure_test_util.h"
 #include "vpsim/core/error.h"
 #include "vpsim/exposure/exposure_engine.h"
 #include "vpsim/exposure/tabulated_engine.h"
@@ -39,35 +40,6 @@ kernel::BeamKernel separableKernel(double power, double W, double De, double dep
     const double A = 2 * power / (PI * W * W);
     return tableKernel(power, 0.001, uint32_t(std::ceil(3 * W / 0.001)), 0.002, uint32_t(std::ceil(depth / 0.002)),
                        [=](double r, double z) { return A * std::exp(-2 * r * r / (W * W)) * std::exp(-z / De); });
-}
-
-std::vector<std::vector<SurfaceGrid>> exposeAll(TabulatedExposureEngine& engine, const plan::ScanPlan& plan) {
-    std::vector<std::vector<SurfaceGrid>> slices(plan.layers.size(),
-                                                 std::vector<SurfaceGrid>(engine.grid().slicesPerLayer));
-    engine.run(plan, [&](const ExposureSlice& s) { slices[s.layer][s.slice] = *s.values; });
-    return slices;
-}
-
-std::vector<std::vector<SurfaceGrid>> exposeAll(ExposureEngine& engine, const plan::ScanPlan& plan) {
-    std::vector<std::vector<SurfaceGrid>> slices(plan.layers.size(),
-                                                 std::vector<SurfaceGrid>(engine.grid().slicesPerLayer));
-    engine.run(plan, [&](const ExposureSlice& s) { slices[s.layer][s.slice] = *s.values; });
-    return slices;
-}
-
-plan::ScanPlan randomPlan(int layers, double h, unsigned seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> pos(-0.2, 0.2), power(1.0, 20.0);
-    plan::ScanPlan plan;
-    plan.machine.layerThickness = h;
-    for (int k = 0; k < layers; ++k) {
-        plan::LayerPlan layer;
-        layer.z = (k + 1) * h;
-        for (int v = 0; v < 3; ++v) layer.vectors.push_back({pos(rng), pos(rng), pos(rng), pos(rng), power(rng), 500.0});
-        layer.points.push_back({pos(rng), pos(rng), 0.01 * power(rng)});
-        plan.layers.push_back(layer);
-    }
-    return plan;
 }
 
 /// A grid of 2 half + 1 cells per side whose centre cell is centred on the origin.
@@ -110,12 +82,12 @@ TEST_CASE("a separable table reproduces the fitted exposure engine", "[exposure]
     };
     for (Setup setup : {Setup{0.1, 2, 3}, Setup{0.025, 1, 6}}) {
         const double P = 10.0, W = 0.05, h = 0.05;
-        plan::ScanPlan plan = randomPlan(setup.layers, h, 7);
+        plan::ScanPlan plan = test::randomPlan(setup.layers, h, 7, 0.2);
         ExposureGrid grid = ExposureGrid::covering(-0.2, -0.2, 0.2, 0.2, 0.1, 0.005, setup.slicesPerLayer);
         ExposureEngine fitted(grid, SeparableBeam{W, setup.De, 1.0}, h);
         TabulatedExposureEngine tabulated(grid, separableKernel(P, W, setup.De, 8 * setup.De), h);
         if (setup.layers == 6) REQUIRE(tabulated.layersInFlight() < 6);  // exercises the ring
-        auto ef = exposeAll(fitted, plan), et = exposeAll(tabulated, plan);
+        auto ef = test::exposeAll(fitted, plan), et = test::exposeAll(tabulated, plan);
         for (int k = 0; k < setup.layers; ++k)
             for (int s = 0; s < setup.slicesPerLayer; ++s) {
                 const auto& f = ef[k][s].values;
@@ -152,7 +124,7 @@ TEST_CASE("each slice receives the kernel's power through its depth plane", "[ex
     const int layers = 8, n = 2;
     TabulatedExposureEngine engine(centredGrid(30, pitch, n), k, h);
     REQUIRE(engine.stencils().size() == 12);  // slice centres (m + 0.5) 25 um inside the 300 um table
-    auto slices = exposeAll(engine, pointPlan(layers, layers - 1, h, Q));
+    auto slices = test::exposeAll(engine, pointPlan(layers, layers - 1, h, Q));
     for (int kk = 0; kk < layers; ++kk)
         for (int s = 0; s < n; ++s) {
             const int m = (layers - 1 - kk) * n + s;
@@ -170,7 +142,7 @@ TEST_CASE("each slice receives the kernel's power through its depth plane", "[ex
 // of each alone. Tolerance: float rounding of the accumulation, 1e-5 relative.
 TEST_CASE("tabulated exposure obeys superposition and linearity", "[exposure][tabulated]") {
     const double h = 0.05;
-    plan::ScanPlan a = randomPlan(4, h, 11), b = randomPlan(4, h, 12), sum = a, doubled = a;
+    plan::ScanPlan a = test::randomPlan(4, h, 11, 0.2), b = test::randomPlan(4, h, 12, 0.2), sum = a, doubled = a;
     for (int k = 0; k < 4; ++k) {
         for (const auto& v : b.layers[k].vectors) sum.layers[k].vectors.push_back(v);
         for (const auto& p : b.layers[k].points) sum.layers[k].points.push_back(p);
@@ -179,7 +151,8 @@ TEST_CASE("tabulated exposure obeys superposition and linearity", "[exposure][ta
     }
     ExposureGrid grid = ExposureGrid::covering(-0.2, -0.2, 0.2, 0.2, 0.1, 0.01, 2);
     TabulatedExposureEngine engine(grid, separableKernel(10.0, 0.05, 0.05, 0.4), h);
-    auto ea = exposeAll(engine, a), eb = exposeAll(engine, b), es = exposeAll(engine, sum), ed = exposeAll(engine, doubled);
+    auto ea = test::exposeAll(engine, a), eb = test::exposeAll(engine, b);
+    auto es = test::exposeAll(engine, sum), ed = test::exposeAll(engine, doubled);
     for (int k = 0; k < 4; ++k)
         for (int s = 0; s < 2; ++s)
             for (size_t c = 0; c < ea[k][s].values.size(); c += 7) {

@@ -25,6 +25,10 @@ struct SurfaceDeviation {
 /// @throw InputError when the cured mesh is empty (nothing cured)
 SurfaceDeviation measureSurfaceDeviation(const geometry::Mesh& cured, const geometry::LevelSet& reference);
 
+/// Statistics of signed deviations (mm) sampled in a level set of band half-width `bandHalfWidth`.
+/// @throw InputError when there are none (nothing cured)
+SurfaceDeviation summarizeDeviations(const std::vector<float>& deviations, double bandHalfWidth);
+
 /// Signed deviations (mm) at each cured vertex, for histograms and deviation maps.
 std::vector<float> vertexDeviations(const geometry::Mesh& cured, const geometry::LevelSet& reference);
 
