@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
         job.writeVdb = false;
         auto dir = std::filesystem::temp_directory_path() / "vpsim_bench_pipeline";
         std::shared_ptr<gpu::Context> context = vulkan ? gpu::Context::create() : nullptr;
-        nlohmann::json report = report::runJob(job, dir.string(), context);
+        nlohmann::json report = report::runJob(job, dir.string(), context, vulkan);
         const auto& grid = report["exposure"]["grid"];
         double voxels = grid[0].get<double>() * grid[1].get<double>() * grid[2].get<double>();
         const auto& stages = report["stage_seconds"];

@@ -15,10 +15,12 @@ layout(std430, binding = 2) buffer ProbeExposureRecursionParams {
     ExposureRecursionParams probeExposureRecursionParams[];
 };
 layout(std430, binding = 3) buffer ProbePhotonParams { PhotonParams probePhotonParams[]; };
+layout(std430, binding = 4) buffer ProbeExposureStencilParams { ExposureStencilParams probeExposureStencilParams[]; };
 
 void main() {
     probeRngStreamParams[0].seed = 0u;
     probeExposureBlurParams[0].nx = 0u;
     probeExposureRecursionParams[0].count = 0u;
     probePhotonParams[0].seed = 0u;
+    probeExposureStencilParams[0].nx = 0u;
 }

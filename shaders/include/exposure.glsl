@@ -21,4 +21,9 @@ float printThroughStep(float blurred, float runningBelowTop, float decay) {
     return blurred + decay * runningBelowTop;
 }
 
+/// Index of the tap (di, dj) in a (2 halfWidth + 1)^2 depth stencil stored row-major (rows dj).
+int stencilIndex(int di, int dj, int halfWidth) {
+    return (dj + halfWidth) * (2 * halfWidth + 1) + (di + halfWidth);
+}
+
 #endif

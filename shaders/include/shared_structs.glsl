@@ -36,4 +36,12 @@ struct ExposureRecursionParams {
     uint pad1;
 };
 
+/// Push constants of exposure_stencil.comp (tabulated kernel: one depth stencil into one slice).
+struct ExposureStencilParams {
+    uint nx;            ///< grid cells in x
+    uint ny;            ///< grid cells in y
+    int halfWidth;      ///< stencil half-width in cells
+    uint weightOffset;  ///< first weight of this stencil in the weights buffer
+};
+
 #endif

@@ -1,5 +1,8 @@
 #include "vpsim/exposure/tabulated_engine.h"
 
+#include "exposure/exposure_glsl.h"
+#include "exposure/tabulated_gpu.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -101,7 +104,7 @@ std::vector<RowExtent> rowExtents(const SurfaceGrid& grid) {
 } // namespace
 
 TabulatedExposureEngine::TabulatedExposureEngine(const ExposureGrid& grid, const kernel::BeamKernel& kernel,
-                                                 double layerThickness)
+                                                 double layerThickness, std::shared_ptr<gpu::Context> context)
     : mGrid(grid), mLayerThickness(layerThickness) {
     if (grid.nx <= 0 || grid.ny <= 0) throw InputError("exposure grid has no cells");
     if (!(grid.pitch > 0) || !std::isfinite(grid.pitch)) throw InputError("exposure grid pitch must be positive");
@@ -109,7 +112,11 @@ TabulatedExposureEngine::TabulatedExposureEngine(const ExposureGrid& grid, const
     if (!(layerThickness > 0) || !std::isfinite(layerThickness)) throw InputError("layer thickness must be positive");
     validateKernel(kernel);
     buildStencils(kernel);
+    if (context)
+        mGpu = std::make_unique<GpuState>(context, grid.nx, grid.ny, mStencils, mLayersInFlight * grid.slicesPerLayer);
 }
+
+TabulatedExposureEngine::~TabulatedExposureEngine() = default;
 
 void TabulatedExposureEngine::buildStencils(const kernel::BeamKernel& kernel) {
     const KernelTable table(kernel);
@@ -182,6 +189,20 @@ double TabulatedExposureEngine::run(const plan::ScanPlan& plan, const SliceSink&
     for (int source = int(plan.layers.size()) - 1; source >= 0; --source) {
         std::fill(deposit.values.begin(), deposit.values.end(), 0.0f);
         depositLayer(plan.layers[source], deposit);
+        if (mGpu) {
+            std::vector<std::pair<int, int>> gpuTargets;
+            for (int k = source; k >= 0 && k > source - L; --k)
+                for (int s = 0; s < n; ++s)
+                    if ((source - k) * n + s < M) gpuTargets.push_back({(source - k) * n + s, (k % L) * n + s});
+            seconds += mGpu->addLayer(deposit, gpuTargets);
+            for (int s = 0; s < n; ++s) {
+                SurfaceGrid& slice = acc[size_t(source % L) * n + s];
+                mGpu->takeSlot((source % L) * n + s, slice);
+                sink({source, s, plan.layers[source].z - (s + 0.5) * dz, &slice});
+            }
+            progress.advance();
+            continue;
+        }
         auto start = std::chrono::steady_clock::now();
         const std::vector<RowExtent> extents = rowExtents(deposit);
         std::vector<Target> targets;
@@ -202,7 +223,7 @@ double TabulatedExposureEngine::run(const plan::ScanPlan& plan, const SliceSink&
                         if (sj < 0 || sj >= ny || hw < 0 || extents[sj].first > extents[sj].last) continue;
                         const float* src = deposit.values.data() + size_t(sj) * nx;
                         for (int di = -hw; di <= hw; ++di) {
-                            const float w = st.at(di, dj);
+                            const float w = st.weights[size_t(glsl::stencilIndex(di, dj, H))];
                             if (w == 0.0f) continue;
                             // out[i] gathers src[i + di]; only the row's non-zero columns matter.
                             const int lo = std::max(0, extents[sj].first - di);

@@ -137,7 +137,8 @@ plan::ScanPlan planLayers(const Job& job, const std::vector<geometry::Layer>& la
 
 } // namespace
 
-nlohmann::json runJob(const Job& job, const std::string& outDir, const std::shared_ptr<gpu::Context>& context) {
+nlohmann::json runJob(const Job& job, const std::string& outDir, const std::shared_ptr<gpu::Context>& context,
+                      bool exposureShadersOnCpuDevices) {
     createDirectories(outDir);
     StageTimer timer;
     nlohmann::json report{{"job", job.file}, {"name", job.name},
@@ -171,14 +172,17 @@ nlohmann::json runJob(const Job& job, const std::string& outDir, const std::shar
     exposure::ExposureGrid grid = exposure::ExposureGrid::covering(bounds.lo.x, bounds.lo.y, bounds.hi.x, bounds.hi.y,
                                                                    margin, job.voxel, job.slicesPerLayer);
     const double voxelHeight = job.layerThickness / job.slicesPerLayer, ec = job.cure.criticalDose();
-    // The fitted kernel runs in the separable engine (shaders or CPU); the tabulated one in the
-    // depth-sliced convolution engine (CPU).
+    // The fitted kernel runs in the separable engine, the tabulated one in the depth-sliced
+    // convolution engine; both in compute shaders when there is a context, else on the CPU.
     std::function<double(const plan::ScanPlan&, const exposure::SliceSink&)> expose;
+    std::shared_ptr<gpu::Context> exposureContext =
+        context && (context->info().isHardware() || exposureShadersOnCpuDevices) ? context : nullptr;
     if (table) {
-        auto engine = std::make_shared<exposure::TabulatedExposureEngine>(grid, *table, job.layerThickness);
+        auto engine =
+            std::make_shared<exposure::TabulatedExposureEngine>(grid, *table, job.layerThickness, exposureContext);
         expose = [engine](const plan::ScanPlan& p, const exposure::SliceSink& sink) { return engine->run(p, sink); };
     } else {
-        auto engine = std::make_shared<exposure::ExposureEngine>(grid, beam, job.layerThickness, context);
+        auto engine = std::make_shared<exposure::ExposureEngine>(grid, beam, job.layerThickness, exposureContext);
         expose = [engine](const plan::ScanPlan& p, const exposure::SliceSink& sink) { return engine->run(p, sink); };
     }
     exposure::DoseVolume volume(grid, voxelHeight, 0.0, float(0.02 * ec));
@@ -196,7 +200,8 @@ nlohmann::json runJob(const Job& job, const std::string& outDir, const std::shar
         features.add(slice);
         sinkSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     });
-    report["exposure"] = {{"grid", {grid.nx, grid.ny, int(layers.size()) * job.slicesPerLayer}},
+    report["exposure"] = {{"backend", exposureContext ? exposureContext->info().name : std::string("cpu")},
+                          {"grid", {grid.nx, grid.ny, int(layers.size()) * job.slicesPerLayer}},
                           {"voxel_um", {job.voxel * 1e3, job.voxel * 1e3, voxelHeight * 1e3}},
                           {"engine_seconds", engineSeconds}, {"store_and_compare_seconds", sinkSeconds},
                           {"max_mJ_per_cm2", volume.maxValue() * 100.0}, {"stored_voxels", volume.activeVoxels()},

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "exposure/exposure_test_util.h"
+#include "support/gpu_test.h"
 #include "vpsim/core/error.h"
 #include "vpsim/exposure/exposure_engine.h"
 #include "vpsim/exposure/tabulated_engine.h"
@@ -235,4 +236,22 @@ TEST_CASE("the tabulated engine rejects bad inputs", "[exposure][tabulated]") {
     ExposureGrid fine = grid;
     fine.pitch = 1e-7;
     CHECK_THROWS_AS(TabulatedExposureEngine(fine, good, 0.05), ResourceError);
+}
+
+// The shader and the CPU loop gather the same stencils (indexed through exposure.glsl) in
+// different orders: float rounding only, 1e-5 relative.
+TEST_CASE("GPU and CPU tabulated exposure agree", "[exposure][tabulated][gpu]") {
+    auto ctx = test::gpuContext();
+    const double h = 0.05;
+    kernel::BeamKernel k = separableKernel(10.0, 0.05, 0.04, 0.3);
+    plan::ScanPlan plan = test::randomPlan(3, h, 31, 0.2);
+    ExposureGrid grid = ExposureGrid::covering(-0.2, -0.2, 0.2, 0.2, 0.1, 0.01, 2);
+    TabulatedExposureEngine cpu(grid, k, h), gpu(grid, k, h, ctx);
+    REQUIRE(gpu.usesGpu());
+    auto ec = test::exposeAll(cpu, plan), eg = test::exposeAll(gpu, plan);
+    for (size_t layer = 0; layer < ec.size(); ++layer)
+        for (int s = 0; s < 2; ++s)
+            for (size_t c = 0; c < ec[layer][s].values.size(); ++c)
+                REQUIRE(eg[layer][s].values[c] == Approx(ec[layer][s].values[c]).epsilon(1e-5).margin(1e-7));
+    VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
 }

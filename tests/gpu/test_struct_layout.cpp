@@ -58,6 +58,10 @@ TEST_CASE("shared structs have the same layout in C++ and std430 GLSL", "[gpu][l
     checkStruct("ExposureRecursionParams", sizeof(ExposureRecursionParams),
                 {VPSIM_MEMBER(ExposureRecursionParams, count), VPSIM_MEMBER(ExposureRecursionParams, decay),
                  VPSIM_MEMBER(ExposureRecursionParams, pad0), VPSIM_MEMBER(ExposureRecursionParams, pad1)});
+    using glsl::ExposureStencilParams;
+    checkStruct("ExposureStencilParams", sizeof(ExposureStencilParams),
+                {VPSIM_MEMBER(ExposureStencilParams, nx), VPSIM_MEMBER(ExposureStencilParams, ny),
+                 VPSIM_MEMBER(ExposureStencilParams, halfWidth), VPSIM_MEMBER(ExposureStencilParams, weightOffset)});
     using glsl::PhotonParams;
     checkStruct("PhotonParams", sizeof(PhotonParams),
                 {VPSIM_MEMBER(PhotonParams, seed), VPSIM_MEMBER(PhotonParams, photonStart), VPSIM_MEMBER(PhotonParams, photonEnd),

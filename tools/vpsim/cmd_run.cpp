@@ -16,7 +16,8 @@ struct RunOptions {
 
 void runCommand(const RunOptions& options, const vpsim::cli::Globals& globals) {
     vpsim::report::Job job = vpsim::report::loadJob(options.job, globals.overrides);
-    nlohmann::json report = vpsim::report::runJob(job, options.out, globals.gpu());
+    // --backend vulkan also puts the exposure on a CPU driver (lavapipe), where it is slower.
+    nlohmann::json report = vpsim::report::runJob(job, options.out, globals.gpu(), globals.backend == "vulkan");
     if (options.json) {
         vpsim::cli::printJson(report);
         return;

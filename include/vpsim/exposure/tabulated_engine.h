@@ -18,8 +18,10 @@
 ///
 /// Layers are processed from the top down; accumulators are kept only for the layers still
 /// receiving contributions, so memory is bounded by the kernel's depth, not the part's height.
-/// CPU only (TBB-parallel over rows).
+/// Runs in a compute shader (shaders/exposure_stencil.comp) when given a Vulkan context, else on
+/// the CPU (TBB-parallel over rows); both index the stencils through exposure.glsl.
 
+#include <memory>
 #include <vector>
 
 #include "vpsim/exposure/exposure_engine.h"
@@ -54,7 +56,11 @@ public:
     /// @throw InputError for an empty grid, a non-positive pitch, slice count, layer thickness or
     ///        power, or a kernel table that is empty, inconsistent in size, non-finite or all zero
     /// @throw ResourceError when the accumulators and stencils would exceed TABULATED_ENGINE_MAX_BYTES
-    TabulatedExposureEngine(const ExposureGrid& grid, const kernel::BeamKernel& kernel, double layerThickness);
+    /// @param context a Vulkan context for the shader path, or nullptr for the CPU
+    TabulatedExposureEngine(const ExposureGrid& grid, const kernel::BeamKernel& kernel, double layerThickness,
+                            std::shared_ptr<gpu::Context> context = nullptr);
+    ~TabulatedExposureEngine();
+    bool usesGpu() const { return mGpu != nullptr; }
 
     /// Exposes every layer of `plan` (layer k's top at plan.layers[k].z) and calls `sink` for
     /// each voxel slice from the top of the part down (top layer first, slice 0 = top of each
@@ -71,7 +77,9 @@ public:
     double workingBytes() const { return mWorkingBytes; }
 
 private:
+    struct GpuState;
     void buildStencils(const kernel::BeamKernel& kernel);
+    std::unique_ptr<GpuState> mGpu;
     ExposureGrid mGrid;
     double mLayerThickness;
     std::vector<DepthStencil> mStencils;
