@@ -107,7 +107,6 @@ plan::ScanPlan planLayers(const Job& job, const std::vector<geometry::Layer>& la
     aces.laserPower = job.laserPower;
     aces.homogeneity = job.homogeneity;
     aces.edge = job.edgeFivePercent ? plan::AcesEdge::SeedFivePercent : plan::AcesEdge::CureAtContour;
-    double energy = 0;
     for (const auto& layer : layers) {
         double top = layer.zBottom + job.layerThickness;
         if (layer.region.empty()) {
@@ -130,8 +129,7 @@ plan::ScanPlan planLayers(const Job& job, const std::vector<geometry::Layer>& la
             plan.layers.push_back(std::move(lp));
         }
     }
-    energy = plan.totalEnergy();
-    report["plan"] = {{"layers", plan.layers.size()}, {"energy_mJ", energy}};
+    report["plan"] = {{"layers", plan.layers.size()}, {"energy_mJ", plan.totalEnergy()}};
     return plan;
 }
 
