@@ -33,17 +33,12 @@ std::string kernelCacheDirectory() {
 }
 
 kernel::BeamKernel monteCarloKernel(const Job& job, const std::shared_ptr<gpu::Context>& context, bool& fromCache) {
-    transport::McSetup setup;
-    setup.optics = optics::loadMediumOptics(job.materialFile);
-    if (!(setup.optics.mua > 0))
+    const optics::MediumOptics medium = optics::loadMediumOptics(job.materialFile);
+    if (!(medium.mua > 0))
         throw InputError("the beam kernel needs an absorbing material (mua > 0)", job.materialFile, "mua");
-    setup.beam = transport::BeamShape::Gaussian;
-    setup.w0 = job.beamRadius;
+    transport::McSetup setup = kernel::kernelSetup(medium, job.beamRadius);
     setup.photons = job.photons;
     setup.seed = job.seed;
-    setup.bins.rMax = 4 * job.beamRadius;
-    setup.bins.zMax = 3.0 / setup.optics.mua;
-    setup.bins.rBins = setup.bins.zBins = 80;
 
     nlohmann::json key{{"material", readFile(job.materialFile)}, {"power", job.laserPower}, {"w0", setup.w0},
                        {"photons", setup.photons}, {"seed", setup.seed}, {"r_max", setup.bins.rMax},

@@ -102,18 +102,7 @@ McResult runPhotonMcCpu(const McSetup& setup, int threads) {
     result.absorbedRZ.assign(rzBins, 0);
     result.absorbedGrid.assign(voxels, 0);
     for (const LocalTally& local : locals) {
-        for (int b = 0; b < MC_BATCHES; ++b) {
-            BatchTally& to = result.batches[size_t(b)];
-            const BatchTally& from = local.batches[size_t(b)];
-            to.photons += from.photons;
-            to.specular += from.specular;
-            to.diffuse += from.diffuse;
-            to.transmitted += from.transmitted;
-            to.absorbed += from.absorbed;
-            to.escaped += from.escaped;
-            to.scatterings += from.scatterings;
-            for (size_t k = 0; k < 4; ++k) to.absorbedWithin[k] += from.absorbedWithin[k];
-        }
+        for (int b = 0; b < MC_BATCHES; ++b) result.batches[size_t(b)] += local.batches[size_t(b)];
         for (size_t i = 0; i < rzBins; ++i) result.absorbedRZ[i] += local.rz[i];
         for (size_t i = 0; i < voxels; ++i) result.absorbedGrid[i] += local.grid[i];
     }

@@ -134,16 +134,7 @@ uint64_t photonsInBatch(uint64_t photons, int batch) {
 
 BatchTally McResult::total() const {
     BatchTally t;
-    for (const auto& b : batches) {
-        t.photons += b.photons;
-        t.specular += b.specular;
-        t.diffuse += b.diffuse;
-        t.transmitted += b.transmitted;
-        t.absorbed += b.absorbed;
-        t.escaped += b.escaped;
-        t.scatterings += b.scatterings;
-        for (size_t k = 0; k < 4; ++k) t.absorbedWithin[k] += b.absorbedWithin[k];
-    }
+    for (const auto& b : batches) t += b;
     return t;
 }
 

@@ -40,23 +40,18 @@ double quantity(const std::string& text, vpsim::Dimension dimension, const std::
 }
 
 void runKernel(const KernelOptions& o, const vpsim::cli::Globals& g) {
-    McSetup s;
-    s.optics = vpsim::optics::loadMediumOptics(o.material, g.overrides);
-    if (!(s.optics.mua > 0))
+    const vpsim::optics::MediumOptics optics = vpsim::optics::loadMediumOptics(o.material, g.overrides);
+    if (!(optics.mua > 0))
         throw InputError("the beam kernel needs an absorbing material (mua > 0): Eq. 11 divides by mua", o.material,
                          "mua");
     const double power = quantity(o.power, vpsim::dim::POWER, "--power");
-    s.beam = BeamShape::Gaussian;
-    s.w0 = quantity(o.w0, vpsim::dim::LENGTH, "--w0");
+    const double thickness = o.thickness.empty() ? 0.0 : quantity(o.thickness, vpsim::dim::LENGTH, "--thickness");
+    McSetup s = kernelSetup(optics, quantity(o.w0, vpsim::dim::LENGTH, "--w0"), thickness);
     s.photons = vpsim::cli::parseCount(o.photons, MAX_PHOTONS, "--photons");
     s.seed = o.seed;
-    s.thickness = o.thickness.empty() ? 0.0 : quantity(o.thickness, vpsim::dim::LENGTH, "--thickness");
     s.nAbove = s.nBelow = o.nOutside;
-    // Defaults: 4 W0 across (the Gaussian is 1e-14 there) and 3 absorption lengths deep.
-    s.bins.rMax = o.rMax.empty() ? 4 * s.w0 : quantity(o.rMax, vpsim::dim::LENGTH, "--r-max");
-    double deep = 3.0 / s.optics.mua;
-    if (s.thickness > 0) deep = std::min(deep, s.thickness);
-    s.bins.zMax = o.zMax.empty() ? deep : quantity(o.zMax, vpsim::dim::LENGTH, "--z-max");
+    if (!o.rMax.empty()) s.bins.rMax = quantity(o.rMax, vpsim::dim::LENGTH, "--r-max");
+    if (!o.zMax.empty()) s.bins.zMax = quantity(o.zMax, vpsim::dim::LENGTH, "--z-max");
     if (o.bins < 4 || o.bins > 1000) throw InputError("--bins: expected 4..1000, got " + std::to_string(o.bins));
     s.bins.rBins = s.bins.zBins = o.bins;
 

@@ -13,9 +13,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-namespace vpsim::transport {
-struct McResult;
-}
+#include "vpsim/transport/photon_mc.h"
 
 namespace vpsim::kernel {
 
@@ -64,6 +62,12 @@ struct BeamKernel {
     /// @throw InputError for a missing, malformed or inconsistent file.
     static BeamKernel load(const std::string& path);
 };
+
+/// The Monte Carlo setup of a beam kernel: a Gaussian beam of 1/e^2 radius w0 (mm) into the
+/// medium (a slab of `thickness` mm, or semi-infinite when 0), tallied on 80 x 80 bins 4 w0 wide
+/// (the Gaussian is 1e-14 there) and 3 absorption lengths deep (or the slab's thickness). The
+/// caller sets photons and seed and may override the bins.
+transport::McSetup kernelSetup(const optics::MediumOptics& optics, double w0, double thickness = 0.0);
 
 /// Eq. 11: absorbed power per bin volume divided by mua is the local intensity (fluence rate).
 /// This equals the seed's ratio Ii(0,0,0)/rho_ns(0,0,0), which for the unscattered beam is 1/mua.

@@ -83,6 +83,18 @@ struct BatchTally {
     uint64_t photons = 0, specular = 0, diffuse = 0, transmitted = 0, absorbed = 0, escaped = 0,
              scatterings = 0;
     std::array<uint64_t, 4> absorbedWithin{};
+
+    BatchTally& operator+=(const BatchTally& o) {
+        photons += o.photons;
+        specular += o.specular;
+        diffuse += o.diffuse;
+        transmitted += o.transmitted;
+        absorbed += o.absorbed;
+        escaped += o.escaped;
+        scatterings += o.scatterings;
+        for (size_t k = 0; k < absorbedWithin.size(); ++k) absorbedWithin[k] += o.absorbedWithin[k];
+        return *this;
+    }
 };
 
 /// Tallies of a run and the fractions derived from them (all fractions are of the launched weight).
