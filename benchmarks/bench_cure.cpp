@@ -14,9 +14,9 @@
 #include <thread>
 #include <vector>
 
-#include <nlohmann/json.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <nlohmann/json.hpp>
 
 #include "vpsim/cure/cure_field.h"
 
@@ -28,12 +28,13 @@ double bestSeconds(int repetitions, const Work& work) {
     for (int r = 0; r < repetitions; ++r) {
         auto start = std::chrono::steady_clock::now();
         work();
-        best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        best = std::min(
+            best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     }
     return best;
 }
 
-} // namespace
+}  // namespace
 
 int main(int argc, char** argv) {
     const size_t voxels = argc > 1 ? size_t(std::atof(argv[1])) : size_t(100000000);
@@ -54,15 +55,20 @@ int main(int argc, char** argv) {
     vpsim::cure::CureModel model = vpsim::cure::CureModel::fpp(0.528, 0.276);
     const double floatBytes = double(voxels) * sizeof(float);
 
-    double memcpySerial = bestSeconds(repetitions, [&] { std::memcpy(copy.data(), dose.data(), voxels * sizeof(float)); });
+    double memcpySerial = bestSeconds(
+        repetitions, [&] { std::memcpy(copy.data(), dose.data(), voxels * sizeof(float)); });
     double memcpyParallel = bestSeconds(repetitions, [&] {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, voxels, chunk), [&](const tbb::blocked_range<size_t>& r) {
-            std::memcpy(copy.data() + r.begin(), dose.data() + r.begin(), r.size() * sizeof(float));
-        });
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, voxels, chunk),
+                          [&](const tbb::blocked_range<size_t>& r) {
+                              std::memcpy(copy.data() + r.begin(), dose.data() + r.begin(),
+                                          r.size() * sizeof(float));
+                          });
     });
-    double maskTime = bestSeconds(repetitions, [&] { vpsim::cure::cureMask(model, dose.data(), voxels, mask.data()); });
-    double conversionTime = bestSeconds(
-        repetitions, [&] { vpsim::cure::conversionField(model, dose.data(), voxels, conversion.data()); });
+    double maskTime = bestSeconds(
+        repetitions, [&] { vpsim::cure::cureMask(model, dose.data(), voxels, mask.data()); });
+    double conversionTime = bestSeconds(repetitions, [&] {
+        vpsim::cure::conversionField(model, dose.data(), voxels, conversion.data());
+    });
 
     // Keep the results observable so nothing is optimised away.
     size_t cured = 0;
@@ -82,14 +88,16 @@ int main(int argc, char** argv) {
     out["cure_mask_voxels_per_s"] = double(voxels) / maskTime;
     out["cure_mask_GB_per_s"] = maskBytes / maskTime / 1e9;
     // The figure of merit: bandwidth the mask reaches as a fraction of memcpy's (1 = memory-bound).
-    out["cure_mask_fraction_of_memcpy_bandwidth"] = (maskBytes / maskTime) / (2.0 * floatBytes / memcpyBest);
+    out["cure_mask_fraction_of_memcpy_bandwidth"] =
+        (maskBytes / maskTime) / (2.0 * floatBytes / memcpyBest);
     // < 1 is possible: the mask writes 1 byte per voxel where memcpy writes 4.
     out["cure_mask_time_over_memcpy"] = maskTime / memcpyBest;
     out["fpp_conversion_s"] = conversionTime;
     out["fpp_conversion_voxels_per_s"] = double(voxels) / conversionTime;
     out["fpp_conversion_GB_per_s"] = conversionBytes / conversionTime / 1e9;
     out["fpp_conversion_time_over_memcpy"] = conversionTime / memcpyBest;
-    out["fpp_conversion_fraction_of_memcpy_bandwidth"] = (conversionBytes / conversionTime) / (2.0 * floatBytes / memcpyBest);
+    out["fpp_conversion_fraction_of_memcpy_bandwidth"] =
+        (conversionBytes / conversionTime) / (2.0 * floatBytes / memcpyBest);
     out["design_floor_GB_per_s"] = 30.0;
     out["cure_mask_fraction_of_design_floor"] = maskBytes / maskTime / 1e9 / 30.0;
     out["sampled_cured_voxels"] = cured;

@@ -25,7 +25,8 @@ plan::ScanPlan acesBlock(int layers, double h, double side, double hs, double po
     for (int k = 0; k < layers; ++k) {
         plan::LayerPlan layer;
         layer.z = (k + 1) * h;
-        for (double y = hs / 2; y < side; y += hs) layer.vectors.push_back({0.0, y, side, y, power, speed});
+        for (double y = hs / 2; y < side; y += hs)
+            layer.vectors.push_back({0.0, y, side, y, power, speed});
         plan.layers.push_back(layer);
     }
     return plan;
@@ -41,14 +42,15 @@ double seconds(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-} // namespace
+}  // namespace
 
 int main() {
     const double h = 0.05, pitch = 0.01, side = 10.0, hs = 0.025, power = 10.0, speed = 400.0;
     const exposure::SeparableBeam beam{0.05, 0.12};
     nlohmann::json out{{"benchmark", "exposure"}, {"part_mm", {side, side, 5.0}}, {"voxel_um", 10}};
     try {
-        exposure::ExposureGrid grid = exposure::ExposureGrid::covering(0, 0, side, side, 0.1, pitch, 5);
+        exposure::ExposureGrid grid =
+            exposure::ExposureGrid::covering(0, 0, side, side, 0.1, pitch, 5);
         plan::ScanPlan plan = acesBlock(100, h, side, hs, power, speed);
         const double voxels = double(grid.nx) * grid.ny * grid.slicesPerLayer * plan.layers.size();
         exposure::ExposureEngine engine(grid, beam, h);
@@ -85,7 +87,8 @@ int main() {
             t = std::chrono::steady_clock::now();
             gpu.run(slab, sinkNothing);
             out["vulkan_seconds_per_layer"] = seconds(t) / 10;
-            out["vulkan_over_cpu_speed"] = out["cpu_seconds_per_layer"].get<double>() / (seconds(t) / 10);
+            out["vulkan_over_cpu_speed"] =
+                out["cpu_seconds_per_layer"].get<double>() / (seconds(t) / 10);
         } catch (const Error& e) {
             out["vulkan_error"] = e.what();
         }

@@ -31,7 +31,8 @@ double medianSeconds(F&& work, int repeats) {
     for (int r = 0; r < repeats; ++r) {
         auto t0 = std::chrono::steady_clock::now();
         work();
-        times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        times.push_back(
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
     std::sort(times.begin(), times.end());
     return times[times.size() / 2];
@@ -53,8 +54,10 @@ double bhmieBaseline(std::complex<double> m, double x) {
         const double psi = (2.0 * n - 1.0) * psi1 / x - psi0;
         const double chi = (2.0 * n - 1.0) * chi1 / x - chi0;
         const C xi(psi, -chi);
-        const C an = ((d[n] / m + double(n) / x) * psi - psi1) / ((d[n] / m + double(n) / x) * xi - xi1);
-        const C bn = ((m * d[n] + double(n) / x) * psi - psi1) / ((m * d[n] + double(n) / x) * xi - xi1);
+        const C an =
+            ((d[n] / m + double(n) / x) * psi - psi1) / ((d[n] / m + double(n) / x) * xi - xi1);
+        const C bn =
+            ((m * d[n] + double(n) / x) * psi - psi1) / ((m * d[n] + double(n) / x) * xi - xi1);
         qsca += (2.0 * n + 1.0) * (std::norm(an) + std::norm(bn));
         qext += (2.0 * n + 1.0) * (an.real() + bn.real());
         psi0 = psi1;
@@ -66,7 +69,7 @@ double bhmieBaseline(std::complex<double> m, double x) {
     return 2.0 / (x * x) * (qext + qsca);
 }
 
-} // namespace
+}  // namespace
 
 int main() {
     nlohmann::json out;
@@ -82,24 +85,33 @@ int main() {
     seed.volumeFraction = 0.5;
     SlurryOptics optics;
     const double seedSeconds = medianSeconds([&] { optics = computeSlurryOptics(seed); }, 9);
-    out["seed000_phase_table"] = {{"seconds", seedSeconds},
-                                  {"x", optics.x},
-                                  {"panels", optics.phase.thetaEdges.size() - 1},
-                                  {"table_size", optics.phase.inverseCdf.size()},
-                                  {"g", optics.efficiencies.g},
-                                  {"table_mean_cosine_error", optics.phase.tableMeanCosine() - optics.efficiencies.g}};
+    out["seed000_phase_table"] = {
+        {"seconds", seedSeconds},
+        {"x", optics.x},
+        {"panels", optics.phase.thetaEdges.size() - 1},
+        {"table_size", optics.phase.inverseCdf.size()},
+        {"g", optics.efficiencies.g},
+        {"table_mean_cosine_error", optics.phase.tableMeanCosine() - optics.efficiencies.g}};
 
     nlohmann::json evaluations = nlohmann::json::array();
     double sink = 0.0;
     for (double x : {10.0, 100.0, 1000.0}) {
         const Complex m(1.5, -0.01);
         const int repeats = static_cast<int>(std::max(20.0, 2e6 / (x * x)));
-        const double ours = medianSeconds([&] {
-            for (int r = 0; r < repeats; ++r) sink += mieEfficiencies(mieCoefficients(m, x)).qext;
-        }, 5) / repeats;
-        const double baseline = medianSeconds([&] {
-            for (int r = 0; r < repeats; ++r) sink += bhmieBaseline(std::conj(m), x);
-        }, 5) / repeats;
+        const double ours = medianSeconds(
+                                [&] {
+                                    for (int r = 0; r < repeats; ++r)
+                                        sink += mieEfficiencies(mieCoefficients(m, x)).qext;
+                                },
+                                5) /
+                            repeats;
+        const double baseline = medianSeconds(
+                                    [&] {
+                                        for (int r = 0; r < repeats; ++r)
+                                            sink += bhmieBaseline(std::conj(m), x);
+                                    },
+                                    5) /
+                                repeats;
         const int terms = wiscombeTermCount(x);
         evaluations.push_back({{"x", x},
                                {"m", {m.real(), m.imag()}},

@@ -31,13 +31,15 @@ nlohmann::json figures(const vpsim::transport::McResult& r) {
             {"energy_balanced", r.energyBalanced()}};
 }
 
-} // namespace
+}  // namespace
 
 int main(int argc, char** argv) {
     using namespace vpsim::transport;
     const std::string material = argc > 1 ? argv[1] : "examples/materials/alumina-seed000.json";
     const uint64_t photons = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 2000000;
-    nlohmann::json out{{"benchmark", "photon_mc"}, {"material", material}, {"cpu_cores", std::thread::hardware_concurrency()}};
+    nlohmann::json out{{"benchmark", "photon_mc"},
+                       {"material", material},
+                       {"cpu_cores", std::thread::hardware_concurrency()}};
     try {
         McSetup setup;
         setup.optics = vpsim::optics::loadMediumOptics(material);
@@ -61,14 +63,15 @@ int main(int argc, char** argv) {
             McResult gpu = runPhotonMcGpu(setup, context);
             out["gpu"] = figures(gpu);
             out["gpu_over_cpu"] = gpu.photonsPerSecond() / cpu.photonsPerSecond();
-            // Same random streams on both: the tallies are identical unless the device's log/sin/cos
-            // differ from the CPU's in the last bit somewhere along a trajectory.
+            // Same random streams on both: the tallies are identical unless the device's
+            // log/sin/cos differ from the CPU's in the last bit somewhere along a trajectory.
             bool identical = gpu.absorbedRZ == cpu.absorbedRZ;
             for (int b = 0; b < MC_BATCHES; ++b)
                 identical = identical && gpu.batches[b].diffuse == cpu.batches[b].diffuse &&
                             gpu.batches[b].scatterings == cpu.batches[b].scatterings;
             out["cpu_gpu_tallies_identical"] = identical;
-            out["cpu_gpu_diffuse_reflectance_difference"] = gpu.diffuse().value - cpu.diffuse().value;
+            out["cpu_gpu_diffuse_reflectance_difference"] =
+                gpu.diffuse().value - cpu.diffuse().value;
             out["diffuse_reflectance_stderr"] = cpu.diffuse().standardError;
             out["target_photons_per_second"] = 300000;
             out["gpu_over_target"] = gpu.photonsPerSecond() / 300000.0;

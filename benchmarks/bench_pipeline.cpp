@@ -42,7 +42,8 @@ int main(int argc, char** argv) {
         const auto& grid = report["exposure"]["grid"];
         double voxels = grid[0].get<double>() * grid[1].get<double>() * grid[2].get<double>();
         const auto& stages = report["stage_seconds"];
-        double core = stages["expose"].get<double>() + stages["cure"].get<double>() + stages["validate"].get<double>();
+        double core = stages["expose"].get<double>() + stages["cure"].get<double>() +
+                      stages["validate"].get<double>();
         rusage usage{};
         getrusage(RUSAGE_SELF, &usage);
         out["backend"] = report["backend"];

@@ -12,8 +12,8 @@
 #include <filesystem>
 #include <iostream>
 
-#include <nlohmann/json.hpp>
 #include <tbb/info.h>
+#include <nlohmann/json.hpp>
 
 #include "vpsim/core/progress.h"
 #include "vpsim/geometry/level_set.h"
@@ -41,11 +41,14 @@ Mesh makeSphere(double radius, int rings, int segments) {
         for (int s = 0; s < segments; ++s) {
             const double azimuth = 2.0 * PI * s / segments;
             mesh.vertices.emplace_back(radius * std::sin(polar) * std::cos(azimuth),
-                                       radius * std::sin(polar) * std::sin(azimuth), -radius * std::cos(polar));
+                                       radius * std::sin(polar) * std::sin(azimuth),
+                                       -radius * std::cos(polar));
         }
     }
     mesh.vertices.emplace_back(0.0, 0.0, radius);
-    const auto ring = [&](int r, int s) { return uint32_t(1 + (r - 1) * segments + (s % segments)); };
+    const auto ring = [&](int r, int s) {
+        return uint32_t(1 + (r - 1) * segments + (s % segments));
+    };
     const auto top = uint32_t(mesh.vertices.size() - 1);
     for (int s = 0; s < segments; ++s) {
         mesh.triangles.push_back({0, ring(1, s + 1), ring(1, s)});
@@ -66,28 +69,31 @@ double seconds(F&& f) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-} // namespace
+}  // namespace
 
 int main() {
     vpsim::Progress::setEnabled(false);
     const double radius = 5.0;
     const Mesh sphere = makeSphere(radius, 500, 1000);
     const double triangles = double(sphere.triangles.size());
-    nlohmann::json out{{"benchmark", "slicing"}, {"triangles", sphere.triangles.size()},
+    nlohmann::json out{{"benchmark", "slicing"},
+                       {"triangles", sphere.triangles.size()},
                        {"threads", tbb::info::default_concurrency()}};
 
     // Floor: one pass reading every triangle's three vertex z values (what bucketing must do).
     double floorSink = 0.0;
     const double floorTime = seconds([&] {
         for (const auto& t : sphere.triangles) {
-            floorSink += std::max({sphere.vertices[t[0]].z, sphere.vertices[t[1]].z, sphere.vertices[t[2]].z});
+            floorSink += std::max(
+                {sphere.vertices[t[0]].z, sphere.vertices[t[1]].z, sphere.vertices[t[2]].z});
         }
     });
     out["floor_read_triangles_s"] = floorTime;
     out["floor_checksum"] = floorSink;
 
     // STL out and in (with all checks), through a temporary file.
-    const std::string path = (std::filesystem::temp_directory_path() / "vpsim_bench_sphere.stl").string();
+    const std::string path =
+        (std::filesystem::temp_directory_path() / "vpsim_bench_sphere.stl").string();
     out["stl_write_s"] = seconds([&] { writeStl(path, sphere); });
     Mesh read;
     out["stl_read_and_check_s"] = seconds([&] { read = readStl(path); });
@@ -111,7 +117,8 @@ int main() {
     out["slice_triangles_per_s"] = triangles / sliceTime;
     out["slice_over_floor"] = sliceTime / floorTime;
     out["slice_target_s"] = 10.0;
-    out["slice_area_vs_circle_max_abs_error_mm2"] = worstAreaError;  // tessellation error of the sphere
+    out["slice_area_vs_circle_max_abs_error_mm2"] =
+        worstAreaError;  // tessellation error of the sphere
     out["peak_rss_after_slice_MiB"] = peakRssMiB();
 
     // Reference level set at 20 um, half-width 3 voxels.

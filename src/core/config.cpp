@@ -21,7 +21,7 @@ std::string joinPath(const std::string& parent, const std::string& key) {
     return parent.empty() ? key : parent + "." + key;
 }
 
-} // namespace
+}  // namespace
 
 nlohmann::json loadJsonFile(const std::string& path) {
     std::string text = readFile(path);
@@ -30,7 +30,8 @@ nlohmann::json loadJsonFile(const std::string& path) {
     } catch (const nlohmann::json::parse_error& e) {
         std::string reason = e.what();
         size_t colon = reason.find("]");
-        reason = "malformed JSON: " + (colon == std::string::npos ? reason : reason.substr(colon + 2));
+        reason =
+            "malformed JSON: " + (colon == std::string::npos ? reason : reason.substr(colon + 2));
         throw InputError(reason, path, "", lineOfByte(text, e.byte > 0 ? e.byte - 1 : 0));
     }
 }
@@ -51,11 +52,13 @@ void applyOverride(nlohmann::json& document, const std::string& assignment) {
     size_t start = 0;
     while (true) {
         size_t dot = path.find('.', start);
-        std::string key = path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+        std::string key =
+            path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
         if (key.empty()) throw InputError("--set: empty key in '" + path + "'");
         if (node->is_null()) *node = nlohmann::json::object();
         if (!node->is_object())
-            throw InputError("--set: '" + path.substr(0, start ? start - 1 : 0) + "' is not an object");
+            throw InputError("--set: '" + path.substr(0, start ? start - 1 : 0) +
+                             "' is not an object");
         if (dot == std::string::npos) {
             (*node)[key] = value;
             return;
@@ -70,7 +73,8 @@ ConfigNode::ConfigNode(nlohmann::json document, std::string file)
     mState->document = std::move(document);
     mState->file = std::move(file);
     mNode = &mState->document;
-    if (!mNode->is_object()) throw InputError("expected a JSON object at the top level", mState->file);
+    if (!mNode->is_object())
+        throw InputError("expected a JSON object at the top level", mState->file);
 }
 
 ConfigNode::ConfigNode(std::shared_ptr<State> state, const nlohmann::json* node, std::string path)
@@ -82,7 +86,9 @@ ConfigNode ConfigNode::load(const std::string& path, const std::vector<std::stri
     return ConfigNode(std::move(document), path);
 }
 
-std::string ConfigNode::keyPath(const std::string& key) const { return joinPath(mPath, key); }
+std::string ConfigNode::keyPath(const std::string& key) const {
+    return joinPath(mPath, key);
+}
 
 InputError ConfigNode::error(const std::string& key, const std::string& reason) const {
     return InputError(reason, mState->file, keyPath(key));
@@ -105,7 +111,9 @@ void ConfigNode::markRead(const std::string& key, bool wholeSubtree) const {
     if (wholeSubtree) mState->readPaths.insert(keyPath(key) + "/*");
 }
 
-bool ConfigNode::has(const std::string& key) const { return find(key) != nullptr; }
+bool ConfigNode::has(const std::string& key) const {
+    return find(key) != nullptr;
+}
 
 double ConfigNode::quantity(const std::string& key, Dimension dimension) const {
     return quantityFromJson(require(key), dimension, keyPath(key), mState->file);
@@ -117,7 +125,8 @@ double ConfigNode::quantity(const std::string& key, Dimension dimension, double 
 
 double ConfigNode::number(const std::string& key) const {
     const nlohmann::json& value = require(key);
-    if (!value.is_number()) throw error(key, std::string("expected a number, got ") + value.type_name());
+    if (!value.is_number())
+        throw error(key, std::string("expected a number, got ") + value.type_name());
     double number = value.get<double>();
     if (!std::isfinite(number)) throw error(key, "value is not finite");
     return number;
@@ -142,7 +151,8 @@ double ConfigNode::numberInRange(const std::string& key, double lo, double hi,
 long long ConfigNode::integer(const std::string& key, std::optional<long long> fallback) const {
     if (!has(key) && fallback) return *fallback;
     const nlohmann::json& value = require(key);
-    if (!value.is_number_integer()) throw error(key, std::string("expected an integer, got ") + value.dump());
+    if (!value.is_number_integer())
+        throw error(key, std::string("expected an integer, got ") + value.dump());
     return value.get<long long>();
 }
 
@@ -172,13 +182,15 @@ std::string ConfigNode::choice(const std::string& key, const std::vector<std::st
 
 ConfigNode ConfigNode::child(const std::string& key) const {
     const nlohmann::json& value = require(key);
-    if (!value.is_object()) throw error(key, std::string("expected an object, got ") + value.type_name());
+    if (!value.is_object())
+        throw error(key, std::string("expected an object, got ") + value.type_name());
     return ConfigNode(mState, &value, keyPath(key));
 }
 
 std::vector<ConfigNode> ConfigNode::children(const std::string& key) const {
     const nlohmann::json& value = require(key);
-    if (!value.is_array()) throw error(key, std::string("expected an array, got ") + value.type_name());
+    if (!value.is_array())
+        throw error(key, std::string("expected an array, got ") + value.type_name());
     std::vector<ConfigNode> nodes;
     for (size_t i = 0; i < value.size(); ++i) {
         std::string path = keyPath(key) + "[" + std::to_string(i) + "]";
@@ -195,7 +207,9 @@ const nlohmann::json& ConfigNode::raw(const std::string& key) const {
     return value;
 }
 
-void ConfigNode::checkUnknownKeys() const { checkNode(*mNode, mPath); }
+void ConfigNode::checkUnknownKeys() const {
+    checkNode(*mNode, mPath);
+}
 
 void ConfigNode::checkNode(const nlohmann::json& node, const std::string& path) const {
     if (mState->readPaths.count(path + "/*")) return;
@@ -207,8 +221,9 @@ void ConfigNode::checkNode(const nlohmann::json& node, const std::string& path) 
                 for (auto k = node.begin(); k != node.end(); ++k)
                     if (mState->readPaths.count(joinPath(path, k.key())))
                         known += (known.empty() ? "" : ", ") + k.key();
-                throw InputError("unknown key" + (known.empty() ? "" : " (keys used here: " + known + ")"),
-                                 mState->file, childPath);
+                throw InputError(
+                    "unknown key" + (known.empty() ? "" : " (keys used here: " + known + ")"),
+                    mState->file, childPath);
             }
             checkNode(it.value(), childPath);
         }
@@ -218,4 +233,4 @@ void ConfigNode::checkNode(const nlohmann::json& node, const std::string& path) 
     }
 }
 
-} // namespace vpsim
+}  // namespace vpsim

@@ -13,11 +13,14 @@ std::string composeInputMessage(const std::string& reason, const std::string& fi
     return where.empty() ? reason : where + ": " + reason;
 }
 
-} // namespace
+}  // namespace
 
 InputError::InputError(const std::string& reason, const std::string& file, const std::string& key,
                        int line)
-    : Error(composeInputMessage(reason, file, key, line)), mReason(reason), mFile(file), mKey(key),
+    : Error(composeInputMessage(reason, file, key, line)),
+      mReason(reason),
+      mFile(file),
+      mKey(key),
       mLine(line) {}
 
 GpuError::GpuError(const std::string& what, const std::string& resultName, const char* file,
@@ -38,4 +41,4 @@ std::string formatBytes(double bytes) {
     return text;
 }
 
-} // namespace vpsim
+}  // namespace vpsim

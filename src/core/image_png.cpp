@@ -36,7 +36,7 @@ void writePngFile(const std::string& path, int width, int height, int colourType
     });
 }
 
-} // namespace
+}  // namespace
 
 void RgbImage::set(int x, int y, uint8_t r, uint8_t g, uint8_t b) {
     if (x < 0 || y < 0 || x >= width || y >= height) return;
@@ -58,7 +58,8 @@ void writePng(const std::string& path, const RgbImage& image) {
     writePngFile(path, image.width, image.height, PNG_COLOR_TYPE_RGB, 3, image.pixels);
 }
 
-void writePngGrey(const std::string& path, int width, int height, const std::vector<uint8_t>& grey) {
+void writePngGrey(const std::string& path, int width, int height,
+                  const std::vector<uint8_t>& grey) {
     writePngFile(path, width, height, PNG_COLOR_TYPE_GRAY, 1, grey);
 }
 
@@ -93,11 +94,13 @@ RgbImage heatMap(const std::vector<float>& values, int width, int height, double
             for (int x = 0; x < width; ++x) {
                 double v = values[size_t(y) * width + x];
                 bool crossing = false;
-                if (x + 1 < width) crossing |= (v - level) * (values[size_t(y) * width + x + 1] - level) < 0;
-                if (y + 1 < height) crossing |= (v - level) * (values[size_t(y + 1) * width + x] - level) < 0;
+                if (x + 1 < width)
+                    crossing |= (v - level) * (values[size_t(y) * width + x + 1] - level) < 0;
+                if (y + 1 < height)
+                    crossing |= (v - level) * (values[size_t(y + 1) * width + x] - level) < 0;
                 if (crossing) image.set(x, y, 255, 255, 255);
             }
     return image;
 }
 
-} // namespace vpsim
+}  // namespace vpsim

@@ -26,13 +26,14 @@ void renameInto(const std::string& temporary, const std::string& path) {
     }
 }
 
-} // namespace
+}  // namespace
 
 void writeStreamAtomic(const std::string& path, const std::function<void(std::ostream&)>& write) {
     std::string temporary = temporaryName(path);
     {
         std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-        if (!out) throw InputError(std::string("cannot open for writing: ") + std::strerror(errno), path);
+        if (!out)
+            throw InputError(std::string("cannot open for writing: ") + std::strerror(errno), path);
         try {
             write(out);
         } catch (...) {
@@ -51,10 +52,12 @@ void writeStreamAtomic(const std::string& path, const std::function<void(std::os
 }
 
 void writeFileAtomic(const std::string& path, const std::string& contents) {
-    writeStreamAtomic(path, [&](std::ostream& out) { out.write(contents.data(), contents.size()); });
+    writeStreamAtomic(path,
+                      [&](std::ostream& out) { out.write(contents.data(), contents.size()); });
 }
 
-void writePathAtomic(const std::string& path, const std::function<void(const std::string&)>& write) {
+void writePathAtomic(const std::string& path,
+                     const std::function<void(const std::string&)>& write) {
     std::string temporary = temporaryName(path);
     try {
         write(temporary);
@@ -67,7 +70,8 @@ void writePathAtomic(const std::string& path, const std::function<void(const std
 
 std::string readFile(const std::string& path) {
     std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw InputError("is a directory, expected a file", path);
+    if (std::filesystem::is_directory(path, ec))
+        throw InputError("is a directory, expected a file", path);
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(std::string("cannot read file: ") + std::strerror(errno), path);
     std::ostringstream contents;
@@ -81,4 +85,4 @@ void createDirectories(const std::string& path) {
     if (ec) throw InputError("cannot create directory: " + ec.message(), path);
 }
 
-} // namespace vpsim
+}  // namespace vpsim

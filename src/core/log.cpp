@@ -30,13 +30,25 @@ void emit(LogLevel level, const char* prefix, const std::string& message) {
     std::cerr << "vpsim: " << prefix << message << '\n';
 }
 
-} // namespace
+}  // namespace
 
-void setLogLevel(LogLevel level) { currentLevel() = static_cast<int>(level); }
-LogLevel logLevel() { return static_cast<LogLevel>(currentLevel().load()); }
-void logError(const std::string& message) { emit(LogLevel::Error, "error: ", message); }
-void logWarn(const std::string& message) { emit(LogLevel::Warn, "warning: ", message); }
-void logInfo(const std::string& message) { emit(LogLevel::Info, "", message); }
-void logDebug(const std::string& message) { emit(LogLevel::Debug, "debug: ", message); }
+void setLogLevel(LogLevel level) {
+    currentLevel() = static_cast<int>(level);
+}
+LogLevel logLevel() {
+    return static_cast<LogLevel>(currentLevel().load());
+}
+void logError(const std::string& message) {
+    emit(LogLevel::Error, "error: ", message);
+}
+void logWarn(const std::string& message) {
+    emit(LogLevel::Warn, "warning: ", message);
+}
+void logInfo(const std::string& message) {
+    emit(LogLevel::Info, "", message);
+}
+void logDebug(const std::string& message) {
+    emit(LogLevel::Debug, "debug: ", message);
+}
 
-} // namespace vpsim
+}  // namespace vpsim

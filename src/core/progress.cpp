@@ -18,15 +18,22 @@ bool displayEnabled() {
     return isatty(STDERR_FILENO) == 1;
 }
 
-} // namespace
+}  // namespace
 
-void Progress::setEnabled(bool enabled) { enabledOverride() = enabled ? 1 : 0; }
+void Progress::setEnabled(bool enabled) {
+    enabledOverride() = enabled ? 1 : 0;
+}
 
 Progress::Progress(std::string label, uint64_t total)
-    : mLabel(std::move(label)), mTotal(total), mStart(std::chrono::steady_clock::now()),
-      mLastDraw(mStart), mActive(displayEnabled()) {}
+    : mLabel(std::move(label)),
+      mTotal(total),
+      mStart(std::chrono::steady_clock::now()),
+      mLastDraw(mStart),
+      mActive(displayEnabled()) {}
 
-Progress::~Progress() { finish(); }
+Progress::~Progress() {
+    finish();
+}
 
 void Progress::advance(uint64_t amount) {
     mDone += amount;
@@ -46,14 +53,15 @@ void Progress::finish() {
 }
 
 void Progress::draw(bool final) {
-    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - mStart).count();
+    double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - mStart).count();
     uint64_t done = mDone.load();
     if (mTotal > 0) {
         double fraction = std::min(1.0, double(done) / double(mTotal));
         double eta = fraction > 0 ? seconds * (1.0 - fraction) / fraction : 0.0;
-        std::fprintf(stderr, "\r%s: %5.1f%% (%llu/%llu) %.1fs elapsed, %.1fs left   ", mLabel.c_str(),
-                     100.0 * fraction, (unsigned long long)done, (unsigned long long)mTotal, seconds,
-                     final ? 0.0 : eta);
+        std::fprintf(stderr, "\r%s: %5.1f%% (%llu/%llu) %.1fs elapsed, %.1fs left   ",
+                     mLabel.c_str(), 100.0 * fraction, (unsigned long long)done,
+                     (unsigned long long)mTotal, seconds, final ? 0.0 : eta);
     } else {
         std::fprintf(stderr, "\r%s: %llu done, %.1fs elapsed   ", mLabel.c_str(),
                      (unsigned long long)done, seconds);
@@ -62,4 +70,4 @@ void Progress::draw(bool final) {
     std::fflush(stderr);
 }
 
-} // namespace vpsim
+}  // namespace vpsim

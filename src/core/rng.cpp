@@ -7,8 +7,8 @@
 namespace vpsim::glsl {
 namespace {
 #include "rng.glsl"
-} // namespace
-} // namespace vpsim::glsl
+}  // namespace
+}  // namespace vpsim::glsl
 
 namespace vpsim {
 namespace {
@@ -29,9 +29,11 @@ void fromState(const glsl::RngState& state, uint32_t s[4]) {
     s[3] = state.s3;
 }
 
-} // namespace
+}  // namespace
 
-Rng::Rng(uint32_t seed, uint32_t stream) { fromState(glsl::rngSeed(seed, stream), mState); }
+Rng::Rng(uint32_t seed, uint32_t stream) {
+    fromState(glsl::rngSeed(seed, stream), mState);
+}
 
 uint32_t Rng::next() {
     glsl::RngState state = toState(mState);
@@ -66,4 +68,4 @@ std::vector<uint32_t> rngStreamsCpu(uint32_t seed, uint32_t firstStream, uint32_
     return words;
 }
 
-} // namespace vpsim
+}  // namespace vpsim

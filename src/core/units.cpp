@@ -19,19 +19,32 @@ struct UnitDef {
 
 const std::map<std::string, UnitDef>& unitTable() {
     static const std::map<std::string, UnitDef> table = {
-        {"m", {1e3, dim::LENGTH}},       {"cm", {10.0, dim::LENGTH}},
-        {"mm", {1.0, dim::LENGTH}},      {"um", {1e-3, dim::LENGTH}},
-        {"\xC2\xB5m", {1e-3, dim::LENGTH}}, {"\xCE\xBCm", {1e-3, dim::LENGTH}},
-        {"nm", {1e-6, dim::LENGTH}},     {"s", {1.0, dim::TIME}},
-        {"ms", {1e-3, dim::TIME}},       {"us", {1e-6, dim::TIME}},
-        {"\xC2\xB5s", {1e-6, dim::TIME}}, {"ns", {1e-9, dim::TIME}},
-        {"min", {60.0, dim::TIME}},      {"h", {3600.0, dim::TIME}},
-        {"J", {1e3, dim::ENERGY}},       {"mJ", {1.0, dim::ENERGY}},
-        {"uJ", {1e-3, dim::ENERGY}},     {"\xC2\xB5J", {1e-3, dim::ENERGY}},
-        {"W", {1e3, dim::POWER}},        {"kW", {1e6, dim::POWER}},
-        {"mW", {1.0, dim::POWER}},       {"uW", {1e-3, dim::POWER}},
-        {"\xC2\xB5W", {1e-3, dim::POWER}}, {"rad", {1.0, dim::ANGLE}},
-        {"deg", {M_PI / 180.0, dim::ANGLE}}, {"%", {0.01, dim::DIMENSIONLESS}},
+        {"m", {1e3, dim::LENGTH}},
+        {"cm", {10.0, dim::LENGTH}},
+        {"mm", {1.0, dim::LENGTH}},
+        {"um", {1e-3, dim::LENGTH}},
+        {"\xC2\xB5m", {1e-3, dim::LENGTH}},
+        {"\xCE\xBCm", {1e-3, dim::LENGTH}},
+        {"nm", {1e-6, dim::LENGTH}},
+        {"s", {1.0, dim::TIME}},
+        {"ms", {1e-3, dim::TIME}},
+        {"us", {1e-6, dim::TIME}},
+        {"\xC2\xB5s", {1e-6, dim::TIME}},
+        {"ns", {1e-9, dim::TIME}},
+        {"min", {60.0, dim::TIME}},
+        {"h", {3600.0, dim::TIME}},
+        {"J", {1e3, dim::ENERGY}},
+        {"mJ", {1.0, dim::ENERGY}},
+        {"uJ", {1e-3, dim::ENERGY}},
+        {"\xC2\xB5J", {1e-3, dim::ENERGY}},
+        {"W", {1e3, dim::POWER}},
+        {"kW", {1e6, dim::POWER}},
+        {"mW", {1.0, dim::POWER}},
+        {"uW", {1e-3, dim::POWER}},
+        {"\xC2\xB5W", {1e-3, dim::POWER}},
+        {"rad", {1.0, dim::ANGLE}},
+        {"deg", {M_PI / 180.0, dim::ANGLE}},
+        {"%", {0.01, dim::DIMENSIONLESS}},
     };
     return table;
 }
@@ -76,7 +89,8 @@ void applyFactor(const std::string& token, int sign, const std::string& text, do
         exponent = static_cast<int>(parsed);
     }
     auto it = unitTable().find(symbol);
-    if (it == unitTable().end()) throw InputError("unknown unit '" + symbol + "' in '" + text + "'");
+    if (it == unitTable().end())
+        throw InputError("unknown unit '" + symbol + "' in '" + text + "'");
     factor *= std::pow(it->second.toBase, sign * exponent);
     dimension = combined(dimension, scaled(it->second.dimension, sign * exponent));
 }
@@ -86,14 +100,15 @@ void applyProduct(const std::string& part, int sign, const std::string& text, do
     size_t start = 0;
     while (start <= part.size()) {
         size_t star = part.find('*', start);
-        std::string token = trim(part.substr(start, star == std::string::npos ? std::string::npos : star - start));
+        std::string token =
+            trim(part.substr(start, star == std::string::npos ? std::string::npos : star - start));
         applyFactor(token, sign, text, factor, dimension);
         if (star == std::string::npos) break;
         start = star + 1;
     }
 }
 
-} // namespace
+}  // namespace
 
 std::string Dimension::describe() const {
     if (*this == dim::DIMENSIONLESS) return "dimensionless";
@@ -145,7 +160,8 @@ Quantity parseQuantity(const std::string& rawText) {
     applyProduct(units.substr(0, slash), +1, text, factor, dimension);
     while (slash != std::string::npos) {
         size_t next = units.find('/', slash + 1);
-        applyProduct(units.substr(slash + 1, next == std::string::npos ? std::string::npos : next - slash - 1),
+        applyProduct(units.substr(slash + 1,
+                                  next == std::string::npos ? std::string::npos : next - slash - 1),
                      -1, text, factor, dimension);
         slash = next;
     }
@@ -166,7 +182,8 @@ double parseQuantity(const std::string& text, Dimension expected, const std::str
     if (bareNumber) return quantity.value;
     if (quantity.dimension != expected)
         throw InputError("expected " + expected.describe() + " (e.g. in " + expected.baseUnit() +
-                             "), got " + quantity.dimension.describe() + " from '" + trim(text) + "'",
+                             "), got " + quantity.dimension.describe() + " from '" + trim(text) +
+                             "'",
                          file, key);
     return quantity.value;
 }
@@ -179,9 +196,9 @@ double quantityFromJson(const nlohmann::json& value, Dimension expected, const s
         return number;
     }
     if (value.is_string()) return parseQuantity(value.get<std::string>(), expected, key, file);
-    throw InputError("expected a number (in " + expected.baseUnit() + ") or a string with units, got " +
-                         std::string(value.type_name()),
+    throw InputError("expected a number (in " + expected.baseUnit() +
+                         ") or a string with units, got " + std::string(value.type_name()),
                      file, key);
 }
 
-} // namespace vpsim
+}  // namespace vpsim

@@ -9,20 +9,24 @@
 
 namespace vpsim::cure {
 
-double WorkingCurveFit::predictDepth(double dose) const { return penetrationDepth * std::log(dose) + intercept; }
+double WorkingCurveFit::predictDepth(double dose) const {
+    return penetrationDepth * std::log(dose) + intercept;
+}
 
-WorkingCurveFit fitWorkingCurve(const std::vector<double>& dose, const std::vector<double>& cureDepth) {
+WorkingCurveFit fitWorkingCurve(const std::vector<double>& dose,
+                                const std::vector<double>& cureDepth) {
     if (dose.size() != cureDepth.size())
         throw InputError("working curve: " + std::to_string(dose.size()) + " doses but " +
                          std::to_string(cureDepth.size()) + " depths");
     const size_t n = dose.size();
-    if (n < 3) throw InputError("working curve: at least 3 points are needed, got " + std::to_string(n));
+    if (n < 3)
+        throw InputError("working curve: at least 3 points are needed, got " + std::to_string(n));
     std::vector<double> x(n);
     for (size_t i = 0; i < n; ++i) {
         if (!(dose[i] > 0.0) || !std::isfinite(dose[i]) || !std::isfinite(cureDepth[i])) {
             std::ostringstream reason;
-            reason << "working curve: point " << i << " has dose " << dose[i] << " and depth " << cureDepth[i]
-                   << "; doses must be positive and finite";
+            reason << "working curve: point " << i << " has dose " << dose[i] << " and depth "
+                   << cureDepth[i] << "; doses must be positive and finite";
             throw InputError(reason.str());
         }
         x[i] = std::log(dose[i]);
@@ -42,13 +46,15 @@ WorkingCurveFit fitWorkingCurve(const std::vector<double>& dose, const std::vect
         sxy += dx * dy;
         syy += dy * dy;
     }
-    if (!(sxx > 0.0)) throw InputError("working curve: all doses are equal, so no slope can be fitted");
+    if (!(sxx > 0.0))
+        throw InputError("working curve: all doses are equal, so no slope can be fitted");
     WorkingCurveFit fit;
     fit.count = n;
     const double slope = sxy / sxx;
     if (!(slope > 0.0)) {
         std::ostringstream reason;
-        reason << "working curve: cure depth does not grow with dose (fitted slope Dp = " << slope << " mm)";
+        reason << "working curve: cure depth does not grow with dose (fitted slope Dp = " << slope
+               << " mm)";
         throw InputError(reason.str());
     }
     fit.penetrationDepth = slope;
@@ -89,8 +95,9 @@ FppCalibration fppFromWorkingCurve(const WorkingCurveFit& fit, double gelPoint) 
     // K = ln(1/(1-Phi_c)) / Ec: the relative error of K is that of Ec (Phi_c taken as exact).
     out.rateConstantStderr = out.rateConstant * fit.lnCriticalDoseStderr;
     out.attenuation = 1.0 / fit.penetrationDepth;
-    out.attenuationStderr = fit.penetrationDepthStderr / (fit.penetrationDepth * fit.penetrationDepth);
+    out.attenuationStderr =
+        fit.penetrationDepthStderr / (fit.penetrationDepth * fit.penetrationDepth);
     return out;
 }
 
-} // namespace vpsim::cure
+}  // namespace vpsim::cure

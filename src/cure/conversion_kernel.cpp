@@ -7,8 +7,9 @@
 
 namespace vpsim::cure::detail {
 
-__attribute__((target_clones("avx2", "default")))
-void fppConversionRange(const float* dose, size_t count, float k, float* out) {
+__attribute__((target_clones("avx2", "default"))) void fppConversionRange(const float* dose,
+                                                                          size_t count, float k,
+                                                                          float* out) {
     for (size_t i = 0; i < count; ++i) {
         // Clamp the exponent: glibc's vectorised expf drops to a slow scalar path when a lane
         // underflows (DESIGN.md); exp(-80) = 1.8e-35 is still a normal float and 1 - it is 1.
@@ -17,4 +18,4 @@ void fppConversionRange(const float* dose, size_t count, float k, float* out) {
     }
 }
 
-} // namespace vpsim::cure::detail
+}  // namespace vpsim::cure::detail

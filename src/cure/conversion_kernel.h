@@ -11,4 +11,4 @@ namespace vpsim::cure::detail {
 /// unspecified value (fast-math assumes finite inputs).
 void fppConversionRange(const float* dose, size_t count, float k, float* out);
 
-} // namespace vpsim::cure::detail
+}  // namespace vpsim::cure::detail

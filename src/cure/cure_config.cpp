@@ -14,10 +14,12 @@ namespace {
 double readPenetrationDepth(const ConfigNode& node) {
     bool hasDepth = node.has("penetration_depth"), hasAttenuation = node.has("attenuation");
     if (hasDepth && hasAttenuation)
-        throw node.error("attenuation", "give either penetration_depth or attenuation (= 1/Dp), not both");
+        throw node.error("attenuation",
+                         "give either penetration_depth or attenuation (= 1/Dp), not both");
     if (hasDepth) {
         double depth = node.quantity("penetration_depth", dim::LENGTH);
-        if (!(depth > 0.0) || !std::isfinite(depth)) throw node.error("penetration_depth", "must be positive");
+        if (!(depth > 0.0) || !std::isfinite(depth))
+            throw node.error("penetration_depth", "must be positive");
         return depth;
     }
     if (hasAttenuation) {
@@ -46,19 +48,23 @@ CureModel readSection(const ConfigNode& node) {
         throw node.error("gel_point", "the gel point Phi_c must lie strictly between 0 and 1");
     bool hasK = node.has("K"), hasEc = node.has("critical_dose");
     if (hasK == hasEc)
-        throw node.error("K", "the fpp model needs exactly one of K (e.g. \"0.0053 cm^2/mJ\") or critical_dose");
-    double rateConstant = hasK ? readPositiveQuantity(node, "K", dim::INVERSE_DOSE)
-                               : fppRateConstantFromCriticalDose(
-                                     readPositiveQuantity(node, "critical_dose", dim::DOSE), gelPoint);
+        throw node.error(
+            "K", "the fpp model needs exactly one of K (e.g. \"0.0053 cm^2/mJ\") or critical_dose");
+    double rateConstant =
+        hasK ? readPositiveQuantity(node, "K", dim::INVERSE_DOSE)
+             : fppRateConstantFromCriticalDose(
+                   readPositiveQuantity(node, "critical_dose", dim::DOSE), gelPoint);
     return CureModel::fpp(rateConstant, gelPoint, penetrationDepth);
 }
 
-} // namespace
+}  // namespace
 
-CureModel cureModelFromJson(const nlohmann::json& section, const std::string& file, const std::string& keyPrefix) {
+CureModel cureModelFromJson(const nlohmann::json& section, const std::string& file,
+                            const std::string& keyPrefix) {
     if (!section.is_object())
-        throw InputError("the cure section must be a JSON object such as {\"model\": \"threshold\", ...}", file,
-                         keyPrefix);
+        throw InputError(
+            "the cure section must be a JSON object such as {\"model\": \"threshold\", ...}", file,
+            keyPrefix);
     try {
         // A standalone node over the section, so checkUnknownKeys() covers exactly this section.
         ConfigNode node(section, file);
@@ -77,4 +83,4 @@ CureModel cureModelFromConfig(const ConfigNode& parent, const std::string& key) 
     return cureModelFromJson(parent.raw(key), parent.file(), parent.keyPath(key));
 }
 
-} // namespace vpsim::cure
+}  // namespace vpsim::cure

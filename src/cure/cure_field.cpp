@@ -30,12 +30,14 @@ void maskRange(const float* dose, size_t count, float level, uint8_t* cured) {
     for (size_t i = 0; i < count; ++i) cured[i] = uint8_t(dose[i] >= level);
 }
 
-} // namespace
+}  // namespace
 
 void cureMask(const CureModel& model, const float* dose, size_t count, uint8_t* cured) {
     // Compare in float against the iso-level rounded to float: the branch-free loop vectorises.
     const float level = float(model.criticalDose());
-    forChunks(count, [=](size_t begin, size_t end) { maskRange(dose + begin, end - begin, level, cured + begin); });
+    forChunks(count, [=](size_t begin, size_t end) {
+        maskRange(dose + begin, end - begin, level, cured + begin);
+    });
 }
 
 std::vector<uint8_t> cureMask(const CureModel& model, const std::vector<float>& dose) {
@@ -74,8 +76,10 @@ size_t countCured(const CureModel& model, const float* dose, size_t count) {
     if (count <= GRAIN) return countRange(0, count);
     return tbb::parallel_reduce(
         tbb::blocked_range<size_t>(0, count, GRAIN), size_t(0),
-        [&](const tbb::blocked_range<size_t>& r, size_t n) { return n + countRange(r.begin(), r.end()); },
+        [&](const tbb::blocked_range<size_t>& r, size_t n) {
+            return n + countRange(r.begin(), r.end());
+        },
         [](size_t a, size_t b) { return a + b; });
 }
 
-} // namespace vpsim::cure
+}  // namespace vpsim::cure

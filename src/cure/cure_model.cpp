@@ -28,9 +28,11 @@ void requireGelPoint(double gelPoint) {
 }
 
 /// ln(1/(1 - Phi_c)): the value of K E at the gel point.
-double gelExponent(double gelPoint) { return -std::log1p(-gelPoint); }
+double gelExponent(double gelPoint) {
+    return -std::log1p(-gelPoint);
+}
 
-} // namespace
+}  // namespace
 
 double jacobsCureDepth(double surfaceDose, double criticalDose, double penetrationDepth) {
     requirePositive(criticalDose, "critical dose");
@@ -44,7 +46,8 @@ double fppConversion(double localDose, double rateConstant) {
     return -std::expm1(-rateConstant * std::max(localDose, 0.0));
 }
 
-double fppConversionAtDepth(double surfaceDose, double depth, double rateConstant, double attenuation) {
+double fppConversionAtDepth(double surfaceDose, double depth, double rateConstant,
+                            double attenuation) {
     return fppConversion(surfaceDose * std::exp(-attenuation * depth), rateConstant);
 }
 
@@ -89,7 +92,9 @@ CureModel CureModel::fpp(double rateConstant, double gelPoint, double penetratio
     return model;
 }
 
-std::string CureModel::kindName() const { return mKind == CureModelKind::Fpp ? "fpp" : "threshold"; }
+std::string CureModel::kindName() const {
+    return mKind == CureModelKind::Fpp ? "fpp" : "threshold";
+}
 
 double CureModel::conversion(double dose) const {
     if (mKind == CureModelKind::Fpp) return fppConversion(dose, mRateConstant);
@@ -98,7 +103,8 @@ double CureModel::conversion(double dose) const {
 
 double CureModel::cureDepth(double surfaceDose) const {
     if (!hasPenetrationDepth())
-        throw InputError("the " + kindName() + " cure model has no penetration depth, so it gives no cure depth");
+        throw InputError("the " + kindName() +
+                         " cure model has no penetration depth, so it gives no cure depth");
     return jacobsCureDepth(surfaceDose, mCriticalDose, mPenetrationDepth);
 }
 
@@ -115,4 +121,4 @@ nlohmann::json CureModel::toJson() const {
     return out;
 }
 
-} // namespace vpsim::cure
+}  // namespace vpsim::cure

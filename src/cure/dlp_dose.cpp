@@ -24,9 +24,11 @@ void checkProblem(const DlpColumnProblem& p) {
     requirePositive(p.rateConstant, "rate constant K");
     requirePositive(p.attenuation, "attenuation mu");
     requirePositive(p.maxDose, "maximum dose");
-    if (!(p.gelPoint > 0.0 && p.gelPoint < 1.0)) throw InputError("DLP column: gel point must lie in (0, 1)");
+    if (!(p.gelPoint > 0.0 && p.gelPoint < 1.0))
+        throw InputError("DLP column: gel point must lie in (0, 1)");
     if (!(p.targetConversion > 0.0 && p.targetConversion < 1.0))
-        throw InputError("DLP column: target conversion must lie in (0, 1) (Eq. 11: Phi = 1 gives phi = -inf)");
+        throw InputError(
+            "DLP column: target conversion must lie in (0, 1) (Eq. 11: Phi = 1 gives phi = -inf)");
     if (!(p.penalty >= 0.0) || !std::isfinite(p.penalty))
         throw InputError("DLP column: the penalty coefficient must be >= 0 (Eq. 12)");
 }
@@ -51,14 +53,15 @@ std::vector<SolidRun> solidRuns(const std::vector<uint8_t>& solid) {
     return runs;
 }
 
-} // namespace
+}  // namespace
 
 double bondingDose(double rateConstant, double attenuation, double gelPoint, double layerThickness,
                    int elementsBetween) {
     requirePositive(attenuation, "attenuation mu");
     requirePositive(layerThickness, "layer thickness");
     if (elementsBetween < 1) throw InputError("DLP column: n_z must be at least 1");
-    return std::exp(attenuation * layerThickness * elementsBetween) * fppGelDose(rateConstant, gelPoint);
+    return std::exp(attenuation * layerThickness * elementsBetween) *
+           fppGelDose(rateConstant, gelPoint);
 }
 
 std::vector<double> transmissionMatrix(size_t layers, double layerThickness, double rateConstant,
@@ -66,12 +69,13 @@ std::vector<double> transmissionMatrix(size_t layers, double layerThickness, dou
     std::vector<double> t(layers * layers, 0.0);
     for (size_t p = 0; p < layers; ++p)
         for (size_t r = p; r < layers; ++r)
-            t[p * layers + r] = -rateConstant * std::exp(-attenuation * double(r - p) * layerThickness);
+            t[p * layers + r] =
+                -rateConstant * std::exp(-attenuation * double(r - p) * layerThickness);
     return t;
 }
 
-std::vector<double> applyTransmission(const std::vector<double>& dose, double layerThickness, double rateConstant,
-                                      double attenuation) {
+std::vector<double> applyTransmission(const std::vector<double>& dose, double layerThickness,
+                                      double rateConstant, double attenuation) {
     // (T d)_p = -K sum_{r >= p} d_r a^(r-p): the accumulated print-through dose times -K.
     std::vector<double> phi = accumulatedLayerDoses(dose, layerThickness, 1.0 / attenuation);
     for (double& value : phi) value *= -rateConstant;
@@ -91,18 +95,20 @@ std::vector<double> applyTransmissionTransposed(const std::vector<double>& v, do
     return out;
 }
 
-std::vector<double> objectivePhotopolymerisation(const std::vector<uint8_t>& solid, double targetConversion,
-                                                 double penalty) {
+std::vector<double> objectivePhotopolymerisation(const std::vector<uint8_t>& solid,
+                                                 double targetConversion, double penalty) {
     const double inside = std::log1p(-targetConversion);  // Eq. 6 / 11
     std::vector<double> target(solid.size());
     for (size_t k = 0; k < solid.size(); ++k) target[k] = solid[k] ? inside : penalty;  // Eq. 12
     return target;
 }
 
-bool exposureBounds(const std::vector<uint8_t>& exposed, const std::vector<uint8_t>& solid, const DlpColumnProblem& p,
-                    std::vector<double>& lower, std::vector<double>& upper) {
+bool exposureBounds(const std::vector<uint8_t>& exposed, const std::vector<uint8_t>& solid,
+                    const DlpColumnProblem& p, std::vector<double>& lower,
+                    std::vector<double>& upper) {
     checkProblem(p);
-    if (exposed.size() != solid.size()) throw InputError("DLP column: exposure pattern and part differ in length");
+    if (exposed.size() != solid.size())
+        throw InputError("DLP column: exposure pattern and part differ in length");
     lower.assign(solid.size(), 0.0);
     upper.assign(solid.size(), 0.0);
     const double gelDose = fppGelDose(p.rateConstant, p.gelPoint);
@@ -111,7 +117,9 @@ bool exposureBounds(const std::vector<uint8_t>& exposed, const std::vector<uint8
     double bonding = gelDose;  // grows by exp(mu Le) per element since the last exposure (Eq. 10)
     for (size_t k = 0; k < solid.size(); ++k) {
         if (!solid[k]) {
-            if (exposed[k]) throw InputError("DLP column: layer " + std::to_string(k) + " is exposed outside the part");
+            if (exposed[k])
+                throw InputError("DLP column: layer " + std::to_string(k) +
+                                 " is exposed outside the part");
             bonding = gelDose;  // the next run counts from its own bottom surface
             continue;
         }
@@ -125,13 +133,19 @@ bool exposureBounds(const std::vector<uint8_t>& exposed, const std::vector<uint8
     return feasible;
 }
 
-DlpColumnResult optimiseColumnDosesForPattern(const std::vector<uint8_t>& solid, const std::vector<uint8_t>& exposed,
-                                              const DlpColumnProblem& p, const DlpOptimiserOptions& options) {
+DlpColumnResult optimiseColumnDosesForPattern(const std::vector<uint8_t>& solid,
+                                              const std::vector<uint8_t>& exposed,
+                                              const DlpColumnProblem& p,
+                                              const DlpOptimiserOptions& options) {
     std::vector<double> lower, upper;
     if (!exposureBounds(exposed, solid, p, lower, upper))
-        throw InputError("DLP column: an exposure in this pattern needs more than the maximum dose to bond (Eq. 10)");
-    const std::vector<double> target = objectivePhotopolymerisation(solid, p.targetConversion, p.penalty);
-    // Step 1/L with L = 2 ||T||_2^2 the gradient's Lipschitz constant; ||T||_2 <= sqrt(||T||_1 ||T||_inf)
+        throw InputError(
+            "DLP column: an exposure in this pattern needs more than the maximum dose to bond (Eq. "
+            "10)");
+    const std::vector<double> target =
+        objectivePhotopolymerisation(solid, p.targetConversion, p.penalty);
+    // Step 1/L with L = 2 ||T||_2^2 the gradient's Lipschitz constant; ||T||_2 <= sqrt(||T||_1
+    // ||T||_inf)
     // <= K / (1 - a). With convex box constraints, projected descent with this step converges to
     // the global minimum of Eq. 8 for the pattern.
     const double a = std::exp(-p.attenuation * p.layerThickness);
@@ -143,7 +157,8 @@ DlpColumnResult optimiseColumnDosesForPattern(const std::vector<uint8_t>& solid,
     std::vector<double> residual(solid.size());
     int iteration = 0;
     for (; iteration < options.maxIterations; ++iteration) {
-        std::vector<double> phi = applyTransmission(result.dose, p.layerThickness, p.rateConstant, p.attenuation);
+        std::vector<double> phi =
+            applyTransmission(result.dose, p.layerThickness, p.rateConstant, p.attenuation);
         for (size_t k = 0; k < phi.size(); ++k) residual[k] = phi[k] - target[k];
         std::vector<double> gradient =
             applyTransmissionTransposed(residual, p.layerThickness, p.rateConstant, p.attenuation);
@@ -162,7 +177,8 @@ DlpColumnResult optimiseColumnDosesForPattern(const std::vector<uint8_t>& solid,
         }
     }
     result.iterations = iteration;
-    std::vector<double> phi = applyTransmission(result.dose, p.layerThickness, p.rateConstant, p.attenuation);
+    std::vector<double> phi =
+        applyTransmission(result.dose, p.layerThickness, p.rateConstant, p.attenuation);
     result.objective = squaredDistance(phi, target);
     result.conversion.resize(phi.size());
     for (size_t k = 0; k < phi.size(); ++k) result.conversion[k] = -std::expm1(phi[k]);
@@ -176,8 +192,9 @@ DlpColumnResult optimiseColumnDoses(const std::vector<uint8_t>& solid, const Dlp
     const double dMin = bondingDose(p.rateConstant, p.attenuation, p.gelPoint, p.layerThickness);
     if (p.maxDose < dMin) {
         std::ostringstream reason;
-        reason << "DLP column: maximum dose " << p.maxDose * 100.0 << " mJ/cm^2 is below the bonding dose d_min = "
-               << dMin * 100.0 << " mJ/cm^2 (Eq. 10), so no layer can be bonded";
+        reason << "DLP column: maximum dose " << p.maxDose * 100.0
+               << " mJ/cm^2 is below the bonding dose d_min = " << dMin * 100.0
+               << " mJ/cm^2 (Eq. 10), so no layer can be bonded";
         throw InputError(reason.str());
     }
     const std::vector<SolidRun> runs = solidRuns(solid);
@@ -200,8 +217,10 @@ DlpColumnResult optimiseColumnDoses(const std::vector<uint8_t>& solid, const Dlp
                 trial[r] = s;
                 std::vector<uint8_t> exposed = patternFor(trial);
                 std::vector<double> lower, upper;
-                if (!exposureBounds(exposed, solid, p, lower, upper)) break;  // larger skips need even more
-                DlpColumnResult candidate = optimiseColumnDosesForPattern(solid, exposed, p, options);
+                if (!exposureBounds(exposed, solid, p, lower, upper))
+                    break;  // larger skips need even more
+                DlpColumnResult candidate =
+                    optimiseColumnDosesForPattern(solid, exposed, p, options);
                 if (candidate.objective < best.objective * (1.0 - 1e-12)) {
                     best = std::move(candidate);
                     skip[r] = s;
@@ -214,4 +233,4 @@ DlpColumnResult optimiseColumnDoses(const std::vector<uint8_t>& solid, const Dlp
     return best;
 }
 
-} // namespace vpsim::cure
+}  // namespace vpsim::cure

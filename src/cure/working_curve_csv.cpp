@@ -47,7 +47,8 @@ double unitFactor(const std::string& name, Dimension dimension) {
     size_t open = name.find_first_of("[(");
     if (open != std::string::npos) {
         size_t close = name.find_first_of("])", open);
-        return close == std::string::npos ? 0.0 : tryUnit(trim(name.substr(open + 1, close - open - 1)));
+        return close == std::string::npos ? 0.0
+                                          : tryUnit(trim(name.substr(open + 1, close - open - 1)));
     }
     for (size_t at = name.find('_'); at != std::string::npos; at = name.find('_', at + 1)) {
         double factor = tryUnit(name.substr(at + 1));
@@ -64,8 +65,8 @@ bool isDoseName(const std::string& name) {
 bool isDepthName(const std::string& name) {
     std::string n = lower(name);
     std::string head = n.substr(0, n.find_first_of("_ [("));
-    return n.find("depth") != std::string::npos || n.find("thickness") != std::string::npos || head == "cd" ||
-           head == "zf";
+    return n.find("depth") != std::string::npos || n.find("thickness") != std::string::npos ||
+           head == "cd" || head == "zf";
 }
 
 struct Column {
@@ -74,37 +75,41 @@ struct Column {
     std::string name;
 };
 
-Column findColumn(const std::vector<std::string>& header, bool (*matches)(const std::string&), Dimension dimension,
-                  const char* what, const char* example, const std::string& file, int line) {
+Column findColumn(const std::vector<std::string>& header, bool (*matches)(const std::string&),
+                  Dimension dimension, const char* what, const char* example,
+                  const std::string& file, int line) {
     std::vector<size_t> found;
     for (size_t i = 0; i < header.size(); ++i)
         if (matches(header[i])) found.push_back(i);
     if (found.empty())
-        throw InputError(std::string("no ") + what + " column in the header (expected a name like '" + example + "')",
+        throw InputError(std::string("no ") + what +
+                             " column in the header (expected a name like '" + example + "')",
                          file, "", line);
     if (found.size() > 1)
-        throw InputError(std::string("more than one ") + what + " column: '" + header[found[0]] + "' and '" +
-                             header[found[1]] + "'",
+        throw InputError(std::string("more than one ") + what + " column: '" + header[found[0]] +
+                             "' and '" + header[found[1]] + "'",
                          file, "", line);
     Column column{found[0], unitFactor(header[found[0]], dimension), header[found[0]]};
     if (column.factor <= 0.0)
-        throw InputError("column '" + column.name + "' carries no " + dimension.describe() + " unit (name it like '" +
-                             example + "')",
+        throw InputError("column '" + column.name + "' carries no " + dimension.describe() +
+                             " unit (name it like '" + example + "')",
                          file, "", line);
     return column;
 }
 
 double parseCell(const std::string& cell, const Column& column, const std::string& file, int line) {
-    if (cell.empty()) throw InputError("empty cell in column '" + column.name + "'", file, "", line);
+    if (cell.empty())
+        throw InputError("empty cell in column '" + column.name + "'", file, "", line);
     const char* begin = cell.c_str();
     char* end = nullptr;
     double value = std::strtod(begin, &end);
     if (end == begin || *end != '\0' || !std::isfinite(value))
-        throw InputError("non-numeric cell '" + cell + "' in column '" + column.name + "'", file, "", line);
+        throw InputError("non-numeric cell '" + cell + "' in column '" + column.name + "'", file,
+                         "", line);
     return value * column.factor;
 }
 
-} // namespace
+}  // namespace
 
 WorkingCurveData parseWorkingCurveCsv(const std::string& text, const std::string& file) {
     WorkingCurveData data;
@@ -121,39 +126,48 @@ WorkingCurveData parseWorkingCurveCsv(const std::string& text, const std::string
         std::vector<std::string> cells = splitCells(line);
         if (header.empty()) {
             header = cells;
-            dose = findColumn(header, isDoseName, dim::DOSE, "dose", "dose_mJ_per_cm2", file, lineNumber);
-            depth = findColumn(header, isDepthName, dim::LENGTH, "cure depth", "thickness_mm", file, lineNumber);
+            dose = findColumn(header, isDoseName, dim::DOSE, "dose", "dose_mJ_per_cm2", file,
+                              lineNumber);
+            depth = findColumn(header, isDepthName, dim::LENGTH, "cure depth", "thickness_mm", file,
+                               lineNumber);
             data.doseColumn = dose.name;
             data.depthColumn = depth.name;
             continue;
         }
         if (cells.size() != header.size())
-            throw InputError("expected " + std::to_string(header.size()) + " cells as in the header, got " +
-                                 std::to_string(cells.size()),
+            throw InputError("expected " + std::to_string(header.size()) +
+                                 " cells as in the header, got " + std::to_string(cells.size()),
                              file, "", lineNumber);
         double e0 = parseCell(cells[dose.index], dose, file, lineNumber);
         double cd = parseCell(cells[depth.index], depth, file, lineNumber);
         if (!(e0 > 0.0))
-            throw InputError("dose must be positive (the working curve is fitted against ln E0), got '" +
-                                 cells[dose.index] + "'",
-                             file, "", lineNumber);
+            throw InputError(
+                "dose must be positive (the working curve is fitted against ln E0), got '" +
+                    cells[dose.index] + "'",
+                file, "", lineNumber);
         if (!(cd > 0.0))
-            throw InputError("cure depth must be positive (uncured samples do not lie on the working curve), got '" +
-                                 cells[depth.index] + "'",
-                             file, "", lineNumber);
+            throw InputError(
+                "cure depth must be positive (uncured samples do not lie on the working curve), "
+                "got '" +
+                    cells[depth.index] + "'",
+                file, "", lineNumber);
         data.dose.push_back(e0);
         data.cureDepth.push_back(cd);
         data.line.push_back(lineNumber);
         lastLine = lineNumber;
     }
-    if (header.empty()) throw InputError("no header line (expected e.g. 'dose_mJ_per_cm2,thickness_mm')", file);
+    if (header.empty())
+        throw InputError("no header line (expected e.g. 'dose_mJ_per_cm2,thickness_mm')", file);
     if (data.dose.size() < 3)
-        throw InputError("only " + std::to_string(data.dose.size()) +
-                             " data row(s); at least 3 are needed to fit a line with standard errors",
-                         file, "", lastLine > 0 ? lastLine : lineNumber);
+        throw InputError(
+            "only " + std::to_string(data.dose.size()) +
+                " data row(s); at least 3 are needed to fit a line with standard errors",
+            file, "", lastLine > 0 ? lastLine : lineNumber);
     return data;
 }
 
-WorkingCurveData loadWorkingCurveCsv(const std::string& path) { return parseWorkingCurveCsv(readFile(path), path); }
+WorkingCurveData loadWorkingCurveCsv(const std::string& path) {
+    return parseWorkingCurveCsv(readFile(path), path);
+}
 
-} // namespace vpsim::cure
+}  // namespace vpsim::cure

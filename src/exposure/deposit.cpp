@@ -15,7 +15,8 @@ void depositPoint(SurfaceGrid& grid, double x, double y, double energy) {
     const int di[4] = {0, 1, 0, 1}, dj[4] = {0, 0, 1, 1};
     for (int k = 0; k < 4; ++k) {
         int ii = i + di[k], jj = j + dj[k];
-        if (ii >= 0 && jj >= 0 && ii < grid.nx && jj < grid.ny) grid.at(ii, jj) += float(perArea * weights[k]);
+        if (ii >= 0 && jj >= 0 && ii < grid.nx && jj < grid.ny)
+            grid.at(ii, jj) += float(perArea * weights[k]);
     }
 }
 
@@ -35,11 +36,14 @@ void depositSegment(SurfaceGrid& grid, double x0, double y0, double x1, double y
 }
 
 /// Overlap lengths of the interval [a, a + size) with the grid cells along one axis.
-std::vector<std::pair<int, double>> overlaps(double a, double size, double origin, double pitch, int count) {
+std::vector<std::pair<int, double>> overlaps(double a, double size, double origin, double pitch,
+                                             int count) {
     std::vector<std::pair<int, double>> result;
-    int first = int(std::floor((a - origin) / pitch)), last = int(std::floor((a + size - origin) / pitch));
+    int first = int(std::floor((a - origin) / pitch)),
+        last = int(std::floor((a + size - origin) / pitch));
     for (int c = std::max(first, 0); c <= std::min(last, count - 1); ++c) {
-        double lo = std::max(a, origin + c * pitch), hi = std::min(a + size, origin + (c + 1) * pitch);
+        double lo = std::max(a, origin + c * pitch),
+               hi = std::min(a + size, origin + (c + 1) * pitch);
         if (hi > lo) result.emplace_back(c, hi - lo);
     }
     return result;
@@ -48,23 +52,26 @@ std::vector<std::pair<int, double>> overlaps(double a, double size, double origi
 void depositMask(SurfaceGrid& grid, const plan::MaskImage& mask) {
     const double cellArea = grid.pitch * grid.pitch;
     for (int v = 0; v < mask.height; ++v) {
-        auto rows = overlaps(mask.originY + v * mask.pixelPitch, mask.pixelPitch, grid.originY, grid.pitch, grid.ny);
+        auto rows = overlaps(mask.originY + v * mask.pixelPitch, mask.pixelPitch, grid.originY,
+                             grid.pitch, grid.ny);
         for (int u = 0; u < mask.width; ++u) {
             float dose = mask.dose[size_t(v) * mask.width + u];
             if (dose <= 0) continue;
-            auto cols = overlaps(mask.originX + u * mask.pixelPitch, mask.pixelPitch, grid.originX, grid.pitch, grid.nx);
+            auto cols = overlaps(mask.originX + u * mask.pixelPitch, mask.pixelPitch, grid.originX,
+                                 grid.pitch, grid.nx);
             for (const auto& [j, ly] : rows)
                 for (const auto& [i, lx] : cols) grid.at(i, j) += float(dose * lx * ly / cellArea);
         }
     }
 }
 
-} // namespace
+}  // namespace
 
 void depositLayer(const plan::LayerPlan& layer, SurfaceGrid& grid) {
-    for (const auto& v : layer.vectors) depositSegment(grid, v.x0, v.y0, v.x1, v.y1, v.power / v.speed);
+    for (const auto& v : layer.vectors)
+        depositSegment(grid, v.x0, v.y0, v.x1, v.y1, v.power / v.speed);
     for (const auto& p : layer.points) depositPoint(grid, p.x, p.y, p.energy);
     for (const auto& m : layer.masks) depositMask(grid, m);
 }
 
-} // namespace vpsim::exposure
+}  // namespace vpsim::exposure

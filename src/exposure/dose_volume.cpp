@@ -37,8 +37,8 @@ struct DoseVolume::Impl {
     }
 };
 
-DoseVolume::DoseVolume(const ExposureGrid& grid, double voxelHeight, double zBottom, float threshold,
-                       const std::string& name)
+DoseVolume::DoseVolume(const ExposureGrid& grid, double voxelHeight, double zBottom,
+                       float threshold, const std::string& name)
     : mImpl(std::make_unique<Impl>()) {
     openvdb::initialize();
     mImpl->grid = openvdb::FloatGrid::create(0.0f);
@@ -48,7 +48,8 @@ DoseVolume::DoseVolume(const ExposureGrid& grid, double voxelHeight, double zBot
     // an affine map with unequal scales in x-y and z.
     openvdb::math::Mat4d matrix = openvdb::math::Mat4d::identity();
     matrix.preScale(openvdb::Vec3d(grid.pitch, grid.pitch, voxelHeight));
-    matrix.postTranslate(openvdb::Vec3d(grid.originX + 0.5 * grid.pitch, grid.originY + 0.5 * grid.pitch,
+    matrix.postTranslate(openvdb::Vec3d(grid.originX + 0.5 * grid.pitch,
+                                        grid.originY + 0.5 * grid.pitch,
                                         zBottom + 0.5 * voxelHeight));
     mImpl->grid->setTransform(openvdb::math::Transform::createLinearTransform(matrix));
     mImpl->grid->insertMeta("units", openvdb::StringMetadata("mJ/mm^2, world coordinates in mm"));
@@ -65,7 +66,8 @@ DoseVolume::~DoseVolume() = default;
 void DoseVolume::add(const ExposureSlice& slice) {
     const SurfaceGrid& values = *slice.values;
     Impl& m = *mImpl;
-    if (values.nx != m.nx || values.ny != m.ny) throw ResourceError("exposure slice does not match the dose volume");
+    if (values.nx != m.nx || values.ny != m.ny)
+        throw ResourceError("exposure slice does not match the dose volume");
     int k = int(std::lround((slice.z - m.zBottom) / m.voxelHeight - 0.5));
     int block = k >= 0 ? k / BLOCK : -((-k + BLOCK - 1) / BLOCK);
     if (block != m.block) {
@@ -73,7 +75,8 @@ void DoseVolume::add(const ExposureSlice& slice) {
         m.block = block;
     }
     // Values within `threshold` of the background 0 stay inactive when the block is copied.
-    std::copy(values.values.begin(), values.values.end(), m.buffer.begin() + size_t(k - block * BLOCK) * m.nx * m.ny);
+    std::copy(values.values.begin(), values.values.end(),
+              m.buffer.begin() + size_t(k - block * BLOCK) * m.nx * m.ny);
     m.dirty = true;
 }
 
@@ -131,4 +134,4 @@ uint64_t DoseVolume::memoryBytes() const {
     return mImpl->grid->memUsage();
 }
 
-} // namespace vpsim::exposure
+}  // namespace vpsim::exposure

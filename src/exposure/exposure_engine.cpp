@@ -5,8 +5,8 @@
 
 #include <tbb/parallel_for.h>
 
-#include "exposure/exposure_gpu.h"
 #include "exposure/exposure_glsl.h"
+#include "exposure/exposure_gpu.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/progress.h"
 #include "vpsim/exposure/deposit.h"
@@ -15,28 +15,30 @@ namespace vpsim::exposure {
 namespace {
 
 /// One 1D Gaussian pass on the CPU: the same loop as shaders/exposure_blur.comp.
-void blurPassCpu(const SurfaceGrid& source, SurfaceGrid& target, int axis, int halfWidth, float sigmaCells,
-                 float norm) {
+void blurPassCpu(const SurfaceGrid& source, SurfaceGrid& target, int axis, int halfWidth,
+                 float sigmaCells, float norm) {
     const int nx = source.nx, ny = source.ny;
     const int n = axis == 0 ? nx : ny, stride = axis == 0 ? 1 : nx;
     std::vector<float> taps(2 * halfWidth + 1);
-    for (int o = -halfWidth; o <= halfWidth; ++o) taps[o + halfWidth] = glsl::gaussianTap(o, sigmaCells);
+    for (int o = -halfWidth; o <= halfWidth; ++o)
+        taps[o + halfWidth] = glsl::gaussianTap(o, sigmaCells);
     tbb::parallel_for(0, ny, [&](int j) {
         for (int i = 0; i < nx; ++i) {
             int centre = axis == 0 ? i : j;
             int lo = std::max(-halfWidth, -centre), hi = std::min(halfWidth, n - 1 - centre);
             size_t index = size_t(j) * nx + i;
             float sum = 0.0f;
-            for (int o = lo; o <= hi; ++o) sum += taps[o + halfWidth] * source.values[index + ptrdiff_t(o) * stride];
+            for (int o = lo; o <= hi; ++o)
+                sum += taps[o + halfWidth] * source.values[index + ptrdiff_t(o) * stride];
             target.values[index] = sum / norm;
         }
     });
 }
 
-} // namespace
+}  // namespace
 
-ExposureGrid ExposureGrid::covering(double xmin, double ymin, double xmax, double ymax, double margin, double pitch,
-                                    int slicesPerLayer) {
+ExposureGrid ExposureGrid::covering(double xmin, double ymin, double xmax, double ymax,
+                                    double margin, double pitch, int slicesPerLayer) {
     if (!(pitch > 0)) throw InputError("exposure grid pitch must be positive");
     ExposureGrid grid;
     grid.pitch = pitch;
@@ -48,39 +50,47 @@ ExposureGrid ExposureGrid::covering(double xmin, double ymin, double xmax, doubl
     return grid;
 }
 
-int blurHalfWidth(double radius, double pitch) { return int(std::ceil(1.75 * radius / pitch)); }
+int blurHalfWidth(double radius, double pitch) {
+    return int(std::ceil(1.75 * radius / pitch));
+}
 
-ExposureEngine::ExposureEngine(const ExposureGrid& grid, const SeparableBeam& beam, double layerThickness,
-                               std::shared_ptr<gpu::Context> context)
+ExposureEngine::ExposureEngine(const ExposureGrid& grid, const SeparableBeam& beam,
+                               double layerThickness, std::shared_ptr<gpu::Context> context)
     : mGrid(grid), mBeam(beam), mLayerThickness(layerThickness) {
     if (grid.nx <= 0 || grid.ny <= 0) throw InputError("exposure grid has no cells");
     if (!(grid.pitch > 0)) throw InputError("exposure grid pitch must be positive");
     if (grid.slicesPerLayer < 1) throw InputError("at least one voxel slice per layer is needed");
     if (!(beam.radius > 0)) throw InputError("beam radius (We3D) must be positive");
-    if (!(beam.attenuationLength > 0)) throw InputError("attenuation length (De3D) must be positive");
+    if (!(beam.attenuationLength > 0))
+        throw InputError("attenuation length (De3D) must be positive");
     if (!(beam.efficiency > 0)) throw InputError("beam efficiency must be positive");
     if (!(layerThickness > 0)) throw InputError("layer thickness must be positive");
     if (beam.radius < grid.pitch)
-        throw InputError("grid pitch " + std::to_string(grid.pitch * 1e3) + " um is coarser than the beam radius " +
-                         std::to_string(beam.radius * 1e3) + " um: the blur would be meaningless; refine the grid");
+        throw InputError("grid pitch " + std::to_string(grid.pitch * 1e3) +
+                         " um is coarser than the beam radius " +
+                         std::to_string(beam.radius * 1e3) +
+                         " um: the blur would be meaningless; refine the grid");
     const double cells = double(grid.nx) * grid.ny;
     const double bytes = cells * sizeof(float) * 4;  // deposit, two blur buffers, running sum
     if (cells > 4.0e8 || bytes > 8.0 * (1ull << 30))
-        throw ResourceError("exposure grid of " + std::to_string(grid.nx) + " x " + std::to_string(grid.ny) +
-                            " cells needs " + formatBytes(bytes) + " of working memory per layer; use a coarser pitch");
+        throw ResourceError("exposure grid of " + std::to_string(grid.nx) + " x " +
+                            std::to_string(grid.ny) + " cells needs " + formatBytes(bytes) +
+                            " of working memory per layer; use a coarser pitch");
     if (context) mGpu = std::make_unique<GpuState>(context, grid.nx, grid.ny);
 }
 
 ExposureEngine::~ExposureEngine() = default;
 
-void ExposureEngine::blurAndAccumulate(SurfaceGrid& deposit, SurfaceGrid& running, float decay, double& seconds) {
+void ExposureEngine::blurAndAccumulate(SurfaceGrid& deposit, SurfaceGrid& running, float decay,
+                                       double& seconds) {
     const float sigmaCells = float(0.5 * mBeam.radius / mGrid.pitch);
     const int halfWidth = blurHalfWidth(mBeam.radius, mGrid.pitch);
     // The efficiency scales the second pass's normalisation, so it costs nothing per tap.
     const float normX = glsl::gaussianNorm(halfWidth, sigmaCells);
     const float normY = float(normX / mBeam.efficiency);
     if (mGpu) {
-        seconds += mGpu->blurAndAccumulate(deposit, running, halfWidth, sigmaCells, normX, normY, decay);
+        seconds +=
+            mGpu->blurAndAccumulate(deposit, running, halfWidth, sigmaCells, normX, normY, decay);
         return;
     }
     auto start = std::chrono::steady_clock::now();
@@ -93,7 +103,8 @@ void ExposureEngine::blurAndAccumulate(SurfaceGrid& deposit, SurfaceGrid& runnin
 }
 
 SurfaceGrid ExposureEngine::exposureMap(const SurfaceGrid& deposit) {
-    SurfaceGrid blurred = deposit, running(deposit.nx, deposit.ny, deposit.originX, deposit.originY, deposit.pitch);
+    SurfaceGrid blurred = deposit,
+                running(deposit.nx, deposit.ny, deposit.originX, deposit.originY, deposit.pitch);
     double seconds = 0;
     blurAndAccumulate(blurred, running, 0.0f, seconds);
     return running;
@@ -115,7 +126,8 @@ double ExposureEngine::run(const plan::ScanPlan& plan, const SliceSink& sink) {
         for (int s = 0; s < g.slicesPerLayer; ++s) {
             double depth = (s + 0.5) * voxelHeight;
             float attenuation = float(std::exp(-depth / mBeam.attenuationLength));
-            for (size_t c = 0; c < slice.values.size(); ++c) slice.values[c] = attenuation * running.values[c];
+            for (size_t c = 0; c < slice.values.size(); ++c)
+                slice.values[c] = attenuation * running.values[c];
             sink({k, s, plan.layers[k].z - depth, &slice});
         }
         progress.advance();
@@ -123,4 +135,4 @@ double ExposureEngine::run(const plan::ScanPlan& plan, const SliceSink& sink) {
     return seconds;
 }
 
-} // namespace vpsim::exposure
+}  // namespace vpsim::exposure

@@ -6,5 +6,5 @@ namespace vpsim::glsl {
 #include "shared_structs.glsl"
 namespace {  // GLSL functions are not inline: one private copy per translation unit
 #include "exposure.glsl"
-} // namespace
-} // namespace vpsim::glsl
+}  // namespace
+}  // namespace vpsim::glsl

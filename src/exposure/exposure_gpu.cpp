@@ -7,17 +7,24 @@
 namespace vpsim::exposure {
 
 ExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> context_, int nx_, int ny_)
-    : context(std::move(context_)), nx(uint32_t(nx_)), ny(uint32_t(ny_)),
-      deposit(context, uint64_t(nx) * ny * sizeof(float)), pass(context, uint64_t(nx) * ny * sizeof(float)),
-      blurred(context, uint64_t(nx) * ny * sizeof(float)), running(context, uint64_t(nx) * ny * sizeof(float)),
-      blur(context, exposure_blur_spv, sizeof exposure_blur_spv, 2, sizeof(glsl::ExposureBlurParams), {}, 64),
+    : context(std::move(context_)),
+      nx(uint32_t(nx_)),
+      ny(uint32_t(ny_)),
+      deposit(context, uint64_t(nx) * ny * sizeof(float)),
+      pass(context, uint64_t(nx) * ny * sizeof(float)),
+      blurred(context, uint64_t(nx) * ny * sizeof(float)),
+      running(context, uint64_t(nx) * ny * sizeof(float)),
+      blur(context, exposure_blur_spv, sizeof exposure_blur_spv, 2,
+           sizeof(glsl::ExposureBlurParams), {}, 64),
       recursion(context, exposure_recursion_spv, sizeof exposure_recursion_spv, 2,
                 sizeof(glsl::ExposureRecursionParams), {}, 64) {
     running.fill(0u);
 }
 
-double ExposureEngine::GpuState::blurAndAccumulate(SurfaceGrid& hostDeposit, SurfaceGrid& hostRunning, int halfWidth,
-                                                   float sigmaCells, float normX, float normY, float decay) {
+double ExposureEngine::GpuState::blurAndAccumulate(SurfaceGrid& hostDeposit,
+                                                   SurfaceGrid& hostRunning, int halfWidth,
+                                                   float sigmaCells, float normX, float normY,
+                                                   float decay) {
     deposit.upload(hostDeposit.values);
     running.upload(hostRunning.values);
     glsl::ExposureBlurParams alongX{};
@@ -46,4 +53,4 @@ double ExposureEngine::GpuState::blurAndAccumulate(SurfaceGrid& hostDeposit, Sur
     return ms * 1e-3;
 }
 
-} // namespace vpsim::exposure
+}  // namespace vpsim::exposure

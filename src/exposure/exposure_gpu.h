@@ -11,8 +11,8 @@ struct ExposureEngine::GpuState {
     GpuState(std::shared_ptr<gpu::Context> context, int nx, int ny);
     /// Blurs `deposit` in place (on return it holds B) and updates `running` = B + decay * running.
     /// Returns GPU seconds.
-    double blurAndAccumulate(SurfaceGrid& deposit, SurfaceGrid& running, int halfWidth, float sigmaCells,
-                             float normX, float normY, float decay);
+    double blurAndAccumulate(SurfaceGrid& deposit, SurfaceGrid& running, int halfWidth,
+                             float sigmaCells, float normX, float normY, float decay);
 
     std::shared_ptr<gpu::Context> context;
     uint32_t nx, ny;
@@ -20,4 +20,4 @@ struct ExposureEngine::GpuState {
     gpu::Kernel blur, recursion;
 };
 
-} // namespace vpsim::exposure
+}  // namespace vpsim::exposure

@@ -8,4 +8,4 @@ double SurfaceGrid::totalEnergy() const {
     return sum * pitch * pitch;
 }
 
-} // namespace vpsim::exposure
+}  // namespace vpsim::exposure

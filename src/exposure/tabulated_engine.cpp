@@ -18,9 +18,11 @@
 namespace vpsim::exposure {
 namespace {
 
-constexpr double DEPTH_CUTOFF = 1e-3;   ///< on-axis intensity relative to its maximum where stencils stop
-constexpr double RADIUS_CUTOFF = 0.01;  ///< intensity relative to the axis at Reff (seed 000's Reff)
-constexpr int SUBSAMPLES = 4;           ///< per cell side: the cell average matters near the axis
+constexpr double DEPTH_CUTOFF =
+    1e-3;  ///< on-axis intensity relative to its maximum where stencils stop
+constexpr double RADIUS_CUTOFF =
+    0.01;                      ///< intensity relative to the axis at Reff (seed 000's Reff)
+constexpr int SUBSAMPLES = 4;  ///< per cell side: the cell average matters near the axis
 
 /// The kernel's table with its extents (lookups through kernel::BeamKernel::sample: bilinear
 /// between bin centres, nearest at the edges, 0 outside).
@@ -36,16 +38,21 @@ private:
 };
 
 void validateKernel(const kernel::BeamKernel& k) {
-    if (!(k.power > 0)) throw InputError("beam kernel power must be positive (got " + std::to_string(k.power) + " mW)");
+    if (!(k.power > 0))
+        throw InputError("beam kernel power must be positive (got " + std::to_string(k.power) +
+                         " mW)");
     if (k.rBins == 0 || k.zBins == 0 || k.intensity.empty())
-        throw InputError("beam kernel has an empty intensity table: compute it with 'vpsim kernel'");
+        throw InputError(
+            "beam kernel has an empty intensity table: compute it with 'vpsim kernel'");
     if (!(k.rBin > 0) || !(k.zBin > 0)) throw InputError("beam kernel bin sizes must be positive");
     if (k.intensity.size() != size_t(k.rBins) * k.zBins)
-        throw InputError("beam kernel table holds " + std::to_string(k.intensity.size()) + " values, expected rBins x zBins = " +
-                         std::to_string(size_t(k.rBins) * k.zBins));
+        throw InputError(
+            "beam kernel table holds " + std::to_string(k.intensity.size()) +
+            " values, expected rBins x zBins = " + std::to_string(size_t(k.rBins) * k.zBins));
     bool any = false;
     for (float v : k.intensity) {
-        if (!std::isfinite(v) || v < 0) throw InputError("beam kernel table holds a negative or non-finite intensity");
+        if (!std::isfinite(v) || v < 0)
+            throw InputError("beam kernel table holds a negative or non-finite intensity");
         any = any || v > 0;
     }
     if (!any) throw InputError("beam kernel table is all zero: no usable intensity");
@@ -55,7 +62,8 @@ void validateKernel(const kernel::BeamKernel& k) {
 /// its maximum (or the table ends), mm.
 double cutoffDepth(const kernel::BeamKernel& k) {
     float peak = 0;
-    for (uint32_t iz = 0; iz < k.zBins; ++iz) peak = std::max(peak, k.intensity[size_t(iz) * k.rBins]);
+    for (uint32_t iz = 0; iz < k.zBins; ++iz)
+        peak = std::max(peak, k.intensity[size_t(iz) * k.rBins]);
     if (peak <= 0) return k.zBin * k.zBins;  // no on-axis signal (noise): keep the whole table
     uint32_t last = 0;
     for (uint32_t iz = 0; iz < k.zBins; ++iz)
@@ -70,7 +78,8 @@ double effectiveRadius(const KernelTable& table, double depth, double rBin) {
     const double step = rBin / 4, extent = table.radialExtent();
     double reference = table.sample(0, depth);
     if (reference <= 0)
-        for (double r = 0; r <= extent; r += step) reference = std::max(reference, table.sample(r, depth));
+        for (double r = 0; r <= extent; r += step)
+            reference = std::max(reference, table.sample(r, depth));
     if (reference <= 0) return 0;
     const double threshold = RADIUS_CUTOFF * reference;
     double radius = 0;
@@ -78,7 +87,8 @@ double effectiveRadius(const KernelTable& table, double depth, double rBin) {
         double v = table.sample(r, depth);
         if (v < threshold) continue;
         double next = table.sample(r + step, depth);
-        radius = next < threshold ? r + step * (v - threshold) / std::max(v - next, 1e-300) : r + step;
+        radius =
+            next < threshold ? r + step * (v - threshold) / std::max(v - next, 1e-300) : r + step;
     }
     return std::min(radius, extent);
 }
@@ -101,19 +111,24 @@ std::vector<RowExtent> rowExtents(const SurfaceGrid& grid) {
     return extents;
 }
 
-} // namespace
+}  // namespace
 
-TabulatedExposureEngine::TabulatedExposureEngine(const ExposureGrid& grid, const kernel::BeamKernel& kernel,
-                                                 double layerThickness, std::shared_ptr<gpu::Context> context)
+TabulatedExposureEngine::TabulatedExposureEngine(const ExposureGrid& grid,
+                                                 const kernel::BeamKernel& kernel,
+                                                 double layerThickness,
+                                                 std::shared_ptr<gpu::Context> context)
     : mGrid(grid), mLayerThickness(layerThickness) {
     if (grid.nx <= 0 || grid.ny <= 0) throw InputError("exposure grid has no cells");
-    if (!(grid.pitch > 0) || !std::isfinite(grid.pitch)) throw InputError("exposure grid pitch must be positive");
+    if (!(grid.pitch > 0) || !std::isfinite(grid.pitch))
+        throw InputError("exposure grid pitch must be positive");
     if (grid.slicesPerLayer < 1) throw InputError("at least one voxel slice per layer is needed");
-    if (!(layerThickness > 0) || !std::isfinite(layerThickness)) throw InputError("layer thickness must be positive");
+    if (!(layerThickness > 0) || !std::isfinite(layerThickness))
+        throw InputError("layer thickness must be positive");
     validateKernel(kernel);
     buildStencils(kernel);
     if (context)
-        mGpu = std::make_unique<GpuState>(context, grid.nx, grid.ny, mStencils, mLayersInFlight * grid.slicesPerLayer);
+        mGpu = std::make_unique<GpuState>(context, grid.nx, grid.ny, mStencils,
+                                          mLayersInFlight * grid.slicesPerLayer);
 }
 
 TabulatedExposureEngine::~TabulatedExposureEngine() = default;
@@ -142,11 +157,13 @@ void TabulatedExposureEngine::buildStencils(const kernel::BeamKernel& kernel) {
     const double cells = double(mGrid.nx) * mGrid.ny;
     mWorkingBytes = stencilBytes + cells * sizeof(float) * (double(mLayersInFlight) * n + 1);
     if (mWorkingBytes > TABULATED_ENGINE_MAX_BYTES)
-        throw ResourceError("tabulated exposure of a " + std::to_string(mGrid.nx) + " x " + std::to_string(mGrid.ny) +
-                            " grid (pitch " + std::to_string(pitch * 1e3) + " um) with " + std::to_string(depthCount) +
-                            " depth stencils over " + std::to_string(mLayersInFlight) + " layers needs " +
-                            formatBytes(mWorkingBytes) + " (limit " + formatBytes(TABULATED_ENGINE_MAX_BYTES) +
-                            "); use a coarser pitch, fewer slices per layer or a smaller build area");
+        throw ResourceError(
+            "tabulated exposure of a " + std::to_string(mGrid.nx) + " x " +
+            std::to_string(mGrid.ny) + " grid (pitch " + std::to_string(pitch * 1e3) +
+            " um) with " + std::to_string(depthCount) + " depth stencils over " +
+            std::to_string(mLayersInFlight) + " layers needs " + formatBytes(mWorkingBytes) +
+            " (limit " + formatBytes(TABULATED_ENGINE_MAX_BYTES) +
+            "); use a coarser pitch, fewer slices per layer or a smaller build area");
 
     // w(di, dj) = pitch^2 <I(r, d)>_cell / P: exposure (mJ/mm^2) per deposit (mJ/mm^2) of a cell.
     const double scale = pitch * pitch / kernel.power;
@@ -167,7 +184,8 @@ void TabulatedExposureEngine::buildStencils(const kernel::BeamKernel& kernel) {
                     }
                 float w = float(scale * sum / (SUBSAMPLES * SUBSAMPLES));
                 st.weights[size_t(dj + H) * side + size_t(di + H)] = w;
-                if (w != 0.0f) st.rowHalfWidth[dj + H] = std::max(st.rowHalfWidth[dj + H], std::abs(di));
+                if (w != 0.0f)
+                    st.rowHalfWidth[dj + H] = std::max(st.rowHalfWidth[dj + H], std::abs(di));
             }
     });
 }
@@ -193,7 +211,8 @@ double TabulatedExposureEngine::run(const plan::ScanPlan& plan, const SliceSink&
             std::vector<std::pair<int, int>> gpuTargets;
             for (int k = source; k >= 0 && k > source - L; --k)
                 for (int s = 0; s < n; ++s)
-                    if ((source - k) * n + s < M) gpuTargets.push_back({(source - k) * n + s, (k % L) * n + s});
+                    if ((source - k) * n + s < M)
+                        gpuTargets.push_back({(source - k) * n + s, (k % L) * n + s});
             seconds += mGpu->addLayer(deposit, gpuTargets);
             for (int s = 0; s < n; ++s) {
                 SurfaceGrid& slice = acc[size_t(source % L) * n + s];
@@ -209,7 +228,8 @@ double TabulatedExposureEngine::run(const plan::ScanPlan& plan, const SliceSink&
         for (int k = source; k >= 0 && k > source - L; --k)
             for (int s = 0; s < n; ++s) {
                 int m = (source - k) * n + s;
-                if (m < M) targets.push_back({&mStencils[m], acc[size_t(k % L) * n + s].values.data()});
+                if (m < M)
+                    targets.push_back({&mStencils[m], acc[size_t(k % L) * n + s].values.data()});
             }
         // Gather per output row: each row is written by one task, and the row axpy vectorises.
         tbb::parallel_for(tbb::blocked_range<int>(0, ny), [&](const tbb::blocked_range<int>& rows) {
@@ -220,7 +240,8 @@ double TabulatedExposureEngine::run(const plan::ScanPlan& plan, const SliceSink&
                     float* out = t.values + size_t(j) * nx;
                     for (int dj = -H; dj <= H; ++dj) {
                         const int sj = j + dj, hw = st.rowHalfWidth[dj + H];
-                        if (sj < 0 || sj >= ny || hw < 0 || extents[sj].first > extents[sj].last) continue;
+                        if (sj < 0 || sj >= ny || hw < 0 || extents[sj].first > extents[sj].last)
+                            continue;
                         const float* src = deposit.values.data() + size_t(sj) * nx;
                         for (int di = -hw; di <= hw; ++di) {
                             const float w = st.weights[size_t(glsl::stencilIndex(di, dj, H))];
@@ -238,11 +259,12 @@ double TabulatedExposureEngine::run(const plan::ScanPlan& plan, const SliceSink&
         for (int s = 0; s < n; ++s) {
             SurfaceGrid& slice = acc[size_t(source % L) * n + s];
             sink({source, s, plan.layers[source].z - (s + 0.5) * dz, &slice});
-            std::fill(slice.values.begin(), slice.values.end(), 0.0f);  // the slot serves layer source - L next
+            std::fill(slice.values.begin(), slice.values.end(),
+                      0.0f);  // the slot serves layer source - L next
         }
         progress.advance();
     }
     return seconds;
 }
 
-} // namespace vpsim::exposure
+}  // namespace vpsim::exposure

@@ -6,7 +6,8 @@
 namespace vpsim::exposure {
 namespace {
 
-std::vector<float> concatenated(const std::vector<DepthStencil>& stencils, std::vector<uint32_t>& offsets) {
+std::vector<float> concatenated(const std::vector<DepthStencil>& stencils,
+                                std::vector<uint32_t>& offsets) {
     std::vector<float> all;
     for (const auto& st : stencils) {
         offsets.push_back(uint32_t(all.size()));
@@ -15,19 +16,23 @@ std::vector<float> concatenated(const std::vector<DepthStencil>& stencils, std::
     return all;
 }
 
-} // namespace
+}  // namespace
 
-TabulatedExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> context_, int nx_, int ny_,
-                                            const std::vector<DepthStencil>& stencils, int slots)
-    : context(std::move(context_)), nx(uint32_t(nx_)), ny(uint32_t(ny_)),
+TabulatedExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> context_, int nx_,
+                                            int ny_, const std::vector<DepthStencil>& stencils,
+                                            int slots)
+    : context(std::move(context_)),
+      nx(uint32_t(nx_)),
+      ny(uint32_t(ny_)),
       deposit(context, uint64_t(nx) * ny * sizeof(float)),
-      weights(context, [&] {
-          uint64_t count = 0;
-          for (const auto& st : stencils) count += st.weights.size();
-          return count * sizeof(float);
-      }()),
-      kernel(context, exposure_stencil_spv, sizeof exposure_stencil_spv, 3, sizeof(glsl::ExposureStencilParams), {},
-             64) {
+      weights(context,
+              [&] {
+                  uint64_t count = 0;
+                  for (const auto& st : stencils) count += st.weights.size();
+                  return count * sizeof(float);
+              }()),
+      kernel(context, exposure_stencil_spv, sizeof exposure_stencil_spv, 3,
+             sizeof(glsl::ExposureStencilParams), {}, 64) {
     weights.upload(concatenated(stencils, offsets));
     for (const auto& st : stencils) halfWidths.push_back(st.halfWidth);
     for (int s = 0; s < slots; ++s) {
@@ -36,8 +41,8 @@ TabulatedExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> contex
     }
 }
 
-double TabulatedExposureEngine::GpuState::addLayer(const SurfaceGrid& hostDeposit,
-                                                   const std::vector<std::pair<int, int>>& targets) {
+double TabulatedExposureEngine::GpuState::addLayer(
+    const SurfaceGrid& hostDeposit, const std::vector<std::pair<int, int>>& targets) {
     deposit.upload(hostDeposit.values);
     return 1e-3 * context->submit([&](gpu::Recorder& r) {
         for (const auto& [m, slot] : targets) {
@@ -56,4 +61,4 @@ void TabulatedExposureEngine::GpuState::takeSlot(int slot, SurfaceGrid& out) {
     slices[slot].fill(0u);
 }
 
-} // namespace vpsim::exposure
+}  // namespace vpsim::exposure

@@ -10,8 +10,8 @@
 namespace vpsim::exposure {
 
 struct TabulatedExposureEngine::GpuState {
-    GpuState(std::shared_ptr<gpu::Context> context, int nx, int ny, const std::vector<DepthStencil>& stencils,
-             int slots);
+    GpuState(std::shared_ptr<gpu::Context> context, int nx, int ny,
+             const std::vector<DepthStencil>& stencils, int slots);
     /// Adds the deposit gathered by stencil m to slot t for every (m, t) in `targets`; GPU seconds.
     double addLayer(const SurfaceGrid& deposit, const std::vector<std::pair<int, int>>& targets);
     /// Downloads slot t into `out` and clears it on the device.
@@ -26,4 +26,4 @@ struct TabulatedExposureEngine::GpuState {
     gpu::Kernel kernel;
 };
 
-} // namespace vpsim::exposure
+}  // namespace vpsim::exposure

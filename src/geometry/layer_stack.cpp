@@ -19,14 +19,17 @@ nlohmann::json contourJson(const Contour& contour) {
 }
 
 /// Reads a JSON value that must exist and be a number.
-double numberAt(const nlohmann::json& j, const char* key, const std::string& file, const std::string& where) {
+double numberAt(const nlohmann::json& j, const char* key, const std::string& file,
+                const std::string& where) {
     if (!j.contains(key) || !j[key].is_number()) {
-        throw InputError("missing or non-numeric value", file, where.empty() ? key : where + "." + key);
+        throw InputError("missing or non-numeric value", file,
+                         where.empty() ? key : where + "." + key);
     }
     return j[key].get<double>();
 }
 
-Contour contourFromJson(const nlohmann::json& j, const std::string& file, const std::string& where) {
+Contour contourFromJson(const nlohmann::json& j, const std::string& file,
+                        const std::string& where) {
     if (!j.is_array()) throw InputError("expected an array of [x, y] points", file, where);
     Contour contour;
     for (const auto& p : j) {
@@ -41,11 +44,14 @@ Contour contourFromJson(const nlohmann::json& j, const std::string& file, const 
     return contour;
 }
 
-} // namespace
+}  // namespace
 
 nlohmann::json LayerStack::toJson() const {
-    nlohmann::json j{{"format", FORMAT}, {"version", VERSION}, {"source", source},
-                     {"layer_thickness_mm", layerThickness}, {"plane_position", planePosition},
+    nlohmann::json j{{"format", FORMAT},
+                     {"version", VERSION},
+                     {"source", source},
+                     {"layer_thickness_mm", layerThickness},
+                     {"plane_position", planePosition},
                      {"z_start_mm", zStart}};
     nlohmann::json list = nlohmann::json::array();
     for (const Layer& layer : layers) {
@@ -55,7 +61,10 @@ nlohmann::json LayerStack::toJson() const {
             for (const auto& h : part.holes) holes.push_back(contourJson(h));
             parts.push_back({{"outer", contourJson(part.outer)}, {"holes", holes}});
         }
-        list.push_back({{"index", layer.index}, {"z", layer.z}, {"z_bottom", layer.zBottom}, {"parts", parts}});
+        list.push_back({{"index", layer.index},
+                        {"z", layer.z},
+                        {"z_bottom", layer.zBottom},
+                        {"parts", parts}});
     }
     j["layers"] = list;
     return j;
@@ -63,18 +72,22 @@ nlohmann::json LayerStack::toJson() const {
 
 LayerStack LayerStack::fromJson(const nlohmann::json& j, const std::string& file) {
     if (!j.is_object() || j.value("format", "") != FORMAT) {
-        throw InputError(std::string("not a layer stack (expected \"format\": \"") + FORMAT + "\")", file, "format");
+        throw InputError(std::string("not a layer stack (expected \"format\": \"") + FORMAT + "\")",
+                         file, "format");
     }
     if (j.value("version", 0) != VERSION) {
-        throw InputError("unsupported layer stack version (this vpsim reads version 1)", file, "version");
+        throw InputError("unsupported layer stack version (this vpsim reads version 1)", file,
+                         "version");
     }
     LayerStack stack;
     stack.source = j.value("source", "");
     stack.layerThickness = numberAt(j, "layer_thickness_mm", file, "");
     stack.planePosition = numberAt(j, "plane_position", file, "");
     stack.zStart = numberAt(j, "z_start_mm", file, "");
-    if (!(stack.layerThickness > 0.0)) throw InputError("must be positive", file, "layer_thickness_mm");
-    if (!j.contains("layers") || !j["layers"].is_array()) throw InputError("expected an array", file, "layers");
+    if (!(stack.layerThickness > 0.0))
+        throw InputError("must be positive", file, "layer_thickness_mm");
+    if (!j.contains("layers") || !j["layers"].is_array())
+        throw InputError("expected an array", file, "layers");
     for (size_t k = 0; k < j["layers"].size(); ++k) {
         const nlohmann::json& l = j["layers"][k];
         const std::string where = "layers[" + std::to_string(k) + "]";
@@ -82,12 +95,14 @@ LayerStack LayerStack::fromJson(const nlohmann::json& j, const std::string& file
         layer.index = int(numberAt(l, "index", file, where));
         layer.z = numberAt(l, "z", file, where);
         layer.zBottom = numberAt(l, "z_bottom", file, where);
-        if (!l.contains("parts") || !l["parts"].is_array()) throw InputError("expected an array", file, where + ".parts");
+        if (!l.contains("parts") || !l["parts"].is_array())
+            throw InputError("expected an array", file, where + ".parts");
         std::vector<Contour> contours;
         for (size_t p = 0; p < l["parts"].size(); ++p) {
             const nlohmann::json& part = l["parts"][p];
             const std::string at = where + ".parts[" + std::to_string(p) + "]";
-            if (!part.is_object() || !part.contains("outer")) throw InputError("expected {\"outer\", \"holes\"}", file, at);
+            if (!part.is_object() || !part.contains("outer"))
+                throw InputError("expected {\"outer\", \"holes\"}", file, at);
             contours.push_back(contourFromJson(part["outer"], file, at + ".outer"));
             for (const auto& hole : part.value("holes", nlohmann::json::array())) {
                 contours.push_back(contourFromJson(hole, file, at + ".holes"));
@@ -100,9 +115,13 @@ LayerStack LayerStack::fromJson(const nlohmann::json& j, const std::string& file
     return stack;
 }
 
-void LayerStack::save(const std::string& path) const { writeFileAtomic(path, toJson().dump() + "\n"); }
+void LayerStack::save(const std::string& path) const {
+    writeFileAtomic(path, toJson().dump() + "\n");
+}
 
-LayerStack LayerStack::load(const std::string& path) { return fromJson(loadJsonFile(path), path); }
+LayerStack LayerStack::load(const std::string& path) {
+    return fromJson(loadJsonFile(path), path);
+}
 
 LayerStack sliceToStack(const Mesh& mesh, const SliceOptions& options, const std::string& source,
                         const std::vector<int>& onlyLayers) {
@@ -115,4 +134,4 @@ LayerStack sliceToStack(const Mesh& mesh, const SliceOptions& options, const std
     return stack;
 }
 
-} // namespace vpsim::geometry
+}  // namespace vpsim::geometry

@@ -5,11 +5,11 @@
 #include <mutex>
 
 #include <openvdb/io/File.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/MeshToVolume.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
@@ -31,8 +31,7 @@ public:
     explicit ProgressInterrupter(Progress& progress) : mProgress(progress) {}
     bool wasInterrupted(int percent) override {
         int last = mLast.load();
-        while (percent > last && !mLast.compare_exchange_weak(last, percent)) {
-        }
+        while (percent > last && !mLast.compare_exchange_weak(last, percent)) {}
         mProgress.advance(percent > last ? uint64_t(percent - last) : 0);
         return false;
     }
@@ -47,7 +46,7 @@ void initialiseOpenVdb() {
     std::call_once(once, [] { openvdb::initialize(); });
 }
 
-} // namespace
+}  // namespace
 
 LevelSet::LevelSet(std::unique_ptr<Impl> impl) : mImpl(std::move(impl)) {}
 LevelSet::LevelSet(LevelSet&&) noexcept = default;
@@ -64,16 +63,19 @@ double LevelSet::estimateBytes(const Mesh& mesh, const LevelSetOptions& options)
 
 LevelSet LevelSet::fromMesh(const Mesh& mesh, const LevelSetOptions& options) {
     if (!(options.voxelSize > 0.0) || !std::isfinite(options.voxelSize)) {
-        throw InputError("level-set voxel size must be positive, got " + std::to_string(options.voxelSize) + " mm");
+        throw InputError("level-set voxel size must be positive, got " +
+                         std::to_string(options.voxelSize) + " mm");
     }
     if (!(options.halfWidthVoxels >= 1.0)) {
-        throw InputError("level-set half-width must be at least 1 voxel, got " + std::to_string(options.halfWidthVoxels));
+        throw InputError("level-set half-width must be at least 1 voxel, got " +
+                         std::to_string(options.halfWidthVoxels));
     }
     if (mesh.triangles.empty()) throw InputError("cannot build a level set of an empty mesh");
     const double bytes = estimateBytes(mesh, options);
     if (bytes > options.maxBytes) {
-        throw ResourceError("level set at voxel size " + std::to_string(options.voxelSize * 1000.0) +
-                            " um would need about " + formatBytes(bytes) + " (limit " + formatBytes(options.maxBytes) +
+        throw ResourceError("level set at voxel size " +
+                            std::to_string(options.voxelSize * 1000.0) + " um would need about " +
+                            formatBytes(bytes) + " (limit " + formatBytes(options.maxBytes) +
                             "): use a larger voxel size");
     }
     initialiseOpenVdb();
@@ -88,8 +90,8 @@ LevelSet LevelSet::fromMesh(const Mesh& mesh, const LevelSetOptions& options) {
     Progress progress("level set", 100);
     ProgressInterrupter interrupter(progress);
     // Passing the NullInterrupter base uses OpenVDB's explicit instantiation (no template bloat).
-    impl->grid = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(interrupter.interrupter(), *xform, points,
-                                                                    triangles, float(options.halfWidthVoxels));
+    impl->grid = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(
+        interrupter.interrupter(), *xform, points, triangles, float(options.halfWidthVoxels));
     impl->grid->setName("part");
     logDebug("level set: " + std::to_string(impl->grid->activeVoxelCount()) + " active voxels, " +
              formatBytes(double(impl->grid->memUsage())));
@@ -117,34 +119,48 @@ LevelSet LevelSet::load(const std::string& path) {
 }
 
 double LevelSet::signedDistance(const glm::dvec3& p) const {
-    openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> sampler(*mImpl->grid);
+    openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> sampler(
+        *mImpl->grid);
     return sampler.wsSample(openvdb::Vec3d(p.x, p.y, p.z));
 }
 
 void LevelSet::sample(const std::vector<glm::dvec3>& points, std::vector<float>& out) const {
     out.resize(points.size());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
-        // One sampler (and its node cache) per chunk: accessors are not shared between threads.
-        openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> sampler(*mImpl->grid);
-        for (size_t i = r.begin(); i < r.end(); ++i) {
-            out[i] = float(sampler.wsSample(openvdb::Vec3d(points[i].x, points[i].y, points[i].z)));
-        }
-    });
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, points.size(), 4096),
+        [&](const tbb::blocked_range<size_t>& r) {
+            // One sampler (and its node cache) per chunk: accessors are not shared between threads.
+            openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> sampler(
+                *mImpl->grid);
+            for (size_t i = r.begin(); i < r.end(); ++i) {
+                out[i] =
+                    float(sampler.wsSample(openvdb::Vec3d(points[i].x, points[i].y, points[i].z)));
+            }
+        });
 }
 
-double LevelSet::voxelSize() const { return mImpl->grid->voxelSize()[0]; }
+double LevelSet::voxelSize() const {
+    return mImpl->grid->voxelSize()[0];
+}
 
-double LevelSet::halfWidth() const { return mImpl->grid->background(); }
+double LevelSet::halfWidth() const {
+    return mImpl->grid->background();
+}
 
-size_t LevelSet::activeVoxelCount() const { return size_t(mImpl->grid->activeVoxelCount()); }
+size_t LevelSet::activeVoxelCount() const {
+    return size_t(mImpl->grid->activeVoxelCount());
+}
 
-size_t LevelSet::memoryBytes() const { return size_t(mImpl->grid->memUsage()); }
+size_t LevelSet::memoryBytes() const {
+    return size_t(mImpl->grid->memUsage());
+}
 
 Bounds LevelSet::activeBounds() const {
     const openvdb::CoordBBox box = mImpl->grid->evalActiveVoxelBoundingBox();
     Bounds b;
     if (box.empty()) return b;
-    const openvdb::Vec3d lo = mImpl->grid->indexToWorld(box.min()), hi = mImpl->grid->indexToWorld(box.max());
+    const openvdb::Vec3d lo = mImpl->grid->indexToWorld(box.min()),
+                         hi = mImpl->grid->indexToWorld(box.max());
     b.add({lo.x(), lo.y(), lo.z()});
     b.add({hi.x(), hi.y(), hi.z()});
     return b;
@@ -162,4 +178,4 @@ void LevelSet::save(const std::string& path) const {
     });
 }
 
-} // namespace vpsim::geometry
+}  // namespace vpsim::geometry

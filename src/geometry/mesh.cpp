@@ -45,7 +45,8 @@ void Mesh::translate(const glm::dvec3& offset) {
 void Mesh::append(const Mesh& other) {
     const auto base = static_cast<uint32_t>(vertices.size());
     vertices.insert(vertices.end(), other.vertices.begin(), other.vertices.end());
-    for (const auto& t : other.triangles) triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    for (const auto& t : other.triangles)
+        triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
 }
 
-} // namespace vpsim::geometry
+}  // namespace vpsim::geometry

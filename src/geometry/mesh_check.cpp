@@ -5,8 +5,8 @@
 #include <cstring>
 #include <sstream>
 
-#include <glm/geometric.hpp>
 #include <tbb/parallel_sort.h>
+#include <glm/geometric.hpp>
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/log.h"
@@ -23,9 +23,9 @@ std::string formatPoint(const glm::dvec3& p) {
 
 /// One directed use of an undirected edge by a triangle.
 struct HalfEdge {
-    uint64_t key;      // min vertex << 32 | max vertex
+    uint64_t key;  // min vertex << 32 | max vertex
     uint32_t triangle;
-    bool forward;      // traversed from the smaller to the larger vertex index
+    bool forward;  // traversed from the smaller to the larger vertex index
 };
 
 std::vector<HalfEdge> sortedHalfEdges(const Mesh& mesh) {
@@ -51,7 +51,8 @@ glm::dvec3 edgeMidpoint(const Mesh& mesh, uint64_t key) {
 bool rayHits(const Mesh& mesh, size_t t, const glm::dvec3& p) {
     static const glm::dvec3 dir = glm::normalize(glm::dvec3(1.0, 1.234567e-4, 2.345678e-5));
     const auto& tri = mesh.triangles[t];
-    const glm::dvec3 a = mesh.vertices[tri[0]], e1 = mesh.vertices[tri[1]] - a, e2 = mesh.vertices[tri[2]] - a;
+    const glm::dvec3 a = mesh.vertices[tri[0]], e1 = mesh.vertices[tri[1]] - a,
+                     e2 = mesh.vertices[tri[2]] - a;
     const glm::dvec3 h = glm::cross(dir, e2);
     const double det = glm::dot(e1, h);
     if (std::abs(det) < 1e-300) return false;
@@ -87,30 +88,36 @@ void dropDegenerateTriangles(Mesh& mesh, MeshReport& report, bool repair) {
             continue;
         }
         const glm::dvec3& a = mesh.vertices[tri[0]];
-        const double longest = std::max({glm::length(mesh.vertices[tri[1]] - a),
-                                         glm::length(mesh.vertices[tri[2]] - a),
-                                         glm::length(mesh.vertices[tri[2]] - mesh.vertices[tri[1]])});
+        const double longest = std::max(
+            {glm::length(mesh.vertices[tri[1]] - a), glm::length(mesh.vertices[tri[2]] - a),
+             glm::length(mesh.vertices[tri[2]] - mesh.vertices[tri[1]])});
         if (glm::length(mesh.triangleNormal(t)) <= 1e-12 * longest * longest) {
             if (report.sliverTrianglesKept++ == 0) firstSliver = a;
         }
         mesh.triangles[kept++] = tri;
     }
     if (dropped > 0 && !repair) {
-        report.problems.push_back(std::to_string(dropped) + " degenerate triangles (a vertex repeated)");
+        report.problems.push_back(std::to_string(dropped) +
+                                  " degenerate triangles (a vertex repeated)");
         return;
     }
     mesh.triangles.resize(kept);
     report.degenerateTrianglesDropped = dropped;
-    if (dropped > 0) addRepair(report, "dropped " + std::to_string(dropped) + " zero-area triangles (a vertex repeated)");
+    if (dropped > 0)
+        addRepair(report, "dropped " + std::to_string(dropped) +
+                              " zero-area triangles (a vertex repeated)");
     if (report.sliverTrianglesKept > 0) {
-        logWarn(report.file + ": " + std::to_string(report.sliverTrianglesKept) +
-                " zero-area triangles with three distinct collinear vertices kept (removing them would "
-                "open the mesh), first near " + formatPoint(firstSliver));
+        logWarn(
+            report.file + ": " + std::to_string(report.sliverTrianglesKept) +
+            " zero-area triangles with three distinct collinear vertices kept (removing them would "
+            "open the mesh), first near " +
+            formatPoint(firstSliver));
     }
 }
 
 /// Counts open and non-manifold edges; fills neighbour lists for manifold edges.
-void checkEdges(const Mesh& mesh, MeshReport& report, std::vector<std::array<int64_t, 3>>& neighbours,
+void checkEdges(const Mesh& mesh, MeshReport& report,
+                std::vector<std::array<int64_t, 3>>& neighbours,
                 std::vector<std::array<bool, 3>>& sameDirection) {
     const std::vector<HalfEdge> edges = sortedHalfEdges(mesh);
     neighbours.assign(mesh.triangles.size(), {-1, -1, -1});
@@ -120,7 +127,8 @@ void checkEdges(const Mesh& mesh, MeshReport& report, std::vector<std::array<int
         for (auto& n : neighbours[x.triangle]) {
             if (n < 0) {
                 n = y.triangle;
-                sameDirection[x.triangle][&n - neighbours[x.triangle].data()] = x.forward == y.forward;
+                sameDirection[x.triangle][&n - neighbours[x.triangle].data()] =
+                    x.forward == y.forward;
                 return;
             }
         }
@@ -142,15 +150,17 @@ void checkEdges(const Mesh& mesh, MeshReport& report, std::vector<std::array<int
                                   formatPoint(edgeMidpoint(mesh, firstOpen)));
     }
     if (report.nonManifoldEdges > 0) {
-        report.problems.push_back(std::to_string(report.nonManifoldEdges) +
-                                  " non-manifold edges (shared by more than two triangles), first near " +
-                                  formatPoint(edgeMidpoint(mesh, firstNonManifold)));
+        report.problems.push_back(
+            std::to_string(report.nonManifoldEdges) +
+            " non-manifold edges (shared by more than two triangles), first near " +
+            formatPoint(edgeMidpoint(mesh, firstNonManifold)));
     }
 }
 
 /// Flood-fills a consistent orientation per connected shell. flip[t] says whether triangle t
 /// must be reversed to agree with its shell's first triangle.
-std::vector<Shell> orientShells(const Mesh& mesh, const std::vector<std::array<int64_t, 3>>& neighbours,
+std::vector<Shell> orientShells(const Mesh& mesh,
+                                const std::vector<std::array<int64_t, 3>>& neighbours,
                                 const std::vector<std::array<bool, 3>>& sameDirection,
                                 std::vector<char>& flip, MeshReport& report) {
     std::vector<Shell> shells;
@@ -204,7 +214,8 @@ double shellVolume(const Mesh& mesh, const Shell& shell, const std::vector<char>
 }
 
 bool boundsInside(const Bounds& inner, const Bounds& outer) {
-    return glm::all(glm::greaterThanEqual(inner.lo, outer.lo)) && glm::all(glm::lessThanEqual(inner.hi, outer.hi));
+    return glm::all(glm::greaterThanEqual(inner.lo, outer.lo)) &&
+           glm::all(glm::lessThanEqual(inner.hi, outer.hi));
 }
 
 /// Nesting depth of each shell by ray parity; an odd depth is a cavity (oriented inward). A shell
@@ -216,7 +227,8 @@ void computeDepths(const Mesh& mesh, std::vector<Shell>& shells) {
         // (a shell poking out of another has some extreme point outside it).
         const auto& own = shells[i].triangles;
         const auto& first = mesh.triangles[own.front()];
-        std::vector<glm::dvec3> probes{(mesh.vertices[first[0]] + mesh.vertices[first[1]] + mesh.vertices[first[2]]) / 3.0};
+        std::vector<glm::dvec3> probes{
+            (mesh.vertices[first[0]] + mesh.vertices[first[1]] + mesh.vertices[first[2]]) / 3.0};
         for (int axis = 0; axis < 3; ++axis) {
             glm::dvec3 lo = mesh.vertices[first[0]], hi = lo;
             for (uint32_t t : own) {
@@ -241,7 +253,7 @@ void computeDepths(const Mesh& mesh, std::vector<Shell>& shells) {
     }
 }
 
-} // namespace
+}  // namespace
 
 size_t mergeDuplicateVertices(Mesh& mesh) {
     struct Key {
@@ -265,7 +277,8 @@ size_t mergeDuplicateVertices(Mesh& mesh) {
     std::vector<glm::dvec3> merged;
     merged.reserve(n);
     for (size_t i = 0; i < n; ++i) {
-        if (i == 0 || !keys[i].samePlace(keys[i - 1])) merged.emplace_back(keys[i].x, keys[i].y, keys[i].z);
+        if (i == 0 || !keys[i].samePlace(keys[i - 1]))
+            merged.emplace_back(keys[i].x, keys[i].y, keys[i].z);
         remap[keys[i].index] = uint32_t(merged.size() - 1);
     }
     for (auto& t : mesh.triangles) {
@@ -284,7 +297,8 @@ MeshReport checkMesh(Mesh& mesh, const std::string& name, const MeshCheckOptions
     auto finish = [&]() -> MeshReport& {
         report.bounds = mesh.bounds();
         report.area = mesh.area();
-        if (!report.problems.empty() && options.throwOnProblem) throw InputError(report.problems.front(), name);
+        if (!report.problems.empty() && options.throwOnProblem)
+            throw InputError(report.problems.front(), name);
         return report;
     };
     if (mesh.triangles.empty()) {
@@ -299,7 +313,8 @@ MeshReport checkMesh(Mesh& mesh, const std::string& name, const MeshCheckOptions
     }
     // STL repeats every vertex in each triangle using it: merging is normal, not a repair.
     report.duplicateVerticesMerged = mergeDuplicateVertices(mesh);
-    logDebug(name + ": merged " + std::to_string(report.duplicateVerticesMerged) + " duplicate vertices");
+    logDebug(name + ": merged " + std::to_string(report.duplicateVerticesMerged) +
+             " duplicate vertices");
 
     dropDegenerateTriangles(mesh, report, options.repair);
     if (!report.problems.empty()) return finish();
@@ -325,8 +340,9 @@ MeshReport checkMesh(Mesh& mesh, const std::string& name, const MeshCheckOptions
     for (const auto& shell : shells) {
         const double diagonal = glm::length(shell.bounds.size());
         if (!(std::abs(shell.volume) > 1e-12 * diagonal * diagonal * diagonal)) {
-            report.problems.push_back("mesh encloses no volume (a shell of " + std::to_string(shell.triangles.size()) +
-                                      " triangles near " + formatPoint(shell.bounds.lo) + " is flat)");
+            report.problems.push_back("mesh encloses no volume (a shell of " +
+                                      std::to_string(shell.triangles.size()) + " triangles near " +
+                                      formatPoint(shell.bounds.lo) + " is flat)");
             return finish();
         }
     }
@@ -349,8 +365,11 @@ MeshReport checkMesh(Mesh& mesh, const std::string& name, const MeshCheckOptions
         }
     }
     if (!options.repair && (reoriented > 0 || report.shellsFlipped > 0)) {
-        if (reoriented > 0) report.problems.push_back(std::to_string(reoriented) + " triangles with inconsistent orientation");
-        if (report.shellsFlipped > 0) report.problems.push_back("mesh is inside-out (negative volume)");
+        if (reoriented > 0)
+            report.problems.push_back(std::to_string(reoriented) +
+                                      " triangles with inconsistent orientation");
+        if (report.shellsFlipped > 0)
+            report.problems.push_back("mesh is inside-out (negative volume)");
         return finish();
     }
     for (size_t t = 0; t < mesh.triangles.size(); ++t) {
@@ -362,8 +381,10 @@ MeshReport checkMesh(Mesh& mesh, const std::string& name, const MeshCheckOptions
                               " triangles to agree with their neighbours (flood fill)");
     }
     if (report.shellsFlipped > 0) {
-        addRepair(report, "turned " + std::to_string(report.shellsFlipped) +
-                              " shell(s) around (an outer shell had inward normals, or a cavity outward ones)");
+        addRepair(
+            report,
+            "turned " + std::to_string(report.shellsFlipped) +
+                " shell(s) around (an outer shell had inward normals, or a cavity outward ones)");
     }
     report.volume = mesh.volume();
     return finish();
@@ -386,11 +407,12 @@ nlohmann::json MeshReport::toJson() const {
     j["volume_mm3"] = volume;
     j["area_mm2"] = area;
     if (!bounds.empty()) {
-        j["bounds_mm"] = {{bounds.lo.x, bounds.lo.y, bounds.lo.z}, {bounds.hi.x, bounds.hi.y, bounds.hi.z}};
+        j["bounds_mm"] = {{bounds.lo.x, bounds.lo.y, bounds.lo.z},
+                          {bounds.hi.x, bounds.hi.y, bounds.hi.z}};
     }
     j["repairs"] = repairs;
     j["problems"] = problems;
     return j;
 }
 
-} // namespace vpsim::geometry
+}  // namespace vpsim::geometry

@@ -26,9 +26,9 @@ void writePolygonSvg(const std::string& path, const PolygonSet& region, const st
     std::ostringstream svg;
     svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height
         << "\" font-family=\"sans-serif\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
-        << "<text x=\"8\" y=\"20\" font-size=\"14\">" << title << " (area " << region.area() << " mm^2, "
-        << region.outerCount() << " outer, " << region.holeCount() << " holes; x from " << lo.x << " mm, y from "
-        << lo.y << " mm)</text>\n";
+        << "<text x=\"8\" y=\"20\" font-size=\"14\">" << title << " (area " << region.area()
+        << " mm^2, " << region.outerCount() << " outer, " << region.holeCount() << " holes; x from "
+        << lo.x << " mm, y from " << lo.y << " mm)</text>\n";
     for (const auto& contour : region.contours()) {
         if (contour.empty()) continue;
         svg << "<path fill-rule=\"evenodd\" d=\"M";
@@ -38,10 +38,11 @@ void writePolygonSvg(const std::string& path, const PolygonSet& region, const st
     }
     // Scale bar: 1 mm, or 0.1 mm for tiny regions.
     const double bar = span > 2.0 ? 1.0 : 0.1;
-    svg << "<line x1=\"10\" y1=\"" << height - 10 << "\" x2=\"" << 10 + bar * pixelsPerMm << "\" y2=\""
-        << height - 10 << "\" stroke=\"black\" stroke-width=\"3\"/><text x=\"" << 14 + bar * pixelsPerMm
-        << "\" y=\"" << height - 6 << "\" font-size=\"12\">" << bar << " mm</text>\n</svg>\n";
+    svg << "<line x1=\"10\" y1=\"" << height - 10 << "\" x2=\"" << 10 + bar * pixelsPerMm
+        << "\" y2=\"" << height - 10 << "\" stroke=\"black\" stroke-width=\"3\"/><text x=\""
+        << 14 + bar * pixelsPerMm << "\" y=\"" << height - 6 << "\" font-size=\"12\">" << bar
+        << " mm</text>\n</svg>\n";
     writeFileAtomic(path, svg.str());
 }
 
-} // namespace vpsim::geometry
+}  // namespace vpsim::geometry

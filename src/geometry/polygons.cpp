@@ -25,7 +25,8 @@ struct PolygonSetAccess {
         Contour contour;
         contour.reserve(path.size());
         for (const auto& p : path) {
-            contour.emplace_back(double(p.X) / CLIPPER_UNITS_PER_MM, double(p.Y) / CLIPPER_UNITS_PER_MM);
+            contour.emplace_back(double(p.X) / CLIPPER_UNITS_PER_MM,
+                                 double(p.Y) / CLIPPER_UNITS_PER_MM);
         }
         return contour;
     }
@@ -96,7 +97,7 @@ PolygonSet PolygonSet::fromContours(const std::vector<Contour>& contours, FillRu
     for (const auto& c : contours) {
         if (c.size() >= 3) paths.push_back(A::toPath(c));
     }
-    const cl::PolyFillType fill = rule == FillRule::EvenOdd  ? cl::pftEvenOdd
+    const cl::PolyFillType fill = rule == FillRule::EvenOdd   ? cl::pftEvenOdd
                                   : rule == FillRule::NonZero ? cl::pftNonZero
                                                               : cl::pftPositive;
     return A::execute(cl::ctUnion, paths, {}, fill);
@@ -159,8 +160,11 @@ bool PolygonSet::contains(const glm::dvec2& point) const {
     return false;
 }
 
-PolygonSet PolygonSet::offset(double distance, JoinType join, double arcTolerance, double miterLimit) const {
-    const cl::JoinType jt = join == JoinType::Round ? cl::jtRound : join == JoinType::Miter ? cl::jtMiter : cl::jtSquare;
+PolygonSet PolygonSet::offset(double distance, JoinType join, double arcTolerance,
+                              double miterLimit) const {
+    const cl::JoinType jt = join == JoinType::Round   ? cl::jtRound
+                            : join == JoinType::Miter ? cl::jtMiter
+                                                      : cl::jtSquare;
     cl::ClipperOffset offsetter(miterLimit, std::max(arcTolerance, 1e-6) * CLIPPER_UNITS_PER_MM);
     offsetter.AddPaths(A::toPaths(*this), jt, cl::etClosedPolygon);
     cl::PolyTree tree;
@@ -222,4 +226,4 @@ std::vector<std::pair<double, double>> PolygonSet::intervalsAt(double y) const {
     return intervals;
 }
 
-} // namespace vpsim::geometry
+}  // namespace vpsim::geometry

@@ -9,7 +9,8 @@
 
 namespace vpsim::geometry {
 
-RasterGrid RasterGrid::covering(const glm::dvec2& lo, const glm::dvec2& hi, double pitch, int marginPixels) {
+RasterGrid RasterGrid::covering(const glm::dvec2& lo, const glm::dvec2& hi, double pitch,
+                                int marginPixels) {
     if (!(pitch > 0.0) || !std::isfinite(pitch)) throw InputError("pixel pitch must be positive");
     RasterGrid grid;
     grid.pitch = pitch;
@@ -22,7 +23,8 @@ RasterGrid RasterGrid::covering(const glm::dvec2& lo, const glm::dvec2& hi, doub
     const glm::dvec2 last = glm::ceil(hi / pitch) + double(marginPixels);
     const double pixels = (last.x - first.x) * (last.y - first.y);
     if (pixels > double(1u << 31)) {
-        throw ResourceError("a raster of " + std::to_string(pixels) + " pixels at pitch " + std::to_string(pitch) +
+        throw ResourceError("a raster of " + std::to_string(pixels) + " pixels at pitch " +
+                            std::to_string(pitch) +
                             " mm is too large (limit 2^31): use a coarser pitch");
     }
     grid.origin = first * pitch;
@@ -43,7 +45,8 @@ std::vector<uint8_t> rasterizeBinary(const PolygonSet& region, const RasterGrid&
             if (a.y == b.y) continue;
             const int jLo = std::max(0, int(std::ceil(std::min(a.y, b.y))));
             const int jHi = std::min(grid.height - 1, int(std::ceil(std::max(a.y, b.y))) - 1);
-            for (int j = jLo; j <= jHi; ++j) rows[size_t(j)].push_back(a.x + (j - a.y) * (b.x - a.x) / (b.y - a.y));
+            for (int j = jLo; j <= jHi; ++j)
+                rows[size_t(j)].push_back(a.x + (j - a.y) * (b.x - a.x) / (b.y - a.y));
         }
     }
     for (int j = 0; j < grid.height; ++j) {
@@ -65,12 +68,14 @@ namespace {
 /// Stored as a difference array (acc[i] and acc[i+1]) and prefix-summed per row afterwards.
 class CoverageAccumulator {
 public:
-    CoverageAccumulator(int width, int height) : mWidth(width), mHeight(height), mAcc(size_t(width + 1) * height, 0.0) {}
+    CoverageAccumulator(int width, int height)
+        : mWidth(width), mHeight(height), mAcc(size_t(width + 1) * height, 0.0) {}
 
     /// Edge from a to b in pixel units (grid origin at 0, one pixel = 1).
     void addEdge(glm::dvec2 a, glm::dvec2 b) {
         if (a.y == b.y) return;
-        const double yLo = std::max(0.0, std::min(a.y, b.y)), yHi = std::min(double(mHeight), std::max(a.y, b.y));
+        const double yLo = std::max(0.0, std::min(a.y, b.y)),
+                     yHi = std::min(double(mHeight), std::max(a.y, b.y));
         if (yLo >= yHi) return;
         const double slope = (b.x - a.x) / (b.y - a.y);
         auto xAt = [&](double y) { return a.x + (y - a.y) * slope; };
@@ -107,7 +112,8 @@ private:
             const double step = xb > xa ? 1.0 : -1.0;
             double x = xb > xa ? lo : hi;
             for (; xb > xa ? x <= hi : x >= lo; x += step) {
-                if ((x - xa) * step <= 0.0 || (xb - x) * step <= 0.0) continue;  // not strictly inside
+                if ((x - xa) * step <= 0.0 || (xb - x) * step <= 0.0)
+                    continue;  // not strictly inside
                 const double y = ya + (x - xa) * (yb - ya) / (xb - xa);
                 addCellPiece(row, xa, ya, x, y);
                 xa = x;
@@ -142,13 +148,14 @@ double segmentDistance(const glm::dvec2& p, const glm::dvec2& a, const glm::dvec
     return glm::length(p - (a + t * ab));
 }
 
-} // namespace
+}  // namespace
 
 std::vector<double> rasterizeCoverage(const PolygonSet& region, const RasterGrid& grid) {
     CoverageAccumulator acc(grid.width, grid.height);
     for (const auto& contour : region.contours()) {
         for (size_t e = 0, n = contour.size(); e < n; ++e) {
-            acc.addEdge((contour[e] - grid.origin) / grid.pitch, (contour[(e + 1) % n] - grid.origin) / grid.pitch);
+            acc.addEdge((contour[e] - grid.origin) / grid.pitch,
+                        (contour[(e + 1) % n] - grid.origin) / grid.pitch);
         }
     }
     return acc.coverage();
@@ -171,11 +178,16 @@ TargetMap makeTargetMap(const PolygonSet& region, const RasterGrid& grid, double
             const glm::dvec2 a = contour[e], b = contour[(e + 1) % n];
             const int pieces = std::max(1, int(std::ceil(glm::length(b - a) / pieceLength)));
             for (int s = 0; s < pieces; ++s) {
-                const glm::dvec2 p = a + (b - a) * (double(s) / pieces), q = a + (b - a) * (double(s + 1) / pieces);
-                const glm::dvec2 lo = (glm::min(p, q) - maxDistance - grid.origin) / grid.pitch - 0.5;
-                const glm::dvec2 hi = (glm::max(p, q) + maxDistance - grid.origin) / grid.pitch - 0.5;
-                const int i0 = std::max(0, int(std::ceil(lo.x))), i1 = std::min(grid.width - 1, int(std::floor(hi.x)));
-                const int j0 = std::max(0, int(std::ceil(lo.y))), j1 = std::min(grid.height - 1, int(std::floor(hi.y)));
+                const glm::dvec2 p = a + (b - a) * (double(s) / pieces),
+                                 q = a + (b - a) * (double(s + 1) / pieces);
+                const glm::dvec2 lo =
+                    (glm::min(p, q) - maxDistance - grid.origin) / grid.pitch - 0.5;
+                const glm::dvec2 hi =
+                    (glm::max(p, q) + maxDistance - grid.origin) / grid.pitch - 0.5;
+                const int i0 = std::max(0, int(std::ceil(lo.x))),
+                          i1 = std::min(grid.width - 1, int(std::floor(hi.x)));
+                const int j0 = std::max(0, int(std::ceil(lo.y))),
+                          j1 = std::min(grid.height - 1, int(std::floor(hi.y)));
                 for (int j = j0; j <= j1; ++j) {
                     for (int i = i0; i <= i1; ++i) {
                         double& d = distance[size_t(j) * grid.width + i];
@@ -186,14 +198,16 @@ TargetMap makeTargetMap(const PolygonSet& region, const RasterGrid& grid, double
         }
     }
     const std::vector<uint8_t> inside = rasterizeBinary(region, grid);
-    for (size_t k = 0; k < distance.size(); ++k) map.signedDistance[k] = float(inside[k] ? -distance[k] : distance[k]);
+    for (size_t k = 0; k < distance.size(); ++k)
+        map.signedDistance[k] = float(inside[k] ? -distance[k] : distance[k]);
     return map;
 }
 
 std::vector<uint8_t> toGreyImage(const std::vector<double>& values, const RasterGrid& grid) {
     std::vector<uint8_t> grey(values.size());
-    for (size_t k = 0; k < values.size(); ++k) grey[k] = uint8_t(std::lround(255.0 * std::clamp(values[k], 0.0, 1.0)));
+    for (size_t k = 0; k < values.size(); ++k)
+        grey[k] = uint8_t(std::lround(255.0 * std::clamp(values[k], 0.0, 1.0)));
     return flipRows(grey, grid.width, grid.height);
 }
 
-} // namespace vpsim::geometry
+}  // namespace vpsim::geometry

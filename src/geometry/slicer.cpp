@@ -68,7 +68,8 @@ std::string formatZ(double z) {
 
 /// Joins segments into closed loops through their shared edge ids.
 std::vector<Contour> linkSegments(std::vector<Segment>& segments, double z) {
-    std::sort(segments.begin(), segments.end(), [](const Segment& a, const Segment& b) { return a.from < b.from; });
+    std::sort(segments.begin(), segments.end(),
+              [](const Segment& a, const Segment& b) { return a.from < b.from; });
     std::vector<char> used(segments.size(), 0);
     std::vector<Contour> loops;
     for (size_t first = 0; first < segments.size(); ++first) {
@@ -82,15 +83,17 @@ std::vector<Contour> linkSegments(std::vector<Segment>& segments, double z) {
             auto it = std::lower_bound(segments.begin(), segments.end(), next,
                                        [](const Segment& s, uint64_t key) { return s.from < key; });
             if (it == segments.end() || it->from != next) {
-                throw InputError("slice at z = " + formatZ(z) + " mm: a contour does not close near (" +
-                                 formatZ(segments[current].start.x) + ", " + formatZ(segments[current].start.y) +
-                                 ") mm; the mesh is open or inconsistently oriented (check it with "
-                                 "'vpsim part check')");
+                throw InputError(
+                    "slice at z = " + formatZ(z) + " mm: a contour does not close near (" +
+                    formatZ(segments[current].start.x) + ", " + formatZ(segments[current].start.y) +
+                    ") mm; the mesh is open or inconsistently oriented (check it with "
+                    "'vpsim part check')");
             }
             current = size_t(it - segments.begin());
             if (current == first) break;
             if (used[current]) {
-                throw InputError("slice at z = " + formatZ(z) + " mm: contours cross at a non-manifold edge");
+                throw InputError("slice at z = " + formatZ(z) +
+                                 " mm: contours cross at a non-manifold edge");
             }
         }
         loops.push_back(std::move(loop));
@@ -100,14 +103,16 @@ std::vector<Contour> linkSegments(std::vector<Segment>& segments, double z) {
 
 void checkOptions(const SliceOptions& o) {
     if (!(o.layerThickness > 0.0) || !std::isfinite(o.layerThickness)) {
-        throw InputError("layer thickness must be positive, got " + formatZ(o.layerThickness) + " mm");
+        throw InputError("layer thickness must be positive, got " + formatZ(o.layerThickness) +
+                         " mm");
     }
     if (!(o.planePosition >= 0.0 && o.planePosition <= 1.0)) {
-        throw InputError("slicing plane position must be in [0, 1] of the layer, got " + formatZ(o.planePosition));
+        throw InputError("slicing plane position must be in [0, 1] of the layer, got " +
+                         formatZ(o.planePosition));
     }
 }
 
-} // namespace
+}  // namespace
 
 int layerCount(const Mesh& mesh, const SliceOptions& options) {
     checkOptions(options);
@@ -115,7 +120,8 @@ int layerCount(const Mesh& mesh, const SliceOptions& options) {
     if (b.empty()) return 0;
     const double z0 = options.zStart.value_or(b.lo.z);
     const double layers = std::ceil((b.hi.z - z0) / options.layerThickness - 1e-9);
-    if (layers > 1e7) throw InputError("more than 10 million layers: is the layer thickness in mm?");
+    if (layers > 1e7)
+        throw InputError("more than 10 million layers: is the layer thickness in mm?");
     return std::max(0, int(layers));
 }
 
@@ -125,7 +131,8 @@ PolygonSet sliceAt(const Mesh& mesh, double z, bool perturbUp) {
     return PolygonSet::fromContours(linkSegments(segments, z), FillRule::Positive);
 }
 
-std::vector<Layer> sliceMesh(const Mesh& mesh, const SliceOptions& options, const std::vector<int>& onlyLayers) {
+std::vector<Layer> sliceMesh(const Mesh& mesh, const SliceOptions& options,
+                             const std::vector<int>& onlyLayers) {
     const int count = layerCount(mesh, options);
     const double t = options.layerThickness, f = options.planePosition;
     const double z0 = options.zStart.value_or(mesh.bounds().lo.z);
@@ -154,8 +161,10 @@ std::vector<Layer> sliceMesh(const Mesh& mesh, const SliceOptions& options, cons
     std::vector<uint32_t> start(size_t(count) + 1, 0);
     for (size_t i = 0; i < nTri; ++i) {
         const auto& tri = mesh.triangles[i];
-        const double lo = std::min({mesh.vertices[tri[0]].z, mesh.vertices[tri[1]].z, mesh.vertices[tri[2]].z});
-        const double hi = std::max({mesh.vertices[tri[0]].z, mesh.vertices[tri[1]].z, mesh.vertices[tri[2]].z});
+        const double lo =
+            std::min({mesh.vertices[tri[0]].z, mesh.vertices[tri[1]].z, mesh.vertices[tri[2]].z});
+        const double hi =
+            std::max({mesh.vertices[tri[0]].z, mesh.vertices[tri[1]].z, mesh.vertices[tri[2]].z});
         int kLo = std::max(0, int(std::floor((lo - z0) / t - f)));
         int kHi = std::min(count - 1, int(std::ceil((hi - z0) / t - f)));
         while (kLo <= kHi && !crosses(lo, hi, kLo)) ++kLo;
@@ -167,7 +176,8 @@ std::vector<Layer> sliceMesh(const Mesh& mesh, const SliceOptions& options, cons
     std::vector<uint32_t> bucket(start.back());
     std::vector<uint32_t> fill(start.begin(), start.end() - 1);
     for (size_t i = 0; i < nTri; ++i) {
-        for (int k = range[i].first; k <= range[i].second; ++k) bucket[fill[size_t(k)]++] = uint32_t(i);
+        for (int k = range[i].first; k <= range[i].second; ++k)
+            bucket[fill[size_t(k)]++] = uint32_t(i);
     }
 
     std::vector<Layer> layers(selected.size());
@@ -183,10 +193,11 @@ std::vector<Layer> sliceMesh(const Mesh& mesh, const SliceOptions& options, cons
         for (uint32_t j = start[size_t(k)]; j < start[size_t(k) + 1]; ++j) {
             addSegment(mesh, mesh.triangles[bucket[j]], layer.z, perturbUp, segments);
         }
-        layer.region = PolygonSet::fromContours(linkSegments(segments, layer.z), FillRule::Positive);
+        layer.region =
+            PolygonSet::fromContours(linkSegments(segments, layer.z), FillRule::Positive);
         progress.advance();
     });
     return layers;
 }
 
-} // namespace vpsim::geometry
+}  // namespace vpsim::geometry

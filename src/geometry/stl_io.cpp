@@ -18,16 +18,16 @@
 namespace vpsim::geometry {
 namespace {
 
-constexpr size_t HEADER_BYTES = 84;     // 80-byte header + uint32 triangle count
-constexpr size_t TRIANGLE_BYTES = 50;   // normal + 3 vertices (12 floats) + uint16 attribute
+constexpr size_t HEADER_BYTES = 84;    // 80-byte header + uint32 triangle count
+constexpr size_t TRIANGLE_BYTES = 50;  // normal + 3 vertices (12 floats) + uint16 attribute
 
 void checkFinite(const Mesh& soup, size_t triangle, const std::string& path, int line) {
     for (int k = 0; k < 3; ++k) {
         const glm::dvec3& v = soup.vertices[3 * triangle + k];
         if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) {
             std::ostringstream s;
-            s << "triangle " << triangle + 1 << " has a non-finite coordinate (" << v.x << ", " << v.y
-              << ", " << v.z << ")";
+            s << "triangle " << triangle + 1 << " has a non-finite coordinate (" << v.x << ", "
+              << v.y << ", " << v.z << ")";
             throw InputError(s.str(), path, "", line);
         }
     }
@@ -47,7 +47,8 @@ Mesh parseBinary(const std::string& data, const std::string& path, double scale)
     const char* p = data.data() + HEADER_BYTES;
     for (uint32_t t = 0; t < count; ++t, p += TRIANGLE_BYTES) {
         float f[9];
-        std::memcpy(f, p + 12, sizeof f);  // skip the stored normal: it is recomputed, never trusted
+        std::memcpy(f, p + 12,
+                    sizeof f);  // skip the stored normal: it is recomputed, never trusted
         for (int k = 0; k < 3; ++k) {
             soup.vertices.emplace_back(double(f[3 * k]) * scale, double(f[3 * k + 1]) * scale,
                                        double(f[3 * k + 2]) * scale);
@@ -71,7 +72,8 @@ public:
     std::string_view token() {
         skipSpace();
         const size_t start = mPos;
-        while (mPos < mData.size() && !std::isspace(static_cast<unsigned char>(mData[mPos]))) ++mPos;
+        while (mPos < mData.size() && !std::isspace(static_cast<unsigned char>(mData[mPos])))
+            ++mPos;
         return std::string_view(mData).substr(start, mPos - start);
     }
     void expect(const char* word) {
@@ -83,18 +85,22 @@ public:
         char* end = nullptr;
         // strtod stops at the whitespace (or the file's terminating NUL) after the token.
         const double v = std::strtod(t.data(), &end);
-        if (t.empty() || end != t.data() + t.size()) fail("expected a number, found " + describe(t));
+        if (t.empty() || end != t.data() + t.size())
+            fail("expected a number, found " + describe(t));
         return v;
     }
     void skipLine() {
         while (mPos < mData.size() && mData[mPos] != '\n') ++mPos;
     }
     int line() const { return mLine; }
-    [[noreturn]] void fail(const std::string& reason) const { throw InputError(reason, mPath, "", mLine); }
+    [[noreturn]] void fail(const std::string& reason) const {
+        throw InputError(reason, mPath, "", mLine);
+    }
 
 private:
     static std::string describe(std::string_view t) {
-        return t.empty() ? std::string("end of file (truncated?)") : "'" + std::string(t.substr(0, 40)) + "'";
+        return t.empty() ? std::string("end of file (truncated?)")
+                         : "'" + std::string(t.substr(0, 40)) + "'";
     }
     void skipSpace() {
         while (mPos < mData.size() && std::isspace(static_cast<unsigned char>(mData[mPos]))) {
@@ -121,7 +127,8 @@ Mesh parseAscii(const std::string& data, const std::string& path, double scale) 
                 break;
             }
             if (word != "facet") {
-                in.fail("expected 'facet' or 'endsolid', found '" + std::string(word.substr(0, 40)) + "'");
+                in.fail("expected 'facet' or 'endsolid', found '" +
+                        std::string(word.substr(0, 40)) + "'");
             }
             in.expect("normal");
             for (int k = 0; k < 3; ++k) in.number();  // stored normals are ignored
@@ -150,7 +157,7 @@ bool looksLikeAscii(const std::string& data) {
     return std::memchr(data.data(), '\0', probe) == nullptr;
 }
 
-} // namespace
+}  // namespace
 
 Mesh readStlSoup(const std::string& path, double scale) {
     if (!(scale > 0.0) || !std::isfinite(scale)) {
@@ -169,22 +176,29 @@ Mesh readStlSoup(const std::string& path, double scale) {
         } catch (const InputError& e) {
             if (data.size() < HEADER_BYTES) throw;
             // Binary files often start with "solid" too: say what the binary reading would be.
-            throw InputError(e.reason() + " (read as ASCII because it starts with 'solid'; as a binary STL its "
-                             "header declares " + std::to_string(count) + " triangles = " +
-                             std::to_string(expected) + " bytes, but the file has " + std::to_string(data.size()) +
-                             ")", path, "", e.line());
+            throw InputError(
+                e.reason() +
+                    " (read as ASCII because it starts with 'solid'; as a binary STL its "
+                    "header declares " +
+                    std::to_string(count) + " triangles = " + std::to_string(expected) +
+                    " bytes, but the file has " + std::to_string(data.size()) + ")",
+                path, "", e.line());
         }
     } else if (data.size() < HEADER_BYTES) {
         throw InputError("truncated STL: " + std::to_string(data.size()) +
-                             " bytes, not ASCII and shorter than the 84-byte binary header", path);
+                             " bytes, not ASCII and shorter than the 84-byte binary header",
+                         path);
     } else if (data.size() < expected) {
         throw InputError("truncated binary STL: the header declares " + std::to_string(count) +
-                             " triangles (" + std::to_string(expected) + " bytes) but the file has " +
-                             std::to_string(data.size()) + " bytes", path);
+                             " triangles (" + std::to_string(expected) +
+                             " bytes) but the file has " + std::to_string(data.size()) + " bytes",
+                         path);
     } else {
-        throw InputError("binary STL triangle count disagrees with the file size: the header declares " +
-                             std::to_string(count) + " triangles (" + std::to_string(expected) +
-                             " bytes) but the file has " + std::to_string(data.size()) + " bytes", path);
+        throw InputError(
+            "binary STL triangle count disagrees with the file size: the header declares " +
+                std::to_string(count) + " triangles (" + std::to_string(expected) +
+                " bytes) but the file has " + std::to_string(data.size()) + " bytes",
+            path);
     }
     if (soup.triangles.empty()) throw InputError("STL file contains no triangles", path);
     return soup;
@@ -222,10 +236,11 @@ std::string binaryStl(const Mesh& mesh, const std::string& solidName) {
     return out;
 }
 
-} // namespace
+}  // namespace
 
 void writeStl(const std::string& path, const Mesh& mesh, const std::string& solidName) {
-    if (mesh.triangles.size() > UINT32_MAX) throw InputError("too many triangles for a binary STL", path);
+    if (mesh.triangles.size() > UINT32_MAX)
+        throw InputError("too many triangles for a binary STL", path);
     writeFileAtomic(path, binaryStl(mesh, solidName));
 }
 
@@ -240,7 +255,8 @@ void writeStlAscii(const std::string& path, const Mesh& mesh, const std::string&
             os << "  facet normal " << u.x << " " << u.y << " " << u.z << "\n    outer loop\n";
             for (int k = 0; k < 3; ++k) {
                 const glm::dvec3& v = mesh.vertices[mesh.triangles[t][k]];
-                os << "      vertex " << float(v.x) << " " << float(v.y) << " " << float(v.z) << "\n";
+                os << "      vertex " << float(v.x) << " " << float(v.y) << " " << float(v.z)
+                   << "\n";
             }
             os << "    endloop\n  endfacet\n";
         }
@@ -248,4 +264,4 @@ void writeStlAscii(const std::string& path, const Mesh& mesh, const std::string&
     });
 }
 
-} // namespace vpsim::geometry
+}  // namespace vpsim::geometry

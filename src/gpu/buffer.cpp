@@ -4,7 +4,8 @@
 
 namespace vpsim::gpu {
 
-void RawBuffer::create(Context::Impl& context, uint64_t size, VkBufferUsageFlags usage, bool hostVisible) {
+void RawBuffer::create(Context::Impl& context, uint64_t size, VkBufferUsageFlags usage,
+                       bool hostVisible) {
     device = context.device;
     bytes = size;
     VkBufferCreateInfo info{};
@@ -18,15 +19,19 @@ void RawBuffer::create(Context::Impl& context, uint64_t size, VkBufferUsageFlags
 
     // Host-visible coherent memory when asked (staging) or when it is also device-local (lavapipe,
     // integrated GPUs): then uploads are a memcpy. Otherwise plain device-local memory.
-    const VkMemoryPropertyFlags hostFlags = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    const VkMemoryPropertyFlags hostFlags =
+        VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
     int type = -1;
     if (hostVisible) {
         type = context.findMemoryType(requirements.memoryTypeBits, hostFlags);
     } else {
         bool unified = context.info.type == "cpu" || context.info.type == "integrated";
         if (unified)
-            type = context.findMemoryType(requirements.memoryTypeBits, hostFlags | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-        if (type < 0) type = context.findMemoryType(requirements.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+            type = context.findMemoryType(requirements.memoryTypeBits,
+                                          hostFlags | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+        if (type < 0)
+            type = context.findMemoryType(requirements.memoryTypeBits,
+                                          VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
         if (type < 0) type = context.findMemoryType(requirements.memoryTypeBits, 0);
     }
     if (type < 0) {
@@ -61,11 +66,13 @@ Buffer::Buffer(std::shared_ptr<Context> context, uint64_t bytes) : mImpl(std::ma
     const DeviceInfo& info = context->info();
     if (bytes == 0) throw ResourceError("refusing to create an empty GPU buffer");
     if (bytes > info.maxStorageBufferRange)
-        throw ResourceError("GPU buffer of " + formatBytes(double(bytes)) + " exceeds the device's " +
-                            "maxStorageBufferRange of " + formatBytes(double(info.maxStorageBufferRange)) +
-                            " on " + info.name + "; the data must be split into smaller buffers");
+        throw ResourceError("GPU buffer of " + formatBytes(double(bytes)) +
+                            " exceeds the device's " + "maxStorageBufferRange of " +
+                            formatBytes(double(info.maxStorageBufferRange)) + " on " + info.name +
+                            "; the data must be split into smaller buffers");
     if (info.deviceLocalBytes > 0 && bytes > info.deviceLocalBytes)
-        throw ResourceError("GPU buffer of " + formatBytes(double(bytes)) + " exceeds the device memory of " +
+        throw ResourceError("GPU buffer of " + formatBytes(double(bytes)) +
+                            " exceeds the device memory of " +
                             formatBytes(double(info.deviceLocalBytes)));
     mImpl->context = std::move(context);
     // Storage buffers are padded to 4 bytes so fill() and word-sized shader access stay in range.
@@ -83,7 +90,9 @@ Buffer::~Buffer() {
 Buffer::Buffer(Buffer&&) noexcept = default;
 Buffer& Buffer::operator=(Buffer&&) noexcept = default;
 
-uint64_t Buffer::size() const { return mImpl->storage.bytes; }
+uint64_t Buffer::size() const {
+    return mImpl->storage.bytes;
+}
 
 void Buffer::upload(const void* data, uint64_t bytes, uint64_t offset) {
     if (offset + bytes > size()) throw ResourceError("GPU buffer upload beyond the buffer's end");
@@ -140,4 +149,4 @@ void Buffer::fill(uint32_t word) {
     });
 }
 
-} // namespace vpsim::gpu
+}  // namespace vpsim::gpu

@@ -20,7 +20,8 @@ int devicePreference(const DeviceInfo& info) {
 /// Picks a device by index, by name part, or (empty selector) hardware first.
 uint32_t chooseDevice(const std::vector<DeviceInfo>& devices, const std::string& selector) {
     if (devices.empty())
-        throw GpuError("no Vulkan device found; install mesa-vulkan-drivers (lavapipe) or use --backend cpu");
+        throw GpuError(
+            "no Vulkan device found; install mesa-vulkan-drivers (lavapipe) or use --backend cpu");
     if (selector.empty()) {
         uint32_t best = 0;
         for (uint32_t i = 1; i < devices.size(); ++i)
@@ -28,7 +29,8 @@ uint32_t chooseDevice(const std::vector<DeviceInfo>& devices, const std::string&
         return best;
     }
     std::string names;
-    for (const auto& d : devices) names += (names.empty() ? "" : ", ") + std::to_string(d.index) + ": " + d.name;
+    for (const auto& d : devices)
+        names += (names.empty() ? "" : ", ") + std::to_string(d.index) + ": " + d.name;
     char* end = nullptr;
     unsigned long index = std::strtoul(selector.c_str(), &end, 10);
     if (*end == '\0') {
@@ -45,7 +47,7 @@ bool environmentFlag(const char* name) {
     return value && *value && std::strcmp(value, "0") != 0;
 }
 
-} // namespace
+}  // namespace
 
 GpuError makeGpuError(const char* what, VkResult result, const char* file, int line) {
     return GpuError(what, resultName(result), file, line);
@@ -53,7 +55,8 @@ GpuError makeGpuError(const char* what, VkResult result, const char* file, int l
 
 void throwGpuError(const char* what, VkResult result, const char* file, int line) {
     if (result == VK_ERROR_OUT_OF_DEVICE_MEMORY || result == VK_ERROR_OUT_OF_HOST_MEMORY)
-        throw ResourceError(std::string("GPU memory exhausted (") + resultName(result) + " in " + what + ")");
+        throw ResourceError(std::string("GPU memory exhausted (") + resultName(result) + " in " +
+                            what + ")");
     throw makeGpuError(what, result, file, line);
 }
 
@@ -66,7 +69,8 @@ std::shared_ptr<Context> Context::create(const ContextOptions& options) {
     Instance instance(c.validation, &c);
     std::vector<DeviceInfo> devices;
     auto physicals = instance.physicalDevices();
-    for (uint32_t i = 0; i < physicals.size(); ++i) devices.push_back(describeDevice(physicals[i], i));
+    for (uint32_t i = 0; i < physicals.size(); ++i)
+        devices.push_back(describeDevice(physicals[i], i));
     std::string selector = options.device;
     if (selector.empty() && std::getenv("VPSIM_DEVICE")) selector = std::getenv("VPSIM_DEVICE");
     uint32_t chosen = chooseDevice(devices, selector);
@@ -82,7 +86,8 @@ std::shared_ptr<Context> Context::create(const ContextOptions& options) {
     c.queueFamily = UINT32_MAX;
     for (uint32_t i = 0; i < familyCount && c.queueFamily == UINT32_MAX; ++i)
         if (families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) c.queueFamily = i;
-    if (c.queueFamily == UINT32_MAX) throw GpuError("device '" + c.info.name + "' has no compute queue");
+    if (c.queueFamily == UINT32_MAX)
+        throw GpuError("device '" + c.info.name + "' has no compute queue");
     if (families[c.queueFamily].timestampValidBits == 0) c.info.timestampPeriodNs = 0.0;
 
     float priority = 1.0f;
@@ -151,9 +156,15 @@ Context::~Context() {
     }
 }
 
-const DeviceInfo& Context::info() const { return mImpl->info; }
-uint64_t Context::validationMessageCount() const { return mImpl->validationMessages.load(); }
-bool Context::validationEnabled() const { return mImpl->validation; }
+const DeviceInfo& Context::info() const {
+    return mImpl->info;
+}
+uint64_t Context::validationMessageCount() const {
+    return mImpl->validationMessages.load();
+}
+bool Context::validationEnabled() const {
+    return mImpl->validation;
+}
 std::string Context::lastValidationMessage() const {
     std::lock_guard<std::mutex> lock(mImpl->mutex);
     return mImpl->lastMessage;
@@ -161,7 +172,8 @@ std::string Context::lastValidationMessage() const {
 
 int Context::Impl::findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required) const {
     for (uint32_t i = 0; i < memory.memoryTypeCount; ++i)
-        if ((typeBits & (1u << i)) && (memory.memoryTypes[i].propertyFlags & required) == required) return int(i);
+        if ((typeBits & (1u << i)) && (memory.memoryTypes[i].propertyFlags & required) == required)
+            return int(i);
     return -1;
 }
 
@@ -186,7 +198,8 @@ void Context::Impl::endOneOffAndWait(VkCommandBuffer commandBuffer) {
     barrier.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
     barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
     barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+    vkCmdPipelineBarrier(commandBuffer,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                          VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0, nullptr, 0, nullptr);
     VK_CHECK(vkEndCommandBuffer(commandBuffer));
     VkSubmitInfo submit{};
@@ -209,7 +222,8 @@ Recorder Context::beginRecording() {
     impl->hasTimestamps = mImpl->timestampPool != VK_NULL_HANDLE;
     if (impl->hasTimestamps) {
         vkCmdResetQueryPool(impl->commandBuffer, mImpl->timestampPool, 0, 2);
-        vkCmdWriteTimestamp(impl->commandBuffer, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, mImpl->timestampPool, 0);
+        vkCmdWriteTimestamp(impl->commandBuffer, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+                            mImpl->timestampPool, 0);
     }
     return Recorder(impl);
 }
@@ -217,16 +231,19 @@ Recorder Context::beginRecording() {
 double Context::submitRecorded(Recorder& recorder) {
     Recorder::Impl& r = recorder.impl();
     if (r.hasTimestamps)
-        vkCmdWriteTimestamp(r.commandBuffer, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, mImpl->timestampPool, 1);
+        vkCmdWriteTimestamp(r.commandBuffer, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT,
+                            mImpl->timestampPool, 1);
     auto start = std::chrono::steady_clock::now();
     VkCommandBuffer commandBuffer = r.commandBuffer;
     r.commandBuffer = VK_NULL_HANDLE;
     mImpl->endOneOffAndWait(commandBuffer);
-    double hostMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    double hostMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     if (!r.hasTimestamps) return hostMs;
     uint64_t stamps[2] = {0, 0};
     VK_CHECK(vkGetQueryPoolResults(mImpl->device, mImpl->timestampPool, 0, 2, sizeof stamps, stamps,
-                                   sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+                                   sizeof(uint64_t),
+                                   VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
     return double(stamps[1] - stamps[0]) * mImpl->info.timestampPeriodNs * 1e-6;
 }
 
@@ -239,9 +256,9 @@ Backend parseBackend(const std::string& text) {
 
 std::string toString(Backend backend) {
     switch (backend) {
-    case Backend::Vulkan: return "vulkan";
-    case Backend::Cpu: return "cpu";
-    default: return "auto";
+        case Backend::Vulkan: return "vulkan";
+        case Backend::Cpu: return "cpu";
+        default: return "auto";
     }
 }
 
@@ -256,4 +273,4 @@ std::shared_ptr<Context> contextForBackend(Backend backend, const ContextOptions
     }
 }
 
-} // namespace vpsim::gpu
+}  // namespace vpsim::gpu

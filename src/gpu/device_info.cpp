@@ -11,17 +11,17 @@ namespace {
 
 std::string deviceTypeName(VkPhysicalDeviceType type) {
     switch (type) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete";
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated";
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual";
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: return "cpu";
-    default: return "other";
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete";
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated";
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual";
+        case VK_PHYSICAL_DEVICE_TYPE_CPU: return "cpu";
+        default: return "other";
     }
 }
 
 std::string versionText(uint32_t v) {
-    return std::to_string(VK_API_VERSION_MAJOR(v)) + "." + std::to_string(VK_API_VERSION_MINOR(v)) + "." +
-           std::to_string(VK_API_VERSION_PATCH(v));
+    return std::to_string(VK_API_VERSION_MAJOR(v)) + "." + std::to_string(VK_API_VERSION_MINOR(v)) +
+           "." + std::to_string(VK_API_VERSION_PATCH(v));
 }
 
 bool hasDeviceExtension(VkPhysicalDevice physical, const char* name) {
@@ -34,7 +34,7 @@ bool hasDeviceExtension(VkPhysicalDevice physical, const char* name) {
     return false;
 }
 
-} // namespace
+}  // namespace
 
 bool supportsAtomicFloat(VkPhysicalDevice physical) {
     if (!hasDeviceExtension(physical, VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME)) return false;
@@ -85,7 +85,8 @@ DeviceInfo describeDevice(VkPhysicalDevice physical, uint32_t index) {
     vkGetPhysicalDeviceMemoryProperties(physical, &memory);
     for (uint32_t h = 0; h < memory.memoryHeapCount; ++h)
         if (memory.memoryHeaps[h].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
-            info.deviceLocalBytes = std::max<uint64_t>(info.deviceLocalBytes, memory.memoryHeaps[h].size);
+            info.deviceLocalBytes =
+                std::max<uint64_t>(info.deviceLocalBytes, memory.memoryHeaps[h].size);
     info.int64 = features.features.shaderInt64 == VK_TRUE;
     info.int64Atomics = features12.shaderBufferInt64Atomics == VK_TRUE;
     info.float32AtomicAdd = supportsAtomicFloat(physical);
@@ -127,8 +128,9 @@ std::vector<DeviceInfo> listDevices() {
     Instance instance(false, nullptr);
     std::vector<DeviceInfo> devices;
     auto physicals = instance.physicalDevices();
-    for (uint32_t i = 0; i < physicals.size(); ++i) devices.push_back(describeDevice(physicals[i], i));
+    for (uint32_t i = 0; i < physicals.size(); ++i)
+        devices.push_back(describeDevice(physicals[i], i));
     return devices;
 }
 
-} // namespace vpsim::gpu
+}  // namespace vpsim::gpu

@@ -37,7 +37,7 @@ bool layerAvailable(const char* name) {
     return false;
 }
 
-} // namespace
+}  // namespace
 
 Instance::Instance(bool validation, Context::Impl* sink) {
     VkApplicationInfo app{};
@@ -49,8 +49,9 @@ Instance::Instance(bool validation, Context::Impl* sink) {
     std::vector<const char*> layers, extensions;
     if (validation) {
         if (!layerAvailable(VALIDATION_LAYER))
-            throw GpuError("validation requested but VK_LAYER_KHRONOS_validation is not installed "
-                           "(Debian package vulkan-validationlayers)");
+            throw GpuError(
+                "validation requested but VK_LAYER_KHRONOS_validation is not installed "
+                "(Debian package vulkan-validationlayers)");
         layers.push_back(VALIDATION_LAYER);
         extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
     }
@@ -71,7 +72,8 @@ Instance::Instance(bool validation, Context::Impl* sink) {
     info.ppEnabledLayerNames = layers.data();
     info.enabledExtensionCount = uint32_t(extensions.size());
     info.ppEnabledExtensionNames = extensions.data();
-    if (validation) info.pNext = &messengerInfo;  // also reports problems in vkCreateInstance itself
+    if (validation)
+        info.pNext = &messengerInfo;  // also reports problems in vkCreateInstance itself
     VkResult result = vkCreateInstance(&info, nullptr, &mInstance);
     if (result == VK_ERROR_INCOMPATIBLE_DRIVER || result == VK_ERROR_INITIALIZATION_FAILED)
         throw GpuError(std::string("no Vulkan driver is installed (") + resultName(result) +
@@ -114,4 +116,4 @@ void Instance::release(VkInstance& instance, VkDebugUtilsMessengerEXT& messenger
     mMessenger = VK_NULL_HANDLE;
 }
 
-} // namespace vpsim::gpu
+}  // namespace vpsim::gpu

@@ -31,4 +31,4 @@ DeviceInfo describeDevice(VkPhysicalDevice physical, uint32_t index);
 bool supportsAtomicFloat(VkPhysicalDevice physical);
 void destroyMessenger(VkInstance instance, VkDebugUtilsMessengerEXT messenger);
 
-} // namespace vpsim::gpu
+}  // namespace vpsim::gpu

@@ -8,7 +8,7 @@ namespace {
 constexpr uint32_t SETS_PER_POOL = 64;
 constexpr uint32_t DESCRIPTORS_PER_SET = 16;
 
-} // namespace
+}  // namespace
 
 Kernel::Kernel(std::shared_ptr<Context> context, const uint32_t* spirv, size_t spirvBytes,
                uint32_t bindingCount, uint32_t pushConstantBytes,
@@ -17,12 +17,15 @@ Kernel::Kernel(std::shared_ptr<Context> context, const uint32_t* spirv, size_t s
     if (!context) throw GpuError("kernel created without a Vulkan context");
     const DeviceInfo& info = context->info();
     if (pushConstantBytes > info.maxPushConstantBytes)
-        throw ResourceError("push constants of " + std::to_string(pushConstantBytes) + " bytes exceed the " +
-                            std::to_string(info.maxPushConstantBytes) + "-byte limit of " + info.name);
+        throw ResourceError("push constants of " + std::to_string(pushConstantBytes) +
+                            " bytes exceed the " + std::to_string(info.maxPushConstantBytes) +
+                            "-byte limit of " + info.name);
     if (bindingCount > DESCRIPTORS_PER_SET)
-        throw ResourceError("a kernel may use at most " + std::to_string(DESCRIPTORS_PER_SET) + " buffers");
+        throw ResourceError("a kernel may use at most " + std::to_string(DESCRIPTORS_PER_SET) +
+                            " buffers");
     if (localSizeX == 0 || localSizeX > info.maxWorkgroupSize[0])
-        throw ResourceError("local_size_x " + std::to_string(localSizeX) + " is outside the device limit");
+        throw ResourceError("local_size_x " + std::to_string(localSizeX) +
+                            " is outside the device limit");
     Impl& k = *mImpl;
     k.context = std::move(context);
     k.bindingCount = bindingCount;
@@ -61,7 +64,8 @@ Kernel::Kernel(std::shared_ptr<Context> context, const uint32_t* spirv, size_t s
     std::vector<VkSpecializationMapEntry> entries;
     std::vector<uint32_t> values;
     for (const auto& constant : specConstants) {
-        entries.push_back({constant.id, uint32_t(values.size() * sizeof(uint32_t)), sizeof(uint32_t)});
+        entries.push_back(
+            {constant.id, uint32_t(values.size() * sizeof(uint32_t)), sizeof(uint32_t)});
         values.push_back(constant.value);
     }
     VkSpecializationInfo specialization{uint32_t(entries.size()), entries.data(),
@@ -74,7 +78,8 @@ Kernel::Kernel(std::shared_ptr<Context> context, const uint32_t* spirv, size_t s
     pipelineInfo.stage.pName = "main";
     pipelineInfo.stage.pSpecializationInfo = entries.empty() ? nullptr : &specialization;
     pipelineInfo.layout = k.pipelineLayout;
-    VK_CHECK(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipelineInfo, nullptr, &k.pipeline));
+    VK_CHECK(
+        vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipelineInfo, nullptr, &k.pipeline));
 }
 
 Kernel::~Kernel() {
@@ -86,13 +91,20 @@ Kernel::~Kernel() {
     if (mImpl->module) vkDestroyShaderModule(device, mImpl->module, nullptr);
 }
 
-uint32_t Kernel::bindingCount() const { return mImpl->bindingCount; }
-uint32_t Kernel::pushConstantBytes() const { return mImpl->pushConstantBytes; }
-uint32_t Kernel::localSizeX() const { return mImpl->localSizeX; }
+uint32_t Kernel::bindingCount() const {
+    return mImpl->bindingCount;
+}
+uint32_t Kernel::pushConstantBytes() const {
+    return mImpl->pushConstantBytes;
+}
+uint32_t Kernel::localSizeX() const {
+    return mImpl->localSizeX;
+}
 
 VkDescriptorSet Recorder::Impl::allocateSet(VkDescriptorSetLayout layout) {
     if (setsLeftInPool == 0) {
-        VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, SETS_PER_POOL * DESCRIPTORS_PER_SET};
+        VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                                  SETS_PER_POOL * DESCRIPTORS_PER_SET};
         VkDescriptorPoolCreateInfo poolInfo{};
         poolInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
         poolInfo.maxSets = SETS_PER_POOL;
@@ -116,12 +128,13 @@ VkDescriptorSet Recorder::Impl::allocateSet(VkDescriptorSetLayout layout) {
 
 Recorder::Impl::~Impl() {
     // Pools outlive the submission: the Recorder is destroyed after Context::submit waits.
-    if (commandBuffer != VK_NULL_HANDLE) vkFreeCommandBuffers(context->device, context->commandPool, 1, &commandBuffer);
+    if (commandBuffer != VK_NULL_HANDLE)
+        vkFreeCommandBuffers(context->device, context->commandPool, 1, &commandBuffer);
     for (VkDescriptorPool pool : pools) vkDestroyDescriptorPool(context->device, pool, nullptr);
 }
 
-void Recorder::dispatch(const Kernel& kernel, const std::vector<const Buffer*>& buffers, const void* push,
-                        uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) {
+void Recorder::dispatch(const Kernel& kernel, const std::vector<const Buffer*>& buffers,
+                        const void* push, uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) {
     Kernel::Impl& k = kernel.impl();
     const DeviceInfo& info = k.context->info();
     if (buffers.size() != k.bindingCount)
@@ -132,8 +145,9 @@ void Recorder::dispatch(const Kernel& kernel, const std::vector<const Buffer*>& 
     uint32_t groups[3] = {groupsX, groupsY, groupsZ};
     for (int i = 0; i < 3; ++i)
         if (groups[i] > info.maxWorkgroupCount[i])
-            throw ResourceError("dispatch of " + std::to_string(groups[i]) + " workgroups exceeds the limit of " +
-                                std::to_string(info.maxWorkgroupCount[i]) + " (use dispatch1D or fold the grid)");
+            throw ResourceError(
+                "dispatch of " + std::to_string(groups[i]) + " workgroups exceeds the limit of " +
+                std::to_string(info.maxWorkgroupCount[i]) + " (use dispatch1D or fold the grid)");
     if (groupsX == 0 || groupsY == 0 || groupsZ == 0) return;
 
     VkDescriptorSet set = mImpl->allocateSet(k.setLayout);
@@ -149,22 +163,27 @@ void Recorder::dispatch(const Kernel& kernel, const std::vector<const Buffer*>& 
         writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         writes[i].pBufferInfo = &bufferInfos[i];
     }
-    vkUpdateDescriptorSets(mImpl->context->device, uint32_t(writes.size()), writes.data(), 0, nullptr);
+    vkUpdateDescriptorSets(mImpl->context->device, uint32_t(writes.size()), writes.data(), 0,
+                           nullptr);
     VkCommandBuffer commandBuffer = mImpl->commandBuffer;
     vkCmdBindPipeline(commandBuffer, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipeline);
-    vkCmdBindDescriptorSets(commandBuffer, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipelineLayout, 0, 1, &set, 0, nullptr);
-    if (push) vkCmdPushConstants(commandBuffer, k.pipelineLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, k.pushConstantBytes, push);
+    vkCmdBindDescriptorSets(commandBuffer, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipelineLayout, 0, 1,
+                            &set, 0, nullptr);
+    if (push)
+        vkCmdPushConstants(commandBuffer, k.pipelineLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
+                           k.pushConstantBytes, push);
     vkCmdDispatch(commandBuffer, groupsX, groupsY, groupsZ);
 }
 
-void Recorder::dispatch1D(const Kernel& kernel, const std::vector<const Buffer*>& buffers, const void* push,
-                          uint64_t invocations) {
+void Recorder::dispatch1D(const Kernel& kernel, const std::vector<const Buffer*>& buffers,
+                          const void* push, uint64_t invocations) {
     const DeviceInfo& info = kernel.impl().context->info();
     uint64_t groups = (invocations + kernel.localSizeX() - 1) / kernel.localSizeX();
     uint64_t groupsX = std::min<uint64_t>(groups, info.maxWorkgroupCount[0]);
     uint64_t groupsY = groupsX == 0 ? 0 : (groups + groupsX - 1) / groupsX;
     if (groupsY > info.maxWorkgroupCount[1])
-        throw ResourceError("dispatch of " + std::to_string(invocations) + " invocations is too large");
+        throw ResourceError("dispatch of " + std::to_string(invocations) +
+                            " invocations is too large");
     dispatch(kernel, buffers, push, uint32_t(groupsX), uint32_t(groupsY), 1);
 }
 
@@ -172,18 +191,21 @@ void Recorder::barrier() {
     VkMemoryBarrier barrier{};
     barrier.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
     barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-    barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
-                            VK_ACCESS_TRANSFER_WRITE_BIT;
-    const VkPipelineStageFlags stages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
-    vkCmdPipelineBarrier(mImpl->commandBuffer, stages, stages, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+    barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                            VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+    const VkPipelineStageFlags stages =
+        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+    vkCmdPipelineBarrier(mImpl->commandBuffer, stages, stages, 0, 1, &barrier, 0, nullptr, 0,
+                         nullptr);
 }
 
-void Recorder::copy(const Buffer& source, Buffer& destination, uint64_t bytes, uint64_t sourceOffset,
-                    uint64_t destinationOffset) {
+void Recorder::copy(const Buffer& source, Buffer& destination, uint64_t bytes,
+                    uint64_t sourceOffset, uint64_t destinationOffset) {
     if (sourceOffset + bytes > source.size() || destinationOffset + bytes > destination.size())
         throw ResourceError("GPU buffer copy beyond a buffer's end");
     VkBufferCopy region{sourceOffset, destinationOffset, bytes};
-    vkCmdCopyBuffer(mImpl->commandBuffer, source.impl().storage.buffer, destination.impl().storage.buffer, 1, &region);
+    vkCmdCopyBuffer(mImpl->commandBuffer, source.impl().storage.buffer,
+                    destination.impl().storage.buffer, 1, &region);
 }
 
-} // namespace vpsim::gpu
+}  // namespace vpsim::gpu

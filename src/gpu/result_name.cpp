@@ -4,7 +4,8 @@ namespace vpsim::gpu {
 
 const char* resultName(VkResult result) {
     switch (result) {
-#define VPSIM_RESULT(name) case name: return #name;
+#define VPSIM_RESULT(name) \
+    case name: return #name;
         VPSIM_RESULT(VK_SUCCESS)
         VPSIM_RESULT(VK_NOT_READY)
         VPSIM_RESULT(VK_TIMEOUT)
@@ -27,8 +28,8 @@ const char* resultName(VkResult result) {
         VPSIM_RESULT(VK_ERROR_FRAGMENTATION)
         VPSIM_RESULT(VK_ERROR_INVALID_SHADER_NV)
 #undef VPSIM_RESULT
-    default: return "VK_RESULT_UNKNOWN";
+        default: return "VK_RESULT_UNKNOWN";
     }
 }
 
-} // namespace vpsim::gpu
+}  // namespace vpsim::gpu

@@ -18,11 +18,11 @@ namespace vpsim::gpu {
 const char* resultName(VkResult result);
 
 /// Throws GpuError naming the call, the VkResult and the source location.
-#define VK_CHECK(call)                                                                          \
-    do {                                                                                         \
-        VkResult vkCheckResult_ = (call);                                                        \
-        if (vkCheckResult_ != VK_SUCCESS)                                                        \
-            ::vpsim::gpu::throwGpuError(#call, vkCheckResult_, __FILE__, __LINE__);                \
+#define VK_CHECK(call)                                                              \
+    do {                                                                            \
+        VkResult vkCheckResult_ = (call);                                           \
+        if (vkCheckResult_ != VK_SUCCESS)                                           \
+            ::vpsim::gpu::throwGpuError(#call, vkCheckResult_, __FILE__, __LINE__); \
     } while (0)
 
 /// Out-of-memory results become ResourceError (a size refusal), others GpuError.
@@ -47,14 +47,16 @@ struct Context::Impl {
     std::string lastMessage;
 
     /// Records a one-off command buffer with `record`, submits it and waits.
-    template <class F> void runOnce(F&& record);
+    template <class F>
+    void runOnce(F&& record);
     VkCommandBuffer beginOneOff();
     void endOneOffAndWait(VkCommandBuffer commandBuffer);
     /// Index of a memory type allowed by `typeBits` having all `required` flags, or -1.
     int findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required) const;
 };
 
-template <class F> void Context::Impl::runOnce(F&& record) {
+template <class F>
+void Context::Impl::runOnce(F&& record) {
     VkCommandBuffer commandBuffer = beginOneOff();
     record(commandBuffer);
     endOneOffAndWait(commandBuffer);
@@ -97,4 +99,4 @@ struct Recorder::Impl {
     ~Impl();
 };
 
-} // namespace vpsim::gpu
+}  // namespace vpsim::gpu

@@ -27,16 +27,20 @@ void centreInterpolation(double x, uint32_t n, uint32_t& i0, uint32_t& i1, doubl
     t = f - i0;
 }
 
-} // namespace
+}  // namespace
 
 double BeamKernel::sample(double r, double z) const {
-    if (rBins == 0 || zBins == 0 || r < 0 || z < 0 || r > rBin * rBins || z > zBin * zBins) return 0.0;
+    if (rBins == 0 || zBins == 0 || r < 0 || z < 0 || r > rBin * rBins || z > zBin * zBins)
+        return 0.0;
     uint32_t r0, r1, z0, z1;
     double tr, tz;
     centreInterpolation(r / rBin, rBins, r0, r1, tr);
     centreInterpolation(z / zBin, zBins, z0, z1, tz);
-    auto at = [this](uint32_t ir, uint32_t iz) { return double(intensity[size_t(iz) * rBins + ir]); };
-    return (1 - tz) * ((1 - tr) * at(r0, z0) + tr * at(r1, z0)) + tz * ((1 - tr) * at(r0, z1) + tr * at(r1, z1));
+    auto at = [this](uint32_t ir, uint32_t iz) {
+        return double(intensity[size_t(iz) * rBins + ir]);
+    };
+    return (1 - tz) * ((1 - tr) * at(r0, z0) + tr * at(r1, z0)) +
+           tz * ((1 - tr) * at(r0, z1) + tr * at(r1, z1));
 }
 
 double BeamKernel::fitted(double r, double z) const {
@@ -83,7 +87,8 @@ nlohmann::json BeamKernel::toJson() const {
 
 BeamKernel BeamKernel::fromJson(const nlohmann::json& j, const std::string& file) {
     auto get = [&](const char* key) -> const nlohmann::json& {
-        if (!j.is_object() || !j.contains(key)) throw InputError("missing beam-kernel field", file, key);
+        if (!j.is_object() || !j.contains(key))
+            throw InputError("missing beam-kernel field", file, key);
         return j.at(key);
     };
     auto number = [&](const char* key) {
@@ -92,7 +97,8 @@ BeamKernel BeamKernel::fromJson(const nlohmann::json& j, const std::string& file
         return v.get<double>();
     };
     if (!get("format").is_string() || get("format").get<std::string>() != FORMAT)
-        throw InputError(std::string("not a beam kernel (format must be '") + FORMAT + "')", file, "format");
+        throw InputError(std::string("not a beam kernel (format must be '") + FORMAT + "')", file,
+                         "format");
     BeamKernel k;
     k.power = number("power_mW");
     k.w0 = number("W0_um") / UM;
@@ -119,7 +125,8 @@ BeamKernel BeamKernel::fromJson(const nlohmann::json& j, const std::string& file
         for (double& r : k.depthRadius) r /= UM;
         const nlohmann::json& rows = get("intensity_mW_per_mm2");
         if (!rows.is_array() || rows.size() != k.zBins)
-            throw InputError("expected " + std::to_string(k.zBins) + " rows", file, "intensity_mW_per_mm2");
+            throw InputError("expected " + std::to_string(k.zBins) + " rows", file,
+                             "intensity_mW_per_mm2");
         k.intensity.reserve(size_t(k.rBins) * k.zBins);
         for (const auto& row : rows) {
             auto values = row.get<std::vector<float>>();
@@ -132,11 +139,14 @@ BeamKernel BeamKernel::fromJson(const nlohmann::json& j, const std::string& file
         throw InputError(std::string("malformed array: ") + e.what(), file, "intensity_mW_per_mm2");
     }
     if (k.depthAmplitude.size() != k.zBins || k.depthRadius.size() != k.zBins)
-        throw InputError("depth profiles need one value per depth slice", file, "depth_amplitude_mW_per_mm2");
+        throw InputError("depth profiles need one value per depth slice", file,
+                         "depth_amplitude_mW_per_mm2");
     return k;
 }
 
-void BeamKernel::save(const std::string& path) const { writeFileAtomic(path, toJson().dump(1) + "\n"); }
+void BeamKernel::save(const std::string& path) const {
+    writeFileAtomic(path, toJson().dump(1) + "\n");
+}
 
 BeamKernel BeamKernel::load(const std::string& path) {
     nlohmann::json j;
@@ -151,8 +161,10 @@ BeamKernel BeamKernel::load(const std::string& path) {
 BeamKernel kernelFromMonteCarlo(const transport::McResult& mc, double power) {
     const transport::McSetup& s = mc.setup;
     if (!(s.optics.mua > 0))
-        throw InputError("the beam kernel needs mua > 0: Eq. 11 converts absorbed power to intensity by dividing by mua",
-                         "", "mua");
+        throw InputError(
+            "the beam kernel needs mua > 0: Eq. 11 converts absorbed power to intensity by "
+            "dividing by mua",
+            "", "mua");
     if (!(power > 0)) throw InputError("beam power must be > 0", "", "power");
     if (s.beam != transport::BeamShape::Gaussian || !(s.w0 > 0))
         throw InputError("the beam kernel needs a Gaussian beam with W0 > 0", "", "w0");
@@ -194,4 +206,4 @@ transport::McSetup kernelSetup(const optics::MediumOptics& optics, double w0, do
     return setup;
 }
 
-} // namespace vpsim::kernel
+}  // namespace vpsim::kernel

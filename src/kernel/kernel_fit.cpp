@@ -24,10 +24,15 @@ double ringVolume(const BeamKernel& k, uint32_t ir) {
     return 3.14159265358979323846 * (r1 * r1 - r0 * r0) * k.zBin;
 }
 
-double rCentre(const BeamKernel& k, uint32_t ir) { return (ir + 0.5) * k.rBin; }
-double zCentre(const BeamKernel& k, uint32_t iz) { return (iz + 0.5) * k.zBin; }
+double rCentre(const BeamKernel& k, uint32_t ir) {
+    return (ir + 0.5) * k.rBin;
+}
+double zCentre(const BeamKernel& k, uint32_t iz) {
+    return (iz + 0.5) * k.zBin;
+}
 
-/// Gaussian Ie(0,z) exp(-2 r^2 / We^2) through one slice; false when the slice has no usable signal.
+/// Gaussian Ie(0,z) exp(-2 r^2 / We^2) through one slice; false when the slice has no usable
+/// signal.
 bool fitSlice(const BeamKernel& k, uint32_t iz, double& amplitude, double& radius) {
     const float* row = k.intensity.data() + size_t(iz) * k.rBins;
     double peak = *std::max_element(row, row + k.rBins);
@@ -78,7 +83,7 @@ double depthOfMaximum(const BeamKernel& k) {
     return centre * k.zBin;
 }
 
-} // namespace
+}  // namespace
 
 void fitKernel(BeamKernel& k) {
     if (k.rBins == 0 || k.zBins == 0 || k.intensity.size() != size_t(k.rBins) * k.zBins)
@@ -88,14 +93,17 @@ void fitKernel(BeamKernel& k) {
     bool any = false;
     for (uint32_t iz = 0; iz < k.zBins; ++iz)
         any |= fitSlice(k, iz, k.depthAmplitude[iz], k.depthRadius[iz]);
-    if (!any) throw InputError("beam kernel table holds no usable intensity (too few photons or bins?)", "", "intensity");
+    if (!any)
+        throw InputError("beam kernel table holds no usable intensity (too few photons or bins?)",
+                         "", "intensity");
     k.zmax = depthOfMaximum(k);
 
     // Eq. 12 over the slices from the one holding zmax down.
     const uint32_t first = std::min(uint32_t(k.zmax / k.zBin), k.zBins - 1);
     k.fit.fitDepthStart = zCentre(k, first);
     double peak = 0;
-    for (size_t i = size_t(first) * k.rBins; i < k.intensity.size(); ++i) peak = std::max(peak, double(k.intensity[i]));
+    for (size_t i = size_t(first) * k.rBins; i < k.intensity.size(); ++i)
+        peak = std::max(peak, double(k.intensity[i]));
     Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
     Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
     int used = 0;
@@ -110,10 +118,13 @@ void fitKernel(BeamKernel& k) {
             rhs += w * std::log(value) * x;
             ++used;
         }
-    Eigen::Vector3d c = used >= 4 ? Eigen::Vector3d(normal.ldlt().solve(rhs)) : Eigen::Vector3d::Zero();
+    Eigen::Vector3d c =
+        used >= 4 ? Eigen::Vector3d(normal.ldlt().solve(rhs)) : Eigen::Vector3d::Zero();
     if (!(c[1] > 0) || !(c[2] > 0) || !std::isfinite(c[0]))
-        throw InputError("cannot fit Eq. 12: the intensity does not fall off in r and z over the tallied "
-                         "region (enlarge r_max/z_max or launch more photons)", "", "intensity");
+        throw InputError(
+            "cannot fit Eq. 12: the intensity does not fall off in r and z over the tallied "
+            "region (enlarge r_max/z_max or launch more photons)",
+            "", "intensity");
     k.fit.amplitude = std::exp(c[0]);
     k.fit.we3d = std::sqrt(2.0 / c[1]);
     k.fit.de3d = 1.0 / c[2];
@@ -130,4 +141,4 @@ void fitKernel(BeamKernel& k) {
     k.fit.residual = norm > 0 ? std::sqrt(misfit / norm) : 0.0;
 }
 
-} // namespace vpsim::kernel
+}  // namespace vpsim::kernel

@@ -43,20 +43,21 @@ openvdb::FloatGrid::Ptr revolve(const BeamKernel& k, const std::string& name, Fi
     return grid;
 }
 
-} // namespace
+}  // namespace
 
 void writeKernelVdb(const std::string& path, const BeamKernel& k) {
     if (k.rBins == 0 || k.zBins == 0 || !(k.rBin > 0) || !(k.zBin > 0))
         throw InputError("beam kernel has no table to save", path);
     double voxels = std::pow(2.0 * k.rBins + 1, 2) * std::ceil(k.zBins * k.zBin / k.rBin);
     if (voxels > MAX_VOXELS)
-        throw ResourceError("beam kernel grid of " + std::to_string(uint64_t(voxels)) + " voxels (" +
-                            formatBytes(voxels * 4) + ") refused: at most " + std::to_string(uint64_t(MAX_VOXELS)) +
-                            "; use fewer or coarser bins");
+        throw ResourceError("beam kernel grid of " + std::to_string(uint64_t(voxels)) +
+                            " voxels (" + formatBytes(voxels * 4) + ") refused: at most " +
+                            std::to_string(uint64_t(MAX_VOXELS)) + "; use fewer or coarser bins");
     openvdb::initialize();
-    openvdb::GridPtrVec grids{revolve(k, "intensity", [&k](double r, double z) { return k.sample(r, z); }),
-                              revolve(k, "intensity_no_scattering",
-                                      [&k](double r, double z) { return k.beerLambert(r, z); })};
+    openvdb::GridPtrVec grids{
+        revolve(k, "intensity", [&k](double r, double z) { return k.sample(r, z); }),
+        revolve(k, "intensity_no_scattering",
+                [&k](double r, double z) { return k.beerLambert(r, z); })};
     writePathAtomic(path, [&](const std::string& temp) {
         openvdb::io::File file(temp);
         file.write(grids);
@@ -64,4 +65,4 @@ void writeKernelVdb(const std::string& path, const BeamKernel& k) {
     });
 }
 
-} // namespace vpsim::kernel
+}  // namespace vpsim::kernel

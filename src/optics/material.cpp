@@ -20,7 +20,8 @@ std::string str(double v) {
 
 double positiveQuantity(const ConfigNode& node, const std::string& key, Dimension dimension) {
     double v = node.quantity(key, dimension);
-    if (!(v > 0.0)) throw node.error(key, "must be positive, got " + str(v) + " " + dimension.baseUnit());
+    if (!(v > 0.0))
+        throw node.error(key, "must be positive, got " + str(v) + " " + dimension.baseUnit());
     return v;
 }
 
@@ -42,7 +43,8 @@ Complex particleIndex(const ConfigNode& node, const std::string& key) {
             throw node.error(key, e.reason());
         }
     } else {
-        throw node.error(key, "expected a number or a string such as \"1.75-0.001i\", got " + value.dump());
+        throw node.error(
+            key, "expected a number or a string such as \"1.75-0.001i\", got " + value.dump());
     }
     if (!(m.real() > 0.0) || !std::isfinite(m.real()))
         throw node.error(key, "must have a positive real part, got " + formatRefractiveIndex(m));
@@ -58,9 +60,11 @@ SizeDistribution sizeDistribution(const ConfigNode& particles) {
     size.kind = SizeDistribution::Kind::LogNormal;
     size.sigmaG = d.number("sigma_g");
     if (!(size.sigmaG >= 1.0 && size.sigmaG <= 5.0))
-        throw d.error("sigma_g", "geometric standard deviation must be in [1, 5], got " + str(size.sigmaG));
+        throw d.error("sigma_g",
+                      "geometric standard deviation must be in [1, 5], got " + str(size.sigmaG));
     long long points = d.integer("points", 96);
-    if (points < 8 || points > 4096) throw d.error("points", "must be in [8, 4096], got " + std::to_string(points));
+    if (points < 8 || points > 4096)
+        throw d.error("points", "must be in [8, 4096], got " + std::to_string(points));
     size.points = static_cast<int>(points);
     return size;
 }
@@ -71,20 +75,22 @@ SlurrySpec readSlurry(const ConfigNode& root) {
     ConfigNode resin = root.child("resin");
     s.resinIndex = positiveNumber(resin, "refractive_index");
     s.resinPenetrationDepth = positiveQuantity(resin, "penetration_depth", dim::LENGTH);
-    s.absorptionScaledByResinFraction =
-        resin.choice("absorption", {"pure_resin", "resin_fraction"}, std::string("pure_resin")) ==
-        "resin_fraction";
+    s.absorptionScaledByResinFraction = resin.choice("absorption", {"pure_resin", "resin_fraction"},
+                                                     std::string("pure_resin")) == "resin_fraction";
     ConfigNode particles = root.child("particles");
     s.particleIndex = particleIndex(particles, "refractive_index");
     s.radius = positiveQuantity(particles, "radius", dim::LENGTH);
     s.volumeFraction = particles.number("volume_fraction");
     if (!(s.volumeFraction > 0.0 && s.volumeFraction < MAX_VOLUME_FRACTION))
-        throw particles.error("volume_fraction", "must be in (0, 0.74) (0.74 is the densest packing "
-                                                 "of spheres), got " + str(s.volumeFraction));
+        throw particles.error("volume_fraction",
+                              "must be in (0, 0.74) (0.74 is the densest packing "
+                              "of spheres), got " +
+                                  str(s.volumeFraction));
     s.size = sizeDistribution(particles);
     long long table = root.integer("phase_table_size", DEFAULT_PHASE_TABLE_SIZE);
     if (table < 16 || table > (1 << 22))
-        throw root.error("phase_table_size", "must be in [16, 4194304], got " + std::to_string(table));
+        throw root.error("phase_table_size",
+                         "must be in [16, 4194304], got " + std::to_string(table));
     s.phaseTableSize = static_cast<int>(table);
     try {
         validateSlurrySpec(s);
@@ -101,7 +107,8 @@ MediumOptics readPlainOptics(const ConfigNode& root) {
     if (!(m.mua >= 0.0)) throw o.error("mua", "must not be negative, got " + str(m.mua) + " 1/mm");
     m.mus = o.quantity("mus", dim::INVERSE_LENGTH);
     if (!(m.mus >= 0.0)) throw o.error("mus", "must not be negative, got " + str(m.mus) + " 1/mm");
-    if (!(m.mua + m.mus > 0.0)) throw o.error("mus", "mua + mus must be positive (an empty medium)");
+    if (!(m.mua + m.mus > 0.0))
+        throw o.error("mus", "mua + mus must be positive (an empty medium)");
     m.g = o.number("g", 0.0);
     if (!(std::fabs(m.g) < 1.0)) throw o.error("g", "must be in (-1, 1), got " + str(m.g));
     o.choice("phase", {"hg"}, std::string("hg"));
@@ -114,9 +121,10 @@ MediumOptics readPlainOptics(const ConfigNode& root) {
     return m;
 }
 
-} // namespace
+}  // namespace
 
-MaterialDefinition loadMaterialDefinition(const std::string& path, const std::vector<std::string>& overrides) {
+MaterialDefinition loadMaterialDefinition(const std::string& path,
+                                          const std::vector<std::string>& overrides) {
     ConfigNode root = ConfigNode::load(path, overrides);
     MaterialDefinition material;
     material.file = path;
@@ -125,14 +133,19 @@ MaterialDefinition loadMaterialDefinition(const std::string& path, const std::ve
     const bool plain = root.has("optics");
     const bool slurry = root.has("wavelength") || root.has("resin") || root.has("particles");
     if (plain && slurry)
-        throw root.error("optics", "a material file gives either bulk 'optics' or a slurry "
-                                   "('wavelength', 'resin', 'particles'), not both");
+        throw root.error("optics",
+                         "a material file gives either bulk 'optics' or a slurry "
+                         "('wavelength', 'resin', 'particles'), not both");
     if (!plain && !slurry)
-        throw InputError("not a material file: expected 'optics' (bulk mua/mus/g) or 'wavelength', "
-                         "'resin' and 'particles' (slurry)", path);
+        throw InputError(
+            "not a material file: expected 'optics' (bulk mua/mus/g) or 'wavelength', "
+            "'resin' and 'particles' (slurry)",
+            path);
     material.isSlurry = slurry;
-    if (slurry) material.slurry = readSlurry(root);
-    else material.optics = readPlainOptics(root);
+    if (slurry)
+        material.slurry = readSlurry(root);
+    else
+        material.optics = readPlainOptics(root);
     root.checkUnknownKeys();
     return material;
 }
@@ -154,4 +167,4 @@ MediumOptics loadMediumOptics(const std::string& path, const std::vector<std::st
     return computeSlurryOptics(material).medium;
 }
 
-} // namespace vpsim::optics
+}  // namespace vpsim::optics

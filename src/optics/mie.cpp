@@ -31,9 +31,15 @@ inline Complex divide(Complex a, Complex b) {
     const double r = br / bi, d = br * r + bi;
     return {(a.real() * r + a.imag()) / d, (a.imag() * r - a.real()) / d};
 }
-inline double divide(double a, double b) { return a / b; }
-inline double magnitude(double v) { return std::fabs(v); }
-inline double magnitude(Complex v) { return std::abs(v); }
+inline double divide(double a, double b) {
+    return a / b;
+}
+inline double magnitude(double v) {
+    return std::fabs(v);
+}
+inline double magnitude(Complex v) {
+    return std::abs(v);
+}
 
 /// Ratio psi_{N-1}(z)/psi_N(z) = J_{N-1/2}(z)/J_{N+1/2}(z) by the modified Lentz method
 /// (Lentz 1976; Numerical Recipes 5.2). Terms a_k = (-1)^(k+1) (2N + 2k - 1)/z.
@@ -60,7 +66,8 @@ T besselRatioLentz(int order, T z) {
         f *= delta;
         if (magnitude(delta - 1.0) < EPS) return f;
     }
-    throw Error("Mie: Lentz continued fraction did not converge for |z| = " + std::to_string(magnitude(z)));
+    throw Error("Mie: Lentz continued fraction did not converge for |z| = " +
+                std::to_string(magnitude(z)));
 }
 
 /// D_n(z) = psi_n'(z)/psi_n(z) for n = 0..terms by downward recurrence from a start order above
@@ -88,11 +95,13 @@ std::string formatNumber(double v) {
     return buffer;
 }
 
-} // namespace
+}  // namespace
 
 int wiscombeTermCount(double x) {
     double cube = std::cbrt(x);
-    double n = (x <= 8.0) ? x + 4.0 * cube + 1.0 : (x < 4200.0) ? x + 4.05 * cube + 2.0 : x + 4.0 * cube + 2.0;
+    double n = (x <= 8.0)     ? x + 4.0 * cube + 1.0
+               : (x < 4200.0) ? x + 4.05 * cube + 2.0
+                              : x + 4.0 * cube + 2.0;
     return std::max(1, static_cast<int>(n));
 }
 
@@ -157,7 +166,8 @@ MieEfficiencies mieEfficiencies(const MieCoefficients& c) {
         asym += w / (n * (n + 1.0)) * std::real(an * std::conj(bn));
         if (n < terms) {
             const Complex an1 = c.a[static_cast<size_t>(n)], bn1 = c.b[static_cast<size_t>(n)];
-            asym += n * (n + 2.0) / (n + 1.0) * std::real(an * std::conj(an1) + bn * std::conj(bn1));
+            asym +=
+                n * (n + 2.0) / (n + 1.0) * std::real(an * std::conj(an1) + bn * std::conj(bn1));
         }
     }
     const double x2 = c.x * c.x;
@@ -171,4 +181,4 @@ MieEfficiencies mieEfficiencies(const MieCoefficients& c) {
     return e;
 }
 
-} // namespace vpsim::optics
+}  // namespace vpsim::optics

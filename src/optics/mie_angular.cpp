@@ -38,7 +38,8 @@ std::vector<double> miePhaseIntensity(const MieCoefficients& c, const std::vecto
     // S1 +- S2 = sum w (a +- b)(pi +- tau), and (|S1|^2+|S2|^2)/2 = (|S+|^2 + |S-|^2)/4.
     constexpr size_t BLOCK = 32;
     const size_t terms = static_cast<size_t>(c.terms());
-    std::vector<double> sumRe(terms), sumIm(terms), diffRe(terms), diffIm(terms), r1(terms), r2(terms);
+    std::vector<double> sumRe(terms), sumIm(terms), diffRe(terms), diffIm(terms), r1(terms),
+        r2(terms);
     for (size_t i = 0; i < terms; ++i) {
         const double n = static_cast<double>(i + 1);
         const double w = (2.0 * n + 1.0) / (n * (n + 1.0));
@@ -72,9 +73,10 @@ std::vector<double> miePhaseIntensity(const MieCoefficients& c, const std::vecto
             }
         }
         for (size_t j = 0; j < count; ++j)
-            k[start + j] = 0.25 * (pRe[j] * pRe[j] + pIm[j] * pIm[j] + qRe[j] * qRe[j] + qIm[j] * qIm[j]);
+            k[start + j] =
+                0.25 * (pRe[j] * pRe[j] + pIm[j] * pIm[j] + qRe[j] * qRe[j] + qIm[j] * qIm[j]);
     }
     return k;
 }
 
-} // namespace vpsim::optics
+}  // namespace vpsim::optics

@@ -13,12 +13,12 @@ namespace {
 constexpr double PI = 3.14159265358979323846;
 
 // 4-point Gauss-Legendre nodes and weights on [-1, 1] (Abramowitz & Stegun 25.4.30).
-constexpr double GL_NODES[4] = {-0.861136311594052575, -0.339981043584856265,
-                                0.339981043584856265, 0.861136311594052575};
-constexpr double GL_WEIGHTS[4] = {0.347854845137453857, 0.652145154862546143,
-                                  0.652145154862546143, 0.347854845137453857};
+constexpr double GL_NODES[4] = {-0.861136311594052575, -0.339981043584856265, 0.339981043584856265,
+                                0.861136311594052575};
+constexpr double GL_WEIGHTS[4] = {0.347854845137453857, 0.652145154862546143, 0.652145154862546143,
+                                  0.347854845137453857};
 
-} // namespace
+}  // namespace
 
 double phasePanelWidth(int terms) {
     return std::min(MAX_PHASE_PANEL_WIDTH, PI / (2.0 * std::max(terms, 1)));
@@ -83,7 +83,8 @@ PhaseTable buildPhaseTable(const ThetaQuadrature& quadrature, const std::vector<
         while (panel + 1 < static_cast<size_t>(panels) && t.cdf[panel + 1] < u) ++panel;
         const double c0 = t.cdf[panel], c1 = t.cdf[panel + 1];
         const double f = (c1 > c0) ? std::clamp((u - c0) / (c1 - c0), 0.0, 1.0) : 0.0;
-        const double theta = t.thetaEdges[panel] + f * (t.thetaEdges[panel + 1] - t.thetaEdges[panel]);
+        const double theta =
+            t.thetaEdges[panel] + f * (t.thetaEdges[panel + 1] - t.thetaEdges[panel]);
         t.inverseCdf[static_cast<size_t>(i)] = static_cast<float>(std::cos(theta));
     }
     t.inverseCdf.front() = 1.0f;
@@ -104,7 +105,8 @@ double PhaseTable::tableMeanCosine() const {
     const size_t n = inverseCdf.size();
     if (n < 2) return 0.0;
     double sum = 0.0;
-    for (size_t i = 0; i + 1 < n; ++i) sum += 0.5 * (double(inverseCdf[i]) + double(inverseCdf[i + 1]));
+    for (size_t i = 0; i + 1 < n; ++i)
+        sum += 0.5 * (double(inverseCdf[i]) + double(inverseCdf[i + 1]));
     return sum / static_cast<double>(n - 1);
 }
 
@@ -115,7 +117,8 @@ double PhaseTable::sampleCosine(double u) const {
     return (1.0 - f) * inverseCdf[i] + f * inverseCdf[i + 1];
 }
 
-std::vector<double> phaseIntensityAtNodes(const MieCoefficients& c, const ThetaQuadrature& quadrature) {
+std::vector<double> phaseIntensityAtNodes(const MieCoefficients& c,
+                                          const ThetaQuadrature& quadrature) {
     return miePhaseIntensity(c, quadrature.nodeMu);
 }
 
@@ -124,4 +127,4 @@ PhaseTable miePhaseTable(const MieCoefficients& c, int tableSize) {
     return buildPhaseTable(q, phaseIntensityAtNodes(c, q), tableSize);
 }
 
-} // namespace vpsim::optics
+}  // namespace vpsim::optics

@@ -20,7 +20,7 @@ bool parseWholeNumber(const std::string& text, double& value) {
     return end == begin + text.size() && std::isfinite(value);
 }
 
-} // namespace
+}  // namespace
 
 Complex parseRefractiveIndex(const std::string& text, const std::string& what) {
     std::string s;
@@ -48,9 +48,12 @@ Complex parseRefractiveIndex(const std::string& text, const std::string& what) {
     std::string imagPart = s.substr(split + 1);
     const double sign = (s[split] == '-') ? -1.0 : 1.0;
     if (imagPart.empty()) throw malformed();
-    if (imagPart.back() == 'i' || imagPart.back() == 'j') imagPart.pop_back();
-    else if (imagPart.front() == 'i' || imagPart.front() == 'j') imagPart.erase(0, 1);
-    else throw malformed();
+    if (imagPart.back() == 'i' || imagPart.back() == 'j')
+        imagPart.pop_back();
+    else if (imagPart.front() == 'i' || imagPart.front() == 'j')
+        imagPart.erase(0, 1);
+    else
+        throw malformed();
     if (imagPart.empty()) imagPart = "1";  // "1.5-i"
     if (!parseWholeNumber(realPart, re) || !parseWholeNumber(imagPart, im) || im < 0.0)
         throw malformed();
@@ -66,10 +69,12 @@ Complex parseRefractiveIndex(const std::string& text, const std::string& what) {
 
 std::string formatRefractiveIndex(Complex m) {
     char buffer[64];
-    if (m.imag() == 0.0) std::snprintf(buffer, sizeof buffer, "%.6g", m.real());
-    else std::snprintf(buffer, sizeof buffer, "%.6g%c%.6gi", m.real(), m.imag() < 0 ? '-' : '+',
-                       std::fabs(m.imag()));
+    if (m.imag() == 0.0)
+        std::snprintf(buffer, sizeof buffer, "%.6g", m.real());
+    else
+        std::snprintf(buffer, sizeof buffer, "%.6g%c%.6gi", m.real(), m.imag() < 0 ? '-' : '+',
+                      std::fabs(m.imag()));
     return buffer;
 }
 
-} // namespace vpsim::optics
+}  // namespace vpsim::optics

@@ -46,12 +46,13 @@ std::string describe(double value) {
     return s.str();
 }
 
-} // namespace
+}  // namespace
 
 void validateSlurrySpec(const SlurrySpec& s) {
     auto positive = [](double v, const char* what, const char* unit) {
         if (!(v > 0.0) || !std::isfinite(v))
-            throw InputError(std::string(what) + " must be positive, got " + describe(v) + " " + unit);
+            throw InputError(std::string(what) + " must be positive, got " + describe(v) + " " +
+                             unit);
     };
     positive(s.wavelength, "wavelength", "mm");
     positive(s.resinIndex, "resin refractive index", "");
@@ -64,11 +65,14 @@ void validateSlurrySpec(const SlurrySpec& s) {
         throw InputError("particle refractive index " + formatRefractiveIndex(s.particleIndex) +
                          " has a positive imaginary part; vpsim uses n - ik (e.g. 1.75-0.001i)");
     if (!(s.volumeFraction > 0.0 && s.volumeFraction < MAX_VOLUME_FRACTION))
-        throw InputError("volume fraction must be in (0, 0.74) (0.74 is the densest packing of "
-                         "spheres), got " + describe(s.volumeFraction));
+        throw InputError(
+            "volume fraction must be in (0, 0.74) (0.74 is the densest packing of "
+            "spheres), got " +
+            describe(s.volumeFraction));
     if (s.size.kind == SizeDistribution::Kind::LogNormal) {
         if (!(s.size.sigmaG >= 1.0) || s.size.sigmaG > 5.0)
-            throw InputError("log-normal sigma_g must be in [1, 5], got " + describe(s.size.sigmaG));
+            throw InputError("log-normal sigma_g must be in [1, 5], got " +
+                             describe(s.size.sigmaG));
         if (s.size.points < 8 || s.size.points > 4096)
             throw InputError("log-normal quadrature points must be in [8, 4096], got " +
                              std::to_string(s.size.points));
@@ -80,8 +84,9 @@ void validateSlurrySpec(const SlurrySpec& s) {
     double largest = s.radius;
     for (const auto& node : radiusNodes(s)) largest = std::max(largest, node.radius);
     if (k * largest > 2e4)
-        throw InputError("size parameter " + describe(k * largest) +
-                         " is above the supported 20000 (particle much larger than the wavelength)");
+        throw InputError(
+            "size parameter " + describe(k * largest) +
+            " is above the supported 20000 (particle much larger than the wavelength)");
 }
 
 SlurryOptics computeSlurryOptics(const SlurrySpec& spec) {
@@ -129,7 +134,8 @@ SlurryOptics computeSlurryOptics(const SlurrySpec& spec) {
     const double numberDensity = spec.volumeFraction / volume;  // 1/mm^3
     const double mus = numberDensity * csca;
     const double muaParticles = numberDensity * std::max(0.0, cext - csca);
-    const double resinFraction = spec.absorptionScaledByResinFraction ? 1.0 - spec.volumeFraction : 1.0;
+    const double resinFraction =
+        spec.absorptionScaledByResinFraction ? 1.0 - spec.volumeFraction : 1.0;
     out.scatteringMeanFreePath = 1.0 / mus;
     out.transportMeanFreePath = out.scatteringMeanFreePath / (1.0 - out.efficiencies.g);
     out.phase = buildPhaseTable(quadrature, kAverage, spec.phaseTableSize);
@@ -144,4 +150,4 @@ SlurryOptics computeSlurryOptics(const SlurrySpec& spec) {
     return out;
 }
 
-} // namespace vpsim::optics
+}  // namespace vpsim::optics

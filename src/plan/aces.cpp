@@ -24,9 +24,10 @@ glm::dvec2 rotate(const glm::dvec2& p, double angle) {
     return {c * p.x - s * p.y, s * p.x + c * p.y};
 }
 
-} // namespace
+}  // namespace
 
-double acesTargetDose(double criticalDose, double layerThickness, double depthOfMaximum, double attenuationLength) {
+double acesTargetDose(double criticalDose, double layerThickness, double depthOfMaximum,
+                      double attenuationLength) {
     double h = layerThickness - depthOfMaximum;
     return criticalDose / std::exp(-std::max(h, 0.0) / attenuationLength);
 }
@@ -46,7 +47,8 @@ double acesRipple(double hatchRatio) {
 }
 
 double acesHatchRatio(double homogeneity) {
-    if (!(homogeneity > 0)) throw InputError("ACES homogeneity (relative standard deviation) must be positive");
+    if (!(homogeneity > 0))
+        throw InputError("ACES homogeneity (relative standard deviation) must be positive");
     double lo = 0.05, hi = 3.0;
     if (acesRipple(hi) <= homogeneity) return hi;
     for (int i = 0; i < 60; ++i) {  // the ripple grows monotonically with rh on this range
@@ -84,16 +86,19 @@ double longestEdgeDirection(const geometry::PolygonSet& region) {
 }
 
 AcesDesign designAces(const AcesParameters& p, const geometry::PolygonSet& region) {
-    if (!(p.beamRadius > 0) || !(p.attenuationLength > 0) || !(p.criticalDose > 0) || !(p.layerThickness > 0) ||
-        !(p.laserPower > 0))
-        throw InputError("ACES needs a positive beam radius, attenuation length, critical dose, layer thickness "
-                         "and laser power");
+    if (!(p.beamRadius > 0) || !(p.attenuationLength > 0) || !(p.criticalDose > 0) ||
+        !(p.layerThickness > 0) || !(p.laserPower > 0))
+        throw InputError(
+            "ACES needs a positive beam radius, attenuation length, critical dose, layer thickness "
+            "and laser power");
     if (region.empty()) throw InputError("ACES: the layer region is empty");
     AcesDesign design;
-    design.targetDose = acesTargetDose(p.criticalDose, p.layerThickness, p.depthOfMaximum, p.attenuationLength);
+    design.targetDose =
+        acesTargetDose(p.criticalDose, p.layerThickness, p.depthOfMaximum, p.attenuationLength);
     design.direction = p.direction ? *p.direction : longestEdgeDirection(region);
     double maxRatio = acesHatchRatio(p.homogeneity);
-    double fraction = p.edge == AcesEdge::SeedFivePercent ? 0.05 : p.criticalDose / design.targetDose;
+    double fraction =
+        p.edge == AcesEdge::SeedFivePercent ? 0.05 : p.criticalDose / design.targetDose;
     design.edgeOffset = acesEdgeDistance(maxRatio, fraction) * p.beamRadius;
     // Eq. 15: a whole number of spaces across the field's width H perpendicular to the lines.
     geometry::PolygonSet field = region.offset(-design.edgeOffset);
@@ -111,9 +116,10 @@ AcesDesign designAces(const AcesParameters& p, const geometry::PolygonSet& regio
     return design;
 }
 
-std::vector<LaserVector> hatchRegion(const geometry::PolygonSet& region, double spacing, double direction,
-                                     double power, double speed) {
-    if (!(spacing > 0) || !(speed > 0)) throw InputError("hatching needs a positive spacing and speed");
+std::vector<LaserVector> hatchRegion(const geometry::PolygonSet& region, double spacing,
+                                     double direction, double power, double speed) {
+    if (!(spacing > 0) || !(speed > 0))
+        throw InputError("hatching needs a positive spacing and speed");
     std::vector<geometry::Contour> contours = region.contours();
     for (auto& contour : contours)
         for (auto& v : contour) v = rotate(v, -direction);  // scan lines become horizontal
@@ -123,7 +129,8 @@ std::vector<LaserVector> hatchRegion(const geometry::PolygonSet& region, double 
     std::vector<LaserVector> vectors;
     if (!(hi > lo)) return vectors;
     long lines = long(std::floor((hi - lo) / spacing + 1e-9)) + 1;
-    const double nudge = 1e-9 * std::max(1.0, hi - lo);  // keep the extreme lines off horizontal edges
+    const double nudge =
+        1e-9 * std::max(1.0, hi - lo);  // keep the extreme lines off horizontal edges
     std::vector<double> xs;
     for (long k = 0; k < lines; ++k) {
         double y = std::clamp(lo + k * spacing, lo + nudge, hi - nudge);
@@ -131,7 +138,8 @@ std::vector<LaserVector> hatchRegion(const geometry::PolygonSet& region, double 
         for (const auto& contour : contours)
             for (size_t i = 0; i < contour.size(); ++i) {
                 const glm::dvec2 &a = contour[i], &b = contour[(i + 1) % contour.size()];
-                if ((a.y <= y) != (b.y <= y)) xs.push_back(a.x + (y - a.y) / (b.y - a.y) * (b.x - a.x));
+                if ((a.y <= y) != (b.y <= y))
+                    xs.push_back(a.x + (y - a.y) / (b.y - a.y) * (b.x - a.x));
             }
         std::sort(xs.begin(), xs.end());
         bool reverse = k % 2 == 1;
@@ -147,12 +155,13 @@ std::vector<LaserVector> hatchRegion(const geometry::PolygonSet& region, double 
     return vectors;
 }
 
-LayerPlan planAcesLayer(const geometry::PolygonSet& region, const AcesDesign& design, double laserPower, double z) {
+LayerPlan planAcesLayer(const geometry::PolygonSet& region, const AcesDesign& design,
+                        double laserPower, double z) {
     LayerPlan layer;
     layer.z = z;
-    layer.vectors = hatchRegion(region.offset(-design.edgeOffset), design.hatchSpacing, design.direction, laserPower,
-                                design.speed);
+    layer.vectors = hatchRegion(region.offset(-design.edgeOffset), design.hatchSpacing,
+                                design.direction, laserPower, design.speed);
     return layer;
 }
 
-} // namespace vpsim::plan
+}  // namespace vpsim::plan

@@ -4,8 +4,8 @@
 
 namespace vpsim::plan {
 
-MaskImage uniformMask(const geometry::PolygonSet& region, const geometry::RasterGrid& grid, double dose,
-                      MaskRasterMode mode) {
+MaskImage uniformMask(const geometry::PolygonSet& region, const geometry::RasterGrid& grid,
+                      double dose, MaskRasterMode mode) {
     if (!(dose >= 0)) throw InputError("mask dose must not be negative");
     MaskImage mask;
     mask.width = grid.width;
@@ -24,4 +24,4 @@ MaskImage uniformMask(const geometry::PolygonSet& region, const geometry::Raster
     return mask;
 }
 
-} // namespace vpsim::plan
+}  // namespace vpsim::plan

@@ -27,7 +27,8 @@ MaskImage maskFromConfig(const ConfigNode& node) {
     MaskImage mask;
     mask.width = int(node.integer("width"));
     mask.height = int(node.integer("height"));
-    if (mask.width <= 0 || mask.height <= 0) throw node.error("width", "mask size must be positive");
+    if (mask.width <= 0 || mask.height <= 0)
+        throw node.error("width", "mask size must be positive");
     mask.originX = node.quantity("origin_x", dim::LENGTH);
     mask.originY = node.quantity("origin_y", dim::LENGTH);
     mask.pixelPitch = positive(node, "pixel_pitch", dim::LENGTH);
@@ -42,7 +43,7 @@ MaskImage maskFromConfig(const ConfigNode& node) {
     return mask;
 }
 
-} // namespace
+}  // namespace
 
 double ScanPlan::totalEnergy() const {
     double energy = 0;
@@ -62,18 +63,26 @@ nlohmann::json toJson(const ScanPlan& plan) {
         nlohmann::json points = nlohmann::json::array(), vectors = nlohmann::json::array(),
                        masks = nlohmann::json::array();
         for (const auto& p : layer.points) points.push_back({p.x, p.y, p.energy});
-        for (const auto& v : layer.vectors) vectors.push_back({v.x0, v.y0, v.x1, v.y1, v.power, v.speed});
+        for (const auto& v : layer.vectors)
+            vectors.push_back({v.x0, v.y0, v.x1, v.y1, v.power, v.speed});
         for (const auto& m : layer.masks)
-            masks.push_back({{"width", m.width}, {"height", m.height}, {"origin_x", m.originX},
-                             {"origin_y", m.originY}, {"pixel_pitch", m.pixelPitch}, {"dose_mJ_per_mm2", m.dose}});
-        layers.push_back({{"z", layer.z}, {"points_x_y_energy", points},
-                          {"vectors_x0_y0_x1_y1_power_speed", vectors}, {"masks", masks}});
+            masks.push_back({{"width", m.width},
+                             {"height", m.height},
+                             {"origin_x", m.originX},
+                             {"origin_y", m.originY},
+                             {"pixel_pitch", m.pixelPitch},
+                             {"dose_mJ_per_mm2", m.dose}});
+        layers.push_back({{"z", layer.z},
+                          {"points_x_y_energy", points},
+                          {"vectors_x0_y0_x1_y1_power_speed", vectors},
+                          {"masks", masks}});
     }
     return {{"units", "mm, s, mW, mJ"},
-            {"machine", {{"layer_thickness", plan.machine.layerThickness},
-                         {"laser_power", plan.machine.laserPower},
-                         {"beam_radius", plan.machine.beamRadius},
-                         {"pixel_pitch", plan.machine.pixelPitch}}},
+            {"machine",
+             {{"layer_thickness", plan.machine.layerThickness},
+              {"laser_power", plan.machine.laserPower},
+              {"beam_radius", plan.machine.beamRadius},
+              {"pixel_pitch", plan.machine.pixelPitch}}},
             {"layers", layers}};
 }
 
@@ -95,20 +104,24 @@ ScanPlan scanPlanFromJson(const nlohmann::json& json, const std::string& file) {
             layer.points.push_back({p[0].get<double>(), p[1].get<double>(), p[2].get<double>()});
         }
         for (const auto& v : node.raw("vectors_x0_y0_x1_y1_power_speed")) {
-            if (!v.is_array() || v.size() != 6 || !(v[4].get<double>() >= 0) || !(v[5].get<double>() > 0))
+            if (!v.is_array() || v.size() != 6 || !(v[4].get<double>() >= 0) ||
+                !(v[5].get<double>() > 0))
                 throw node.error("vectors_x0_y0_x1_y1_power_speed",
                                  "each vector is [x0, y0, x1, y1, power >= 0, speed > 0]");
             layer.vectors.push_back({v[0].get<double>(), v[1].get<double>(), v[2].get<double>(),
                                      v[3].get<double>(), v[4].get<double>(), v[5].get<double>()});
         }
-        for (const ConfigNode& mask : node.children("masks")) layer.masks.push_back(maskFromConfig(mask));
+        for (const ConfigNode& mask : node.children("masks"))
+            layer.masks.push_back(maskFromConfig(mask));
         plan.layers.push_back(std::move(layer));
     }
     root.checkUnknownKeys();
     return plan;
 }
 
-void saveScanPlan(const ScanPlan& plan, const std::string& path) { writeFileAtomic(path, toJson(plan).dump(1)); }
+void saveScanPlan(const ScanPlan& plan, const std::string& path) {
+    writeFileAtomic(path, toJson(plan).dump(1));
+}
 
 ScanPlan loadScanPlan(const std::string& path) {
     try {
@@ -118,4 +131,4 @@ ScanPlan loadScanPlan(const std::string& path) {
     }
 }
 
-} // namespace vpsim::plan
+}  // namespace vpsim::plan

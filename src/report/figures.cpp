@@ -11,13 +11,14 @@ namespace vpsim::report {
 namespace {
 
 /// Draws a scalar field with outlines of two masks, scaled up by an integer factor to about 800 px.
-RgbImage outlinedMap(const std::vector<float>& values, const std::vector<uint8_t>& reference, int width, int height,
-                     double criticalDose) {
+RgbImage outlinedMap(const std::vector<float>& values, const std::vector<uint8_t>& reference,
+                     int width, int height, double criticalDose) {
     int scale = std::max(1, std::min(8, 800 / std::max(width, height)));
     std::vector<float> big(size_t(width) * scale * height * scale);
     auto index = [&](int x, int y) { return size_t(y) * width + x; };
     for (int y = 0; y < height * scale; ++y)
-        for (int x = 0; x < width * scale; ++x) big[size_t(y) * width * scale + x] = values[index(x / scale, y / scale)];
+        for (int x = 0; x < width * scale; ++x)
+            big[size_t(y) * width * scale + x] = values[index(x / scale, y / scale)];
     // Linear from 0 to the 99th percentile of the exposure shown (hot spots saturate), and at
     // least twice Ec so the cure level sits inside the scale.
     std::vector<float> sorted(values);
@@ -26,27 +27,35 @@ RgbImage outlinedMap(const std::vector<float>& values, const std::vector<uint8_t
     RgbImage image = heatMap(big, width * scale, height * scale, 0.0, top);
     auto edge = [&](auto inside, int x, int y) {
         bool here = inside(x, y);
-        return (x + 1 < width && inside(x + 1, y) != here) || (y + 1 < height && inside(x, y + 1) != here);
+        return (x + 1 < width && inside(x + 1, y) != here) ||
+               (y + 1 < height && inside(x, y + 1) != here);
     };
     auto cured = [&](int x, int y) { return values[index(x, y)] >= criticalDose; };
     auto ref = [&](int x, int y) { return reference[index(x, y)] != 0; };
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x)
             for (int d = 0; d < scale; ++d) {
-                if (edge(ref, x, y)) image.set(x * scale + scale - 1, y * scale + d, 230, 30, 30),
-                                     image.set(x * scale + d, y * scale + scale - 1, 230, 30, 30);
-                if (edge(cured, x, y)) image.set(x * scale + scale / 2, y * scale + d, 255, 255, 255),
-                                       image.set(x * scale + d, y * scale + scale / 2, 255, 255, 255);
+                if (edge(ref, x, y))
+                    image.set(x * scale + scale - 1, y * scale + d, 230, 30, 30),
+                        image.set(x * scale + d, y * scale + scale - 1, 230, 30, 30);
+                if (edge(cured, x, y))
+                    image.set(x * scale + scale / 2, y * scale + d, 255, 255, 255),
+                        image.set(x * scale + d, y * scale + scale / 2, 255, 255, 255);
             }
     return image;
 }
 
-} // namespace
+}  // namespace
 
-SectionRecorder::SectionRecorder(const geometry::Mesh& part, const exposure::ExposureGrid& grid, int totalSlices,
-                                 double criticalDose, int mapLayer, int row)
-    : mPart(part), mGrid(grid), mCriticalDose(criticalDose), mMapLayer(mapLayer), mRow(row),
-      mTotalSlices(totalSlices), mSection(size_t(totalSlices) * grid.nx, 0.0f),
+SectionRecorder::SectionRecorder(const geometry::Mesh& part, const exposure::ExposureGrid& grid,
+                                 int totalSlices, double criticalDose, int mapLayer, int row)
+    : mPart(part),
+      mGrid(grid),
+      mCriticalDose(criticalDose),
+      mMapLayer(mapLayer),
+      mRow(row),
+      mTotalSlices(totalSlices),
+      mSection(size_t(totalSlices) * grid.nx, 0.0f),
       mSectionInside(size_t(totalSlices) * grid.nx, 0) {}
 
 void SectionRecorder::add(const exposure::ExposureSlice& slice) {
@@ -55,7 +64,8 @@ void SectionRecorder::add(const exposure::ExposureSlice& slice) {
     const exposure::SurfaceGrid& values = *slice.values;
     for (int i = 0; i < mGrid.nx; ++i) {
         mSection[size_t(mFilled) * mGrid.nx + i] = values.at(i, mRow);
-        mSectionInside[size_t(mFilled) * mGrid.nx + i] = region.contains({values.centreX(i), values.centreY(mRow)});
+        mSectionInside[size_t(mFilled) * mGrid.nx + i] =
+            region.contains({values.centreX(i), values.centreY(mRow)});
     }
     ++mFilled;
     if (slice.layer == mMapLayer && slice.slice == mGrid.slicesPerLayer / 2) {
@@ -64,7 +74,8 @@ void SectionRecorder::add(const exposure::ExposureSlice& slice) {
         raster.pitch = mGrid.pitch;
         raster.width = mGrid.nx;
         raster.height = mGrid.ny;
-        mMapInside = geometry::flipRows(geometry::rasterizeBinary(region, raster), mGrid.nx, mGrid.ny);
+        mMapInside =
+            geometry::flipRows(geometry::rasterizeBinary(region, raster), mGrid.nx, mGrid.ny);
         mMap = geometry::flipRows(values.values, mGrid.nx, mGrid.ny);  // image rows run top-down
     }
 }
@@ -89,7 +100,8 @@ void SectionRecorder::write(const std::string& directory) const {
     writePng(directory + "/exposure_xz.png",
              outlinedMap(mSection, mSectionInside, mGrid.nx, mTotalSlices, mCriticalDose));
     if (!mMap.empty())
-        writePng(directory + "/exposure_xy.png", outlinedMap(mMap, mMapInside, mGrid.nx, mGrid.ny, mCriticalDose));
+        writePng(directory + "/exposure_xy.png",
+                 outlinedMap(mMap, mMapInside, mGrid.nx, mGrid.ny, mCriticalDose));
 }
 
 void writeDeviationFigures(const std::string& directory, const geometry::Mesh& cured,
@@ -101,13 +113,15 @@ void writeDeviationFigures(const std::string& directory, const geometry::Mesh& c
     const int bins = 60;
     PlotSeries histogram{"cured vertices", {}, {}, "#1f77b4", false};
     std::vector<double> counts(bins, 0.0);
-    for (float d : deviations) counts[std::min(bins - 1, int((d + limit) / (2 * limit) * bins))] += 1;
+    for (float d : deviations)
+        counts[std::min(bins - 1, int((d + limit) / (2 * limit) * bins))] += 1;
     for (int b = 0; b < bins; ++b) {  // a step outline of the histogram
         double x0 = -limit + 2 * limit * b / bins, x1 = -limit + 2 * limit * (b + 1) / bins;
         histogram.x.insert(histogram.x.end(), {x0, x1});
         histogram.y.insert(histogram.y.end(), {counts[b], counts[b]});
     }
-    writeSvgLinePlot(directory + "/deviation_histogram.svg", "Signed deviation of the cured surface from the model",
+    writeSvgLinePlot(directory + "/deviation_histogram.svg",
+                     "Signed deviation of the cured surface from the model",
                      "deviation (mm), positive = outside the model", "vertices", {histogram});
 
     // Deviation map: the cured surface seen from above; each pixel shows the vertex below it with
@@ -120,8 +134,10 @@ void writeDeviationFigures(const std::string& directory, const geometry::Mesh& c
     std::vector<uint8_t> seen(size_t(w) * h, 0);
     for (size_t v = 0; v < cured.vertices.size(); ++v) {
         const auto& p = cured.vertices[v];
-        size_t index = size_t(h - 1 - int((p.y - b.lo.y) * scale)) * w + int((p.x - b.lo.x) * scale);
-        if (!seen[index] || std::abs(deviations[v]) > std::abs(worst[index])) worst[index] = deviations[v];
+        size_t index =
+            size_t(h - 1 - int((p.y - b.lo.y) * scale)) * w + int((p.x - b.lo.x) * scale);
+        if (!seen[index] || std::abs(deviations[v]) > std::abs(worst[index]))
+            worst[index] = deviations[v];
         seen[index] = 1;
     }
     RgbImage image(w, h, 40);
@@ -143,7 +159,8 @@ void writeLayerErrorPlot(const std::string& path, const validate::SliceValidatio
             error.x.push_back(layer.z);
             error.y.push_back(layer.xyContourError() * 1000);
         }
-    writeSvgLinePlot(path, "Cured vs model contour error per layer", "z (mm)", "mean XY error (um)", {error});
+    writeSvgLinePlot(path, "Cured vs model contour error per layer", "z (mm)", "mean XY error (um)",
+                     {error});
 }
 
-} // namespace vpsim::report
+}  // namespace vpsim::report

@@ -42,4 +42,4 @@ void writeDeviationFigures(const std::string& directory, const geometry::Mesh& c
 /// Per-layer XY contour error against height (SVG).
 void writeLayerErrorPlot(const std::string& path, const validate::SliceValidationSummary& summary);
 
-} // namespace vpsim::report
+}  // namespace vpsim::report

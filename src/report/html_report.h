@@ -9,4 +9,4 @@ namespace vpsim::report {
 /// Writes outDir/index.html from the report and the pictures already in outDir.
 void writeHtmlReport(const std::string& outDir, const nlohmann::json& report);
 
-} // namespace vpsim::report
+}  // namespace vpsim::report

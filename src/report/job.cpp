@@ -15,14 +15,16 @@ std::string resolve(const ConfigNode& node, const std::string& key) {
     return path.string();
 }
 
-double positive(const ConfigNode& node, const std::string& key, Dimension dimension, double fallback) {
+double positive(const ConfigNode& node, const std::string& key, Dimension dimension,
+                double fallback) {
     double value = node.quantity(key, dimension, fallback);
     if (!(value > 0)) throw node.error(key, "must be positive");
     return value;
 }
 
 void readPart(const ConfigNode& part, Job& job) {
-    if (part.has("stl") == part.has("test_part")) throw part.error("stl", "give exactly one of 'stl' or 'test_part'");
+    if (part.has("stl") == part.has("test_part"))
+        throw part.error("stl", "give exactly one of 'stl' or 'test_part'");
     if (part.has("stl")) {
         job.partStl = resolve(part, "stl");
         job.partScale = part.number("scale", 1.0);
@@ -40,14 +42,17 @@ void readPart(const ConfigNode& part, Job& job) {
 }
 
 void readKernel(const ConfigNode& kernel, Job& job) {
-    std::string source = kernel.choice("source", {"monte-carlo", "given"}, std::string("monte-carlo"));
+    std::string source =
+        kernel.choice("source", {"monte-carlo", "given"}, std::string("monte-carlo"));
     if (source == "monte-carlo") {
         job.kernelSource = KernelSource::MonteCarlo;
         long long photons = kernel.integer("photons", 300000);
-        if (photons < 1000 || photons > 4000000000LL) throw kernel.error("photons", "expected 1000 .. 4e9");
+        if (photons < 1000 || photons > 4000000000LL)
+            throw kernel.error("photons", "expected 1000 .. 4e9");
         job.photons = uint64_t(photons);
         job.seed = uint32_t(kernel.integer("seed", 1));
-        job.tabulatedKernel = kernel.choice("use", {"fitted", "tabulated"}, std::string("fitted")) == "tabulated";
+        job.tabulatedKernel =
+            kernel.choice("use", {"fitted", "tabulated"}, std::string("fitted")) == "tabulated";
     } else {
         job.kernelSource = KernelSource::Given;
         job.givenWe3d = positive(kernel, "We3D", dim::LENGTH, 0.05);
@@ -62,16 +67,15 @@ void readPlan(const ConfigNode& plan, Job& job) {
     job.strategy = strategy == "aces" ? PlanStrategy::Aces : PlanStrategy::UniformMask;
     if (job.strategy == PlanStrategy::Aces) {
         job.homogeneity = plan.numberInRange("homogeneity", 1e-6, 0.5, 0.01);
-        job.edgeFivePercent =
-            plan.choice("edge", {"seed-5-percent", "cure-at-contour"}, std::string("seed-5-percent")) ==
-            "seed-5-percent";
+        job.edgeFivePercent = plan.choice("edge", {"seed-5-percent", "cure-at-contour"},
+                                          std::string("seed-5-percent")) == "seed-5-percent";
     } else {
         job.maskDose = positive(plan, "dose", dim::DOSE, 0.78);
         job.greyscaleMask = plan.boolean("greyscale", false);
     }
 }
 
-} // namespace
+}  // namespace
 
 Job loadJob(const std::string& path, const std::vector<std::string>& overrides) {
     ConfigNode root = ConfigNode::load(path, overrides);
@@ -95,8 +99,11 @@ Job loadJob(const std::string& path, const std::vector<std::string>& overrides) 
     }
 
     if (root.has("material")) job.materialFile = resolve(root, "material");
-    readKernel(root.has("kernel") ? root.child("kernel") : ConfigNode(nlohmann::json::object(), path), job);
-    if (job.process == Process::Laser && job.kernelSource == KernelSource::MonteCarlo && job.materialFile.empty())
+    readKernel(
+        root.has("kernel") ? root.child("kernel") : ConfigNode(nlohmann::json::object(), path),
+        job);
+    if (job.process == Process::Laser && job.kernelSource == KernelSource::MonteCarlo &&
+        job.materialFile.empty())
         throw root.error("material", "a Monte Carlo kernel needs a material file");
     readPlan(root.child("plan"), job);
     if (job.process == Process::Laser && job.strategy != PlanStrategy::Aces)
@@ -125,7 +132,8 @@ Job loadJob(const std::string& path, const std::vector<std::string>& overrides) 
             probe.objective = f.quantity("objective", dim::LENGTH);
             if (f.has("measured"))
                 for (const auto& m : f.raw("measured")) {
-                    if (!m.is_number()) throw f.error("measured", "expected a list of lengths in mm");
+                    if (!m.is_number())
+                        throw f.error("measured", "expected a list of lengths in mm");
                     probe.measured.push_back(m.get<double>());
                 }
             job.features.push_back(probe);
@@ -134,4 +142,4 @@ Job loadJob(const std::string& path, const std::vector<std::string>& overrides) 
     return job;
 }
 
-} // namespace vpsim::report
+}  // namespace vpsim::report

@@ -23,7 +23,7 @@ uint64_t fnv1a(const std::string& text) {
     return hash;
 }
 
-} // namespace
+}  // namespace
 
 std::string kernelCacheDirectory() {
     if (const char* dir = std::getenv("VPSIM_CACHE_DIR")) return dir;
@@ -32,17 +32,25 @@ std::string kernelCacheDirectory() {
     return ".vpsim-cache";
 }
 
-kernel::BeamKernel monteCarloKernel(const Job& job, const std::shared_ptr<gpu::Context>& context, bool& fromCache) {
+kernel::BeamKernel monteCarloKernel(const Job& job, const std::shared_ptr<gpu::Context>& context,
+                                    bool& fromCache) {
     const optics::MediumOptics medium = optics::loadMediumOptics(job.materialFile);
     if (!(medium.mua > 0))
-        throw InputError("the beam kernel needs an absorbing material (mua > 0)", job.materialFile, "mua");
+        throw InputError("the beam kernel needs an absorbing material (mua > 0)", job.materialFile,
+                         "mua");
     transport::McSetup setup = kernel::kernelSetup(medium, job.beamRadius);
     setup.photons = job.photons;
     setup.seed = job.seed;
 
-    nlohmann::json key{{"material", readFile(job.materialFile)}, {"power", job.laserPower}, {"w0", setup.w0},
-                       {"photons", setup.photons}, {"seed", setup.seed}, {"r_max", setup.bins.rMax},
-                       {"z_max", setup.bins.zMax}, {"bins", setup.bins.rBins}, {"version", 1}};
+    nlohmann::json key{{"material", readFile(job.materialFile)},
+                       {"power", job.laserPower},
+                       {"w0", setup.w0},
+                       {"photons", setup.photons},
+                       {"seed", setup.seed},
+                       {"r_max", setup.bins.rMax},
+                       {"z_max", setup.bins.zMax},
+                       {"bins", setup.bins.rBins},
+                       {"version", 1}};
     char name[64];
     std::snprintf(name, sizeof name, "kernel-%016llx.json", (unsigned long long)fnv1a(key.dump()));
     std::string path = kernelCacheDirectory() + "/" + name;
@@ -66,4 +74,4 @@ kernel::BeamKernel monteCarloKernel(const Job& job, const std::shared_ptr<gpu::C
     return beam;
 }
 
-} // namespace vpsim::report
+}  // namespace vpsim::report

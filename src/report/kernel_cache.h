@@ -9,6 +9,7 @@
 namespace vpsim::report {
 
 /// Runs (or loads from the cache) the kernel of the job's material and beam.
-kernel::BeamKernel monteCarloKernel(const Job& job, const std::shared_ptr<gpu::Context>& context, bool& fromCache);
+kernel::BeamKernel monteCarloKernel(const Job& job, const std::shared_ptr<gpu::Context>& context,
+                                    bool& fromCache);
 
-} // namespace vpsim::report
+}  // namespace vpsim::report

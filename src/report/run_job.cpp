@@ -16,9 +16,9 @@
 #include "vpsim/exposure/dose_volume.h"
 #include "vpsim/exposure/tabulated_engine.h"
 #include "vpsim/geometry/level_set.h"
-#include "vpsim/gpu/context.h"
 #include "vpsim/geometry/slicer.h"
 #include "vpsim/geometry/stl_io.h"
+#include "vpsim/gpu/context.h"
 #include "vpsim/plan/aces.h"
 #include "vpsim/plan/dlp_masks.h"
 #include "vpsim/validate/surface_deviation.h"
@@ -57,14 +57,17 @@ geometry::Mesh loadPart(const Job& job) {
 }
 
 /// The separable beam the engine uses, and the depth of the sub-surface maximum (mm).
-exposure::SeparableBeam beamOf(const Job& job, const std::string& outDir, const std::shared_ptr<gpu::Context>& context,
-                               double& zmax, std::optional<kernel::BeamKernel>& table, nlohmann::json& report) {
+exposure::SeparableBeam beamOf(const Job& job, const std::string& outDir,
+                               const std::shared_ptr<gpu::Context>& context, double& zmax,
+                               std::optional<kernel::BeamKernel>& table, nlohmann::json& report) {
     exposure::SeparableBeam beam;
     zmax = 0;
     if (job.process == Process::Dlp) {
         if (!(job.cure.penetrationDepth() > 0))
-            throw InputError("a DLP job needs the resin's penetration depth (cure.penetration_depth or "
-                             "cure.attenuation)", job.file, "cure");
+            throw InputError(
+                "a DLP job needs the resin's penetration depth (cure.penetration_depth or "
+                "cure.attenuation)",
+                job.file, "cure");
         beam.radius = job.beamRadius;
         beam.attenuationLength = job.cure.penetrationDepth();
     } else if (job.kernelSource == KernelSource::Given) {
@@ -81,32 +84,39 @@ exposure::SeparableBeam beamOf(const Job& job, const std::string& outDir, const 
         beam.efficiency = k.fit.amplitude * M_PI * k.fit.we3d * k.fit.we3d / (2.0 * job.laserPower);
         zmax = k.zmax;
         if (job.tabulatedKernel) table = k;
-        report["kernel"] = {{"We3D_um", k.fit.we3d * 1e3}, {"De3D_um", k.fit.de3d * 1e3}, {"zmax_um", k.zmax * 1e3},
-                            {"fit_residual", k.fit.residual}, {"efficiency", beam.efficiency},
-                            {"photons", k.photons}, {"from_cache", cached},
+        report["kernel"] = {{"We3D_um", k.fit.we3d * 1e3},
+                            {"De3D_um", k.fit.de3d * 1e3},
+                            {"zmax_um", k.zmax * 1e3},
+                            {"fit_residual", k.fit.residual},
+                            {"efficiency", beam.efficiency},
+                            {"photons", k.photons},
+                            {"from_cache", cached},
                             {"exposure_uses", job.tabulatedKernel ? "table" : "fit"}};
     }
     return beam;
 }
 
-plan::ScanPlan planLayers(const Job& job, const std::vector<geometry::Layer>& layers, const exposure::SeparableBeam& beam,
-                          double zmax, const geometry::Bounds& bounds, nlohmann::json& report) {
+plan::ScanPlan planLayers(const Job& job, const std::vector<geometry::Layer>& layers,
+                          const exposure::SeparableBeam& beam, double zmax,
+                          const geometry::Bounds& bounds, nlohmann::json& report) {
     plan::ScanPlan plan;
     plan.machine.layerThickness = job.layerThickness;
     plan.machine.laserPower = job.laserPower;
     plan.machine.beamRadius = job.beamRadius;
     plan.machine.pixelPitch = job.pixelPitch;
-    geometry::RasterGrid projector =
-        geometry::RasterGrid::covering({bounds.lo.x, bounds.lo.y}, {bounds.hi.x, bounds.hi.y}, job.pixelPitch, 2);
+    geometry::RasterGrid projector = geometry::RasterGrid::covering(
+        {bounds.lo.x, bounds.lo.y}, {bounds.hi.x, bounds.hi.y}, job.pixelPitch, 2);
     plan::AcesParameters aces;
     aces.beamRadius = beam.radius;
     aces.attenuationLength = beam.attenuationLength;
     aces.depthOfMaximum = std::min(zmax, 0.99 * job.layerThickness);
-    aces.criticalDose = job.cure.criticalDose() / beam.efficiency;  // Etar is asked of the delivered dose
+    aces.criticalDose =
+        job.cure.criticalDose() / beam.efficiency;  // Etar is asked of the delivered dose
     aces.layerThickness = job.layerThickness;
     aces.laserPower = job.laserPower;
     aces.homogeneity = job.homogeneity;
-    aces.edge = job.edgeFivePercent ? plan::AcesEdge::SeedFivePercent : plan::AcesEdge::CureAtContour;
+    aces.edge =
+        job.edgeFivePercent ? plan::AcesEdge::SeedFivePercent : plan::AcesEdge::CureAtContour;
     for (const auto& layer : layers) {
         double top = layer.zBottom + job.layerThickness;
         if (layer.region.empty()) {
@@ -117,9 +127,12 @@ plan::ScanPlan planLayers(const Job& job, const std::vector<geometry::Layer>& la
             plan::AcesDesign design = plan::designAces(aces, layer.region);
             plan.layers.push_back(plan::planAcesLayer(layer.region, design, job.laserPower, top));
             if (!report.contains("aces"))
-                report["aces"] = {{"target_dose_mJ_per_cm2", design.targetDose * beam.efficiency * 100},
-                                  {"hatch_spacing_um", design.hatchSpacing * 1e3}, {"speed_mm_per_s", design.speed},
-                                  {"edge_offset_um", design.edgeOffset * 1e3}, {"ripple", design.ripple}};
+                report["aces"] = {
+                    {"target_dose_mJ_per_cm2", design.targetDose * beam.efficiency * 100},
+                    {"hatch_spacing_um", design.hatchSpacing * 1e3},
+                    {"speed_mm_per_s", design.speed},
+                    {"edge_offset_um", design.edgeOffset * 1e3},
+                    {"ripple", design.ripple}};
         } else {
             plan::LayerPlan lp;
             lp.z = top;
@@ -133,13 +146,15 @@ plan::ScanPlan planLayers(const Job& job, const std::vector<geometry::Layer>& la
     return plan;
 }
 
-} // namespace
+}  // namespace
 
-nlohmann::json runJob(const Job& job, const std::string& outDir, const std::shared_ptr<gpu::Context>& context,
+nlohmann::json runJob(const Job& job, const std::string& outDir,
+                      const std::shared_ptr<gpu::Context>& context,
                       bool exposureShadersOnCpuDevices) {
     createDirectories(outDir);
     StageTimer timer;
-    nlohmann::json report{{"job", job.file}, {"name", job.name},
+    nlohmann::json report{{"job", job.file},
+                          {"name", job.name},
                           {"backend", context ? context->info().name : std::string("cpu")},
                           {"cure", job.cure.toJson()}};
 
@@ -167,21 +182,28 @@ nlohmann::json runJob(const Job& job, const std::string& outDir, const std::shar
     timer.finish("plan");
 
     double margin = job.margin >= 0 ? job.margin : 3.0 * std::max(beam.radius, job.beamRadius);
-    exposure::ExposureGrid grid = exposure::ExposureGrid::covering(bounds.lo.x, bounds.lo.y, bounds.hi.x, bounds.hi.y,
-                                                                   margin, job.voxel, job.slicesPerLayer);
-    const double voxelHeight = job.layerThickness / job.slicesPerLayer, ec = job.cure.criticalDose();
+    exposure::ExposureGrid grid = exposure::ExposureGrid::covering(
+        bounds.lo.x, bounds.lo.y, bounds.hi.x, bounds.hi.y, margin, job.voxel, job.slicesPerLayer);
+    const double voxelHeight = job.layerThickness / job.slicesPerLayer,
+                 ec = job.cure.criticalDose();
     // The fitted kernel runs in the separable engine, the tabulated one in the depth-sliced
     // convolution engine; both in compute shaders when there is a context, else on the CPU.
     std::function<double(const plan::ScanPlan&, const exposure::SliceSink&)> expose;
     std::shared_ptr<gpu::Context> exposureContext =
-        context && (context->info().isHardware() || exposureShadersOnCpuDevices) ? context : nullptr;
+        context && (context->info().isHardware() || exposureShadersOnCpuDevices) ? context
+                                                                                 : nullptr;
     if (table) {
-        auto engine =
-            std::make_shared<exposure::TabulatedExposureEngine>(grid, *table, job.layerThickness, exposureContext);
-        expose = [engine](const plan::ScanPlan& p, const exposure::SliceSink& sink) { return engine->run(p, sink); };
+        auto engine = std::make_shared<exposure::TabulatedExposureEngine>(
+            grid, *table, job.layerThickness, exposureContext);
+        expose = [engine](const plan::ScanPlan& p, const exposure::SliceSink& sink) {
+            return engine->run(p, sink);
+        };
     } else {
-        auto engine = std::make_shared<exposure::ExposureEngine>(grid, beam, job.layerThickness, exposureContext);
-        expose = [engine](const plan::ScanPlan& p, const exposure::SliceSink& sink) { return engine->run(p, sink); };
+        auto engine = std::make_shared<exposure::ExposureEngine>(grid, beam, job.layerThickness,
+                                                                 exposureContext);
+        expose = [engine](const plan::ScanPlan& p, const exposure::SliceSink& sink) {
+            return engine->run(p, sink);
+        };
     }
     exposure::DoseVolume volume(grid, voxelHeight, 0.0, float(0.02 * ec));
     validate::SliceValidator validator(part, grid, ec, voxelHeight);
@@ -196,20 +218,27 @@ nlohmann::json runJob(const Job& job, const std::string& outDir, const std::shar
         validator.add(slice);
         sections.add(slice);
         features.add(slice);
-        sinkSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        sinkSeconds +=
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     });
-    report["exposure"] = {{"backend", exposureContext ? exposureContext->info().name : std::string("cpu")},
-                          {"grid", {grid.nx, grid.ny, int(layers.size()) * job.slicesPerLayer}},
-                          {"voxel_um", {job.voxel * 1e3, job.voxel * 1e3, voxelHeight * 1e3}},
-                          {"engine_seconds", engineSeconds}, {"store_and_compare_seconds", sinkSeconds},
-                          {"max_mJ_per_cm2", volume.maxValue() * 100.0}, {"stored_voxels", volume.activeVoxels()},
-                          {"beam", {{"We3D_um", beam.radius * 1e3}, {"De3D_um", beam.attenuationLength * 1e3},
-                                    {"efficiency", beam.efficiency}}}};
+    report["exposure"] = {
+        {"backend", exposureContext ? exposureContext->info().name : std::string("cpu")},
+        {"grid", {grid.nx, grid.ny, int(layers.size()) * job.slicesPerLayer}},
+        {"voxel_um", {job.voxel * 1e3, job.voxel * 1e3, voxelHeight * 1e3}},
+        {"engine_seconds", engineSeconds},
+        {"store_and_compare_seconds", sinkSeconds},
+        {"max_mJ_per_cm2", volume.maxValue() * 100.0},
+        {"stored_voxels", volume.activeVoxels()},
+        {"beam",
+         {{"We3D_um", beam.radius * 1e3},
+          {"De3D_um", beam.attenuationLength * 1e3},
+          {"efficiency", beam.efficiency}}}};
     if (job.writeVdb) volume.write(outDir + "/exposure.vdb");
     timer.finish("expose");
 
     geometry::Mesh cured = volume.isosurface(float(ec));
-    if (cured.triangles.empty()) throw InputError("nothing cured: the exposure never reaches the critical dose", job.file);
+    if (cured.triangles.empty())
+        throw InputError("nothing cured: the exposure never reaches the critical dose", job.file);
     geometry::writeStl(outDir + "/cured.stl", cured);
     report["cured_volume_mm3"] = cured.volume();
     timer.finish("cure");
@@ -225,7 +254,8 @@ nlohmann::json runJob(const Job& job, const std::string& outDir, const std::shar
     geometry::LevelSet reference = geometry::LevelSet::fromMesh(part, levelSetOptions);
     if (job.writeVdb) reference.save(outDir + "/reference.vdb");
     std::vector<float> deviations = validate::vertexDeviations(cured, reference);
-    validate::SurfaceDeviation deviation = validate::summarizeDeviations(deviations, reference.halfWidth());
+    validate::SurfaceDeviation deviation =
+        validate::summarizeDeviations(deviations, reference.halfWidth());
     report["iou"] = slices.iou;
     report["surface_deviation_mm"] = deviation.toJson();
     report["overcure_below_downfacing_mm"] = slices.overcureBelowDownFacingMedian;
@@ -243,4 +273,4 @@ nlohmann::json runJob(const Job& job, const std::string& outDir, const std::shar
     return report;
 }
 
-} // namespace vpsim::report
+}  // namespace vpsim::report

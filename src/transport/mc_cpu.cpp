@@ -19,9 +19,11 @@ namespace vpsim::glsl {
 #include "rng.glsl"
 // The phase table of the run in progress on this thread (set by each task before tracing).
 thread_local const float* tPhaseTable = nullptr;
-inline float photonPhaseTable(int i) { return tPhaseTable[i]; }
+inline float photonPhaseTable(int i) {
+    return tPhaseTable[i];
+}
 #include "photon_step.glsl"
-} // namespace vpsim::glsl
+}  // namespace vpsim::glsl
 
 namespace vpsim::transport {
 
@@ -50,25 +52,25 @@ void tracePhoton(const glsl::PhotonParams& p, uint32_t index, LocalTally& t) {
             continue;
         }
         switch (event) {
-        case glsl::PHOTON_EVENT_REFLECTED: b.diffuse += weight; break;
-        case glsl::PHOTON_EVENT_TRANSMITTED: b.transmitted += weight; break;
-        case glsl::PHOTON_EVENT_ESCAPED: b.escaped += weight; break;
-        default: {
-            b.absorbed += weight;
-            const float depth[4] = {p.depth0, p.depth1, p.depth2, p.depth3};
-            for (int k = 0; k < 4; ++k)
-                if (s.pos.z < depth[k]) b.absorbedWithin[k] += weight;
-            int bin = glsl::photonRzBin(p, s.pos);
-            if (bin >= 0) t.rz[size_t(bin)] += weight;
-            int voxel = glsl::photonGridVoxel(p, s.pos);
-            if (voxel >= 0) t.grid[size_t(voxel)] += weight;
-        }
+            case glsl::PHOTON_EVENT_REFLECTED: b.diffuse += weight; break;
+            case glsl::PHOTON_EVENT_TRANSMITTED: b.transmitted += weight; break;
+            case glsl::PHOTON_EVENT_ESCAPED: b.escaped += weight; break;
+            default: {
+                b.absorbed += weight;
+                const float depth[4] = {p.depth0, p.depth1, p.depth2, p.depth3};
+                for (int k = 0; k < 4; ++k)
+                    if (s.pos.z < depth[k]) b.absorbedWithin[k] += weight;
+                int bin = glsl::photonRzBin(p, s.pos);
+                if (bin >= 0) t.rz[size_t(bin)] += weight;
+                int voxel = glsl::photonGridVoxel(p, s.pos);
+                if (voxel >= 0) t.grid[size_t(voxel)] += weight;
+            }
         }
         return;
     }
 }
 
-} // namespace
+}  // namespace
 
 McResult runPhotonMcCpu(const McSetup& setup, int threads) {
     validateSetup(setup);
@@ -106,9 +108,10 @@ McResult runPhotonMcCpu(const McSetup& setup, int threads) {
         for (size_t i = 0; i < rzBins; ++i) result.absorbedRZ[i] += local.rz[i];
         for (size_t i = 0; i < voxels; ++i) result.absorbedGrid[i] += local.grid[i];
     }
-    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     result.backend = "cpu (" + std::to_string(threads) + " threads)";
     return result;
 }
 
-} // namespace vpsim::transport
+}  // namespace vpsim::transport

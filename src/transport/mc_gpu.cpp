@@ -23,19 +23,23 @@ constexpr uint64_t MAX_INVOCATIONS = 1u << 18;
 constexpr uint32_t LOCAL_SIZE = 64;  // photon_mc.comp local_size_x
 
 uint32_t invocationsFor(uint64_t photons) {
-    uint64_t n = std::clamp<uint64_t>(photons / PHOTONS_PER_INVOCATION, LOCAL_SIZE, MAX_INVOCATIONS);
-    return uint32_t((n + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE);  // a multiple of MC_BATCHES too
+    uint64_t n =
+        std::clamp<uint64_t>(photons / PHOTONS_PER_INVOCATION, LOCAL_SIZE, MAX_INVOCATIONS);
+    return uint32_t((n + LOCAL_SIZE - 1) / LOCAL_SIZE *
+                    LOCAL_SIZE);  // a multiple of MC_BATCHES too
 }
 
-} // namespace
+}  // namespace
 
 McResult runPhotonMcGpu(const McSetup& setup, const std::shared_ptr<gpu::Context>& context) {
     validateSetup(setup);
     if (!context) throw GpuError("photon Monte Carlo: no Vulkan context");
     const auto& info = context->info();
     if (!info.int64 || !info.int64Atomics)
-        throw GpuError("photon Monte Carlo needs shaderInt64 and shaderBufferInt64Atomics for its exact "
-                       "integer tallies; device '" + info.name + "' lacks them (use --backend cpu)");
+        throw GpuError(
+            "photon Monte Carlo needs shaderInt64 and shaderBufferInt64Atomics for its exact "
+            "integer tallies; device '" +
+            info.name + "' lacks them (use --backend cpu)");
 
     glsl::PhotonParams params = makePhotonParams(setup);
     std::vector<float> table = makePhaseTable(setup);
@@ -46,7 +50,8 @@ McResult runPhotonMcGpu(const McSetup& setup, const std::shared_ptr<gpu::Context
         if (bytes > info.maxStorageBufferRange)
             throw ResourceError("photon Monte Carlo tally of " + formatBytes(double(bytes)) +
                                 " exceeds the device's storage-buffer limit of " +
-                                formatBytes(double(info.maxStorageBufferRange)) + ": use fewer bins");
+                                formatBytes(double(info.maxStorageBufferRange)) +
+                                ": use fewer bins");
 
     auto start = std::chrono::steady_clock::now();
     const uint32_t capacity = uint32_t(std::max<size_t>(table.size(), 1));
@@ -90,7 +95,8 @@ McResult runPhotonMcGpu(const McSetup& setup, const std::shared_ptr<gpu::Context
     }
     result.absorbedRZ.assign(words.begin() + glsl::PHOTON_BIN_OFFSET, words.end());
     if (voxels > 0) result.absorbedGrid = grid.download<uint64_t>(voxels);
-    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     result.backend = info.name;
     return result;
 }
@@ -104,4 +110,4 @@ McResult runPhotonMc(const McSetup& setup, const std::shared_ptr<gpu::Context>& 
     return context ? runPhotonMcGpu(setup, context) : runPhotonMcCpu(setup);
 }
 
-} // namespace vpsim::transport
+}  // namespace vpsim::transport

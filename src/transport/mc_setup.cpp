@@ -17,7 +17,9 @@ void require(bool ok, const std::string& key, const std::string& reason) {
     if (!ok) throw InputError(reason, "", key);
 }
 
-bool finite(double v) { return std::isfinite(v); }
+bool finite(double v) {
+    return std::isfinite(v);
+}
 
 std::string text(double v) {
     std::ostringstream s;
@@ -25,27 +27,35 @@ std::string text(double v) {
     return s.str();
 }
 
-} // namespace
+}  // namespace
 
 void validateSetup(const McSetup& s) {
     const auto& o = s.optics;
-    require(finite(o.mua) && o.mua >= 0, "mua", "absorption coefficient must be >= 0, got " + text(o.mua));
-    require(finite(o.mus) && o.mus >= 0, "mus", "scattering coefficient must be >= 0, got " + text(o.mus));
-    require(finite(o.g) && o.g > -1 && o.g < 1, "g", "anisotropy g must lie in (-1, 1), got " + text(o.g));
+    require(finite(o.mua) && o.mua >= 0, "mua",
+            "absorption coefficient must be >= 0, got " + text(o.mua));
+    require(finite(o.mus) && o.mus >= 0, "mus",
+            "scattering coefficient must be >= 0, got " + text(o.mus));
+    require(finite(o.g) && o.g > -1 && o.g < 1, "g",
+            "anisotropy g must lie in (-1, 1), got " + text(o.g));
     require(finite(o.refractiveIndex) && o.refractiveIndex >= 1, "refractive_index",
             "refractive index of the medium must be >= 1, got " + text(o.refractiveIndex));
     require(finite(s.nAbove) && s.nAbove >= 1, "n_outside", "refractive index above must be >= 1");
     require(finite(s.nBelow) && s.nBelow >= 1, "n_outside", "refractive index below must be >= 1");
-    require(finite(s.thickness) && s.thickness >= 0, "thickness", "thickness must be >= 0 (0 = semi-infinite)");
+    require(finite(s.thickness) && s.thickness >= 0, "thickness",
+            "thickness must be >= 0 (0 = semi-infinite)");
     require(s.thickness > 0 || o.mua > 0 || s.lateralRadius > 0, "mua",
             "a semi-infinite medium needs mua > 0 (or a lateral radius) so that every photon ends");
-    require(finite(s.lateralRadius) && s.lateralRadius >= 0, "lateral_radius", "lateral radius must be >= 0");
+    require(finite(s.lateralRadius) && s.lateralRadius >= 0, "lateral_radius",
+            "lateral radius must be >= 0");
     if (s.beam == BeamShape::Gaussian)
-        require(finite(s.w0) && s.w0 > 0, "w0", "Gaussian beam radius W0 must be > 0, got " + text(s.w0));
+        require(finite(s.w0) && s.w0 > 0, "w0",
+                "Gaussian beam radius W0 must be > 0, got " + text(s.w0));
     require(s.photons >= 1 && s.photons <= MAX_PHOTONS, "photons",
-            "photon count must be between 1 and " + std::to_string(MAX_PHOTONS) + ", got " + std::to_string(s.photons));
+            "photon count must be between 1 and " + std::to_string(MAX_PHOTONS) + ", got " +
+                std::to_string(s.photons));
     if (o.phase == optics::PhaseModel::Tabulated) {
-        require(o.inverseCdf.size() >= 2, "phase", "tabulated phase function needs >= 2 inverse-CDF entries");
+        require(o.inverseCdf.size() >= 2, "phase",
+                "tabulated phase function needs >= 2 inverse-CDF entries");
         for (float c : o.inverseCdf)
             require(std::isfinite(c) && c >= -1.0f && c <= 1.0f, "phase",
                     "inverse-CDF entries must be cos(theta) values in [-1, 1]");
@@ -61,12 +71,14 @@ void validateSetup(const McSetup& s) {
         require(finite(g.voxel) && g.voxel > 0, "grid.voxel", "Cartesian voxel size must be > 0");
         uint64_t voxels = uint64_t(g.nxy) * g.nxy * g.nz;
         if (g.nz == 0 || voxels > MAX_GRID_VOXELS)
-            throw ResourceError("Cartesian absorption grid of " + std::to_string(voxels) + " voxels (" +
-                                formatBytes(double(voxels) * 8) + ") refused: use 1.." +
-                                std::to_string(MAX_GRID_VOXELS) + " voxels");
+            throw ResourceError("Cartesian absorption grid of " + std::to_string(voxels) +
+                                " voxels (" + formatBytes(double(voxels) * 8) +
+                                ") refused: use 1.." + std::to_string(MAX_GRID_VOXELS) + " voxels");
     }
-    require(s.depths.size() <= 4, "depths", "at most 4 depths, got " + std::to_string(s.depths.size()));
-    for (double d : s.depths) require(finite(d) && d > 0, "depths", "depths must be > 0, got " + text(d));
+    require(s.depths.size() <= 4, "depths",
+            "at most 4 depths, got " + std::to_string(s.depths.size()));
+    for (double d : s.depths)
+        require(finite(d) && d > 0, "depths", "depths must be > 0, got " + text(d));
 }
 
 glsl::PhotonParams makePhotonParams(const McSetup& s) {
@@ -75,7 +87,8 @@ glsl::PhotonParams makePhotonParams(const McSetup& s) {
     p.photonStart = 0;
     p.photonEnd = uint32_t(s.photons);
     p.invocationStride = 1;
-    p.beamShape = s.beam == BeamShape::Gaussian ? glsl::PHOTON_BEAM_GAUSSIAN : glsl::PHOTON_BEAM_PENCIL;
+    p.beamShape =
+        s.beam == BeamShape::Gaussian ? glsl::PHOTON_BEAM_GAUSSIAN : glsl::PHOTON_BEAM_PENCIL;
     p.beamW0 = float(s.w0);
     p.mua = float(s.optics.mua);
     p.mus = float(s.optics.mus);
@@ -138,12 +151,15 @@ BatchTally McResult::total() const {
     return t;
 }
 
-uint64_t McResult::launched() const { return total().photons * launchWeight; }
+uint64_t McResult::launched() const {
+    return total().photons * launchWeight;
+}
 
 namespace {
 
 /// Mean over all photons and standard error from the spread of the batch means.
-template <class Get> Fraction batchFraction(const McResult& r, Get get) {
+template <class Get>
+Fraction batchFraction(const McResult& r, Get get) {
     Fraction f;
     uint64_t launched = r.launched();
     if (launched == 0) return f;
@@ -162,17 +178,26 @@ template <class Get> Fraction batchFraction(const McResult& r, Get get) {
     return f;
 }
 
-} // namespace
+}  // namespace
 
-Fraction McResult::specular() const { return batchFraction(*this, [](const BatchTally& b) { return b.specular; }); }
-Fraction McResult::diffuse() const { return batchFraction(*this, [](const BatchTally& b) { return b.diffuse; }); }
+Fraction McResult::specular() const {
+    return batchFraction(*this, [](const BatchTally& b) { return b.specular; });
+}
+Fraction McResult::diffuse() const {
+    return batchFraction(*this, [](const BatchTally& b) { return b.diffuse; });
+}
 Fraction McResult::transmitted() const {
     return batchFraction(*this, [](const BatchTally& b) { return b.transmitted; });
 }
-Fraction McResult::absorbed() const { return batchFraction(*this, [](const BatchTally& b) { return b.absorbed; }); }
-Fraction McResult::escaped() const { return batchFraction(*this, [](const BatchTally& b) { return b.escaped; }); }
+Fraction McResult::absorbed() const {
+    return batchFraction(*this, [](const BatchTally& b) { return b.absorbed; });
+}
+Fraction McResult::escaped() const {
+    return batchFraction(*this, [](const BatchTally& b) { return b.escaped; });
+}
 Fraction McResult::absorbedWithin(size_t k) const {
-    if (k >= 4) throw InputError("depth index " + std::to_string(k) + " out of range 0..3", "", "depths");
+    if (k >= 4)
+        throw InputError("depth index " + std::to_string(k) + " out of range 0..3", "", "depths");
     return batchFraction(*this, [k](const BatchTally& b) { return b.absorbedWithin[k]; });
 }
 
@@ -181,11 +206,14 @@ double McResult::scatteringsPerPhoton() const {
     return t.photons ? double(t.scatterings) / double(t.photons) : 0.0;
 }
 
-double McResult::photonsPerSecond() const { return seconds > 0 ? double(total().photons) / seconds : 0.0; }
+double McResult::photonsPerSecond() const {
+    return seconds > 0 ? double(total().photons) / seconds : 0.0;
+}
 
 bool McResult::energyBalanced() const {
     BatchTally t = total();
-    return t.photons * launchWeight == t.specular + t.diffuse + t.transmitted + t.absorbed + t.escaped;
+    return t.photons * launchWeight ==
+           t.specular + t.diffuse + t.transmitted + t.absorbed + t.escaped;
 }
 
 nlohmann::json McResult::summaryJson() const {
@@ -221,4 +249,4 @@ nlohmann::json McResult::summaryJson() const {
     return j;
 }
 
-} // namespace vpsim::transport
+}  // namespace vpsim::transport

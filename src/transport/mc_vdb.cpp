@@ -30,7 +30,9 @@ void writeAbsorptionVdb(const std::string& path, const McResult& result) {
         for (uint32_t iy = 0; iy < g.nxy; ++iy)
             for (uint32_t ix = 0; ix < g.nxy; ++ix) {
                 uint64_t q = result.absorbedGrid[(uint64_t(iz) * g.nxy + iy) * g.nxy + ix];
-                if (q) access.setValue(openvdb::Coord(int(ix) - half, int(iy) - half, int(iz)), float(q * scale));
+                if (q)
+                    access.setValue(openvdb::Coord(int(ix) - half, int(iy) - half, int(iz)),
+                                    float(q * scale));
             }
     writePathAtomic(path, [&](const std::string& temp) {
         openvdb::io::File file(temp);
@@ -39,4 +41,4 @@ void writeAbsorptionVdb(const std::string& path, const McResult& result) {
     });
 }
 
-} // namespace vpsim::transport
+}  // namespace vpsim::transport

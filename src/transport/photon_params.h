@@ -33,4 +33,4 @@ std::vector<float> makePhaseTable(const McSetup& setup);
 /// Photons of batch b among photon indices [0, photons).
 uint64_t photonsInBatch(uint64_t photons, int batch);
 
-} // namespace vpsim::transport
+}  // namespace vpsim::transport

@@ -48,8 +48,8 @@ struct SliceValidator::State {
     }
 };
 
-SliceValidator::SliceValidator(const geometry::Mesh& part, const exposure::ExposureGrid& grid, double criticalDose,
-                               double voxelHeight)
+SliceValidator::SliceValidator(const geometry::Mesh& part, const exposure::ExposureGrid& grid,
+                               double criticalDose, double voxelHeight)
     : mState(std::make_unique<State>(part, grid, criticalDose, voxelHeight)) {
     if (!(criticalDose > 0)) throw InputError("validation needs a positive critical dose");
     if (!(voxelHeight > 0)) throw InputError("validation needs a positive voxel height");
@@ -60,7 +60,8 @@ SliceValidator::~SliceValidator() = default;
 void SliceValidator::add(const exposure::ExposureSlice& slice) {
     State& s = *mState;
     const std::vector<float>& dose = slice.values->values;
-    if (dose.size() != s.referenceAbove.size()) throw ResourceError("exposure slice does not match the validation grid");
+    if (dose.size() != s.referenceAbove.size())
+        throw ResourceError("exposure slice does not match the validation grid");
     geometry::PolygonSet region = geometry::sliceAt(s.part, slice.z);
     std::vector<uint8_t> reference = geometry::rasterizeBinary(region, s.raster);
     uint64_t inter = 0, curedHere = 0, referenceHere = 0;
@@ -79,8 +80,10 @@ void SliceValidator::add(const exposure::ExposureSlice& slice) {
                 s.run[c] = 0;
             }
             if (s.inRun[c]) {
-                if (cu) s.run[c] += float(s.voxelHeight);
-                else s.finishRun(c);
+                if (cu)
+                    s.run[c] += float(s.voxelHeight);
+                else
+                    s.finishRun(c);
             }
         }
         s.referenceAbove[c] = r;
@@ -135,17 +138,21 @@ SliceValidationSummary SliceValidator::summary() const {
 nlohmann::json SliceValidationSummary::toJson() const {
     nlohmann::json perLayer = nlohmann::json::array();
     for (const auto& l : layers)
-        perLayer.push_back({{"layer", l.layer}, {"z", l.z}, {"reference_area_mm2", l.referenceArea},
-                            {"cured_area_mm2", l.curedArea}, {"xy_contour_error_mm", l.xyContourError()}});
+        perLayer.push_back({{"layer", l.layer},
+                            {"z", l.z},
+                            {"reference_area_mm2", l.referenceArea},
+                            {"cured_area_mm2", l.curedArea},
+                            {"xy_contour_error_mm", l.xyContourError()}});
     return {{"iou", iou},
             {"cured_volume_mm3", curedVolume},
             {"reference_volume_mm3", referenceVolume},
-            {"overcure_below_downfacing_mm", {{"median", overcureBelowDownFacingMedian},
-                                              {"max", overcureBelowDownFacingMax},
-                                              {"mean", overcureBelowDownFacingMean},
-                                              {"columns", downFacingColumns}}},
+            {"overcure_below_downfacing_mm",
+             {{"median", overcureBelowDownFacingMedian},
+              {"max", overcureBelowDownFacingMax},
+              {"mean", overcureBelowDownFacingMean},
+              {"columns", downFacingColumns}}},
             {"xy_contour_error_mm", {{"mean", xyContourErrorMean}, {"max", xyContourErrorMax}}},
             {"layers", perLayer}};
 }
 
-} // namespace vpsim::validate
+}  // namespace vpsim::validate

@@ -9,13 +9,15 @@
 
 namespace vpsim::validate {
 
-std::vector<float> vertexDeviations(const geometry::Mesh& cured, const geometry::LevelSet& reference) {
+std::vector<float> vertexDeviations(const geometry::Mesh& cured,
+                                    const geometry::LevelSet& reference) {
     std::vector<float> deviations;
     reference.sample(cured.vertices, deviations);
     return deviations;
 }
 
-SurfaceDeviation measureSurfaceDeviation(const geometry::Mesh& cured, const geometry::LevelSet& reference) {
+SurfaceDeviation measureSurfaceDeviation(const geometry::Mesh& cured,
+                                         const geometry::LevelSet& reference) {
     if (cured.vertices.empty()) throw InputError("nothing cured: the cured surface is empty");
     return summarizeDeviations(vertexDeviations(cured, reference), reference.halfWidth());
 }
@@ -43,8 +45,8 @@ SurfaceDeviation summarizeDeviations(const std::vector<float>& d, double bandHal
 }
 
 nlohmann::json SurfaceDeviation::toJson() const {
-    return {{"mean", mean}, {"rms", rms}, {"p95", p95}, {"max", max}, {"samples", samples},
-            {"beyond_band", beyondBand}};
+    return {{"mean", mean}, {"rms", rms},         {"p95", p95},
+            {"max", max},   {"samples", samples}, {"beyond_band", beyondBand}};
 }
 
-} // namespace vpsim::validate
+}  // namespace vpsim::validate

@@ -19,10 +19,11 @@ std::string writeTemp(const std::string& name, const std::string& text) {
     return path.string();
 }
 
-} // namespace
+}  // namespace
 
 TEST_CASE("config values are read with units and unknown keys are errors", "[core][config]") {
-    std::string path = writeTemp("job.json", R"({"laser": {"power": "10 mW", "w0": "50 um"}, "layers": 4})");
+    std::string path =
+        writeTemp("job.json", R"({"laser": {"power": "10 mW", "w0": "50 um"}, "layers": 4})");
     ConfigNode config = ConfigNode::load(path);
     ConfigNode laser = config.child("laser");
     CHECK(laser.quantity("power", dim::POWER) == Approx(10.0));
@@ -34,16 +35,19 @@ TEST_CASE("config values are read with units and unknown keys are errors", "[cor
     std::string typo = writeTemp("typo.json", R"({"laser": {"powr": "10 mW"}})");
     ConfigNode bad = ConfigNode::load(typo);
     bad.child("laser").quantity("power", dim::POWER, 1.0);
-    CHECK_THROWS_WITH(bad.checkUnknownKeys(), Contains("typo.json") && Contains("laser.powr") &&
-                                                  Contains("unknown key"));
+    CHECK_THROWS_WITH(bad.checkUnknownKeys(),
+                      Contains("typo.json") && Contains("laser.powr") && Contains("unknown key"));
 }
 
 TEST_CASE("config type, range and choice errors name the key", "[core][config]") {
-    ConfigNode config(nlohmann::json::parse(R"({"a": "x", "f": 1.5, "mode": "zig", "w": "3 mW"})"), "c.json");
-    CHECK_THROWS_WITH(config.number("a"), Contains("c.json") && Contains("'a'") && Contains("expected a number"));
+    ConfigNode config(nlohmann::json::parse(R"({"a": "x", "f": 1.5, "mode": "zig", "w": "3 mW"})"),
+                      "c.json");
+    CHECK_THROWS_WITH(config.number("a"),
+                      Contains("c.json") && Contains("'a'") && Contains("expected a number"));
     CHECK_THROWS_WITH(config.numberInRange("f", 0.0, 1.0), Contains("outside the allowed range"));
     CHECK_THROWS_WITH(config.choice("mode", {"raster", "aces"}), Contains("raster, aces"));
-    CHECK_THROWS_WITH(config.quantity("w", dim::LENGTH), Contains("'w'") && Contains("expected length"));
+    CHECK_THROWS_WITH(config.quantity("w", dim::LENGTH),
+                      Contains("'w'") && Contains("expected length"));
     CHECK_THROWS_WITH(config.quantity("nothere", dim::LENGTH), Contains("missing required key"));
 }
 

@@ -62,7 +62,8 @@ TEST_CASE("RNG streams are reproducible and distinct", "[core][rng]") {
     // Stream k of a batch starting at 10 equals stream 10+k of a batch starting at 0.
     auto shifted = rngStreamsCpu(1u, 10u, 4u, 8u, 0u);
     CHECK(std::equal(shifted.begin(), shifted.end(), a.begin() + 10 * 8));
-    // Adjacent streams must not be correlated: compare first words bitwise (expected 16 of 32 bits differ).
+    // Adjacent streams must not be correlated: compare first words bitwise (expected 16 of 32 bits
+    // differ).
     double differing = 0;
     for (int k = 0; k + 1 < 64; ++k) differing += __builtin_popcount(a[k * 8] ^ a[(k + 1) * 8]);
     CHECK(differing / 63.0 == Approx(16.0).margin(2.0));

@@ -62,24 +62,26 @@ TEST_CASE("Calibration standard errors match a hand-computed regression", "[cure
     const double varLnEc = g1 * g1 * 5e-5 + g2 * g2 * 1.75e-4 + 2.0 * g1 * g2 * -7.5e-5;
     REQUIRE(fit.criticalDose == Approx(std::exp(-0.105 / 0.33)).epsilon(1e-12));
     REQUIRE(fit.lnCriticalDoseStderr == Approx(std::sqrt(varLnEc)).epsilon(1e-10));
-    REQUIRE(fit.criticalDoseStderr == Approx(std::exp(-0.105 / 0.33) * std::sqrt(varLnEc)).epsilon(1e-10));
+    REQUIRE(fit.criticalDoseStderr ==
+            Approx(std::exp(-0.105 / 0.33) * std::sqrt(varLnEc)).epsilon(1e-10));
     FppCalibration fpp = fppFromWorkingCurve(fit, 0.276);
     REQUIRE(fpp.rateConstantStderr == Approx(fpp.rateConstant * std::sqrt(varLnEc)).epsilon(1e-10));
     REQUIRE(fpp.attenuationStderr == Approx(std::sqrt(5e-5) / (0.33 * 0.33)).epsilon(1e-12));
 }
 
 TEST_CASE("Working-curve CSV: units from the header", "[cure]") {
-    WorkingCurveData a = parseWorkingCurveCsv("# comment\n\ndose_mJ_per_cm2,thickness_mm\n100,0.2\r\n200,0.4\n400,0.6\n",
-                                              "a.csv");
+    WorkingCurveData a = parseWorkingCurveCsv(
+        "# comment\n\ndose_mJ_per_cm2,thickness_mm\n100,0.2\r\n200,0.4\n400,0.6\n", "a.csv");
     REQUIRE(a.dose == std::vector<double>{1.0, 2.0, 4.0});  // mJ/cm^2 -> mJ/mm^2 (exact /100)
     REQUIRE(a.cureDepth[2] == 0.6);
     REQUIRE(a.line == std::vector<int>{4, 5, 6});
     REQUIRE(a.doseColumn == "dose_mJ_per_cm2");
-    WorkingCurveData b =
-        parseWorkingCurveCsv("sample,Cd (um),Exposure [mJ/mm^2]\nS1,200,1\nS2,400,2\nS3,600,4\n", "b.csv");
+    WorkingCurveData b = parseWorkingCurveCsv(
+        "sample,Cd (um),Exposure [mJ/mm^2]\nS1,200,1\nS2,400,2\nS3,600,4\n", "b.csv");
     REQUIRE(b.dose == std::vector<double>{1.0, 2.0, 4.0});
     REQUIRE(b.cureDepth[0] == Approx(0.2).epsilon(1e-15));
-    WorkingCurveData c = parseWorkingCurveCsv("cure_depth_um,dose_J_per_cm2\n200,1\n400,2\n600,4\n", "c.csv");
+    WorkingCurveData c =
+        parseWorkingCurveCsv("cure_depth_um,dose_J_per_cm2\n200,1\n400,2\n600,4\n", "c.csv");
     REQUIRE(c.dose[0] == Approx(10.0).epsilon(1e-15));  // 1 J/cm^2 = 10 mJ/mm^2
 }
 
@@ -94,32 +96,42 @@ std::string csvError(const std::string& text) {
     return "no error";
 }
 
-} // namespace
+}  // namespace
 
-TEST_CASE("Malformed working-curve CSVs give one clear error naming file, line and reason", "[cure]") {
+TEST_CASE("Malformed working-curve CSVs give one clear error naming file, line and reason",
+          "[cure]") {
     using Catch::Contains;
     const std::string header = "dose_mJ_per_cm2,thickness_mm\n";
-    CHECK_THAT(csvError("dose_mJ_per_cm2,width_mm\n1,2\n"), Contains("wc.csv:1") && Contains("no cure depth column"));
+    CHECK_THAT(csvError("dose_mJ_per_cm2,width_mm\n1,2\n"),
+               Contains("wc.csv:1") && Contains("no cure depth column"));
     CHECK_THAT(csvError("time_s,thickness_mm\n1,2\n"), Contains("no dose column"));
     CHECK_THAT(csvError("dose,thickness_mm\n1,2\n"), Contains("'dose' carries no dose"));
     CHECK_THAT(csvError("dose_mm,thickness_mm\n1,2\n"), Contains("carries no dose"));
-    CHECK_THAT(csvError("dose_mJ_per_cm2,exposure_mJ_per_cm2,thickness_mm\n"), Contains("more than one dose"));
+    CHECK_THAT(csvError("dose_mJ_per_cm2,exposure_mJ_per_cm2,thickness_mm\n"),
+               Contains("more than one dose"));
     CHECK_THAT(csvError(header + "104,0.19\n156,abc\n260,0.5\n"),
                Contains("wc.csv:3") && Contains("non-numeric cell 'abc'"));
-    CHECK_THAT(csvError(header + "104,0.19\n156\n260,0.5\n"), Contains("wc.csv:3") && Contains("expected 2 cells"));
-    CHECK_THAT(csvError(header + "104,0.19\n,0.3\n260,0.5\n"), Contains("wc.csv:3") && Contains("empty cell"));
-    CHECK_THAT(csvError(header + "104,0.19\n0,0.3\n260,0.5\n"), Contains("wc.csv:3") && Contains("dose must be positive"));
+    CHECK_THAT(csvError(header + "104,0.19\n156\n260,0.5\n"),
+               Contains("wc.csv:3") && Contains("expected 2 cells"));
+    CHECK_THAT(csvError(header + "104,0.19\n,0.3\n260,0.5\n"),
+               Contains("wc.csv:3") && Contains("empty cell"));
+    CHECK_THAT(csvError(header + "104,0.19\n0,0.3\n260,0.5\n"),
+               Contains("wc.csv:3") && Contains("dose must be positive"));
     CHECK_THAT(csvError(header + "104,0.19\n-5,0.3\n260,0.5\n"), Contains("dose must be positive"));
-    CHECK_THAT(csvError(header + "104,0.19\n156,0\n260,0.5\n"), Contains("cure depth must be positive"));
-    CHECK_THAT(csvError(header + "104,0.19\n156,0.3\n"), Contains("wc.csv:3") && Contains("at least 3"));
+    CHECK_THAT(csvError(header + "104,0.19\n156,0\n260,0.5\n"),
+               Contains("cure depth must be positive"));
+    CHECK_THAT(csvError(header + "104,0.19\n156,0.3\n"),
+               Contains("wc.csv:3") && Contains("at least 3"));
     CHECK_THAT(csvError("# only comments\n"), Contains("wc.csv") && Contains("no header"));
     CHECK_THAT(csvError(header + "1e999,0.2\n2,0.3\n3,0.4\n"), Contains("non-numeric"));
 }
 
 TEST_CASE("Working-curve files: missing file and degenerate data", "[cure]") {
-    REQUIRE_THROWS_WITH(loadWorkingCurveCsv("/nonexistent/wc.csv"), Catch::Contains("/nonexistent/wc.csv"));
+    REQUIRE_THROWS_WITH(loadWorkingCurveCsv("/nonexistent/wc.csv"),
+                        Catch::Contains("/nonexistent/wc.csv"));
     // A file on disk: the message names its path.
-    std::filesystem::path path = std::filesystem::temp_directory_path() / "vpsim_test_cure_bad_wc.csv";
+    std::filesystem::path path =
+        std::filesystem::temp_directory_path() / "vpsim_test_cure_bad_wc.csv";
     {
         std::ofstream out(path);
         out << "dose_mJ_per_cm2,thickness_mm\n100,0.2\n200,x\n";
@@ -127,9 +139,12 @@ TEST_CASE("Working-curve files: missing file and degenerate data", "[cure]") {
     REQUIRE_THROWS_WITH(loadWorkingCurveCsv(path.string()), Catch::Contains(path.string() + ":3"));
     std::filesystem::remove(path);
     // All doses equal, depth falling with dose, too few points, mismatched lengths.
-    REQUIRE_THROWS_WITH(fitWorkingCurve({1, 1, 1}, {0.1, 0.2, 0.3}), Catch::Contains("all doses are equal"));
-    REQUIRE_THROWS_WITH(fitWorkingCurve({1, 2, 4}, {0.3, 0.2, 0.1}), Catch::Contains("does not grow"));
+    REQUIRE_THROWS_WITH(fitWorkingCurve({1, 1, 1}, {0.1, 0.2, 0.3}),
+                        Catch::Contains("all doses are equal"));
+    REQUIRE_THROWS_WITH(fitWorkingCurve({1, 2, 4}, {0.3, 0.2, 0.1}),
+                        Catch::Contains("does not grow"));
     REQUIRE_THROWS_AS(fitWorkingCurve({1, 2}, {0.1, 0.2}), InputError);
     REQUIRE_THROWS_AS(fitWorkingCurve({1, 2, 3}, {0.1, 0.2}), InputError);
-    REQUIRE_THROWS_AS(fppFromWorkingCurve(fitWorkingCurve({1, 2, 4}, {0.1, 0.2, 0.3}), 1.0), InputError);
+    REQUIRE_THROWS_AS(fppFromWorkingCurve(fitWorkingCurve({1, 2, 4}, {0.1, 0.2, 0.3}), 1.0),
+                      InputError);
 }

@@ -13,17 +13,20 @@ using nlohmann::json;
 
 TEST_CASE("Cure sections load with units and alternative parameterisations", "[cure]") {
     // 0.00528 cm^2/mJ = 0.528 mm^2/mJ; unit conversion is exact up to rounding (1e-12 rel).
-    CureModel a = cureModelFromJson(
-        json{{"model", "fpp"}, {"K", "0.00528 cm^2/mJ"}, {"gel_point", 0.276}, {"penetration_depth", "366 um"}});
+    CureModel a = cureModelFromJson(json{{"model", "fpp"},
+                                         {"K", "0.00528 cm^2/mJ"},
+                                         {"gel_point", 0.276},
+                                         {"penetration_depth", "366 um"}});
     REQUIRE(a.kind() == CureModelKind::Fpp);
     REQUIRE(a.rateConstant() == Approx(0.528).epsilon(1e-12));
     REQUIRE(a.penetrationDepth() == Approx(0.366).epsilon(1e-12));
 
     // Same resin given by its critical dose and attenuation instead of K and Dp.
-    CureModel b = cureModelFromJson(json{{"model", "fpp"},
-                                         {"critical_dose", std::to_string(100.0 * a.criticalDose()) + " mJ/cm^2"},
-                                         {"gel_point", 0.276},
-                                         {"attenuation", std::to_string(10.0 / 0.366) + " /cm"}});
+    CureModel b = cureModelFromJson(
+        json{{"model", "fpp"},
+             {"critical_dose", std::to_string(100.0 * a.criticalDose()) + " mJ/cm^2"},
+             {"gel_point", 0.276},
+             {"attenuation", std::to_string(10.0 / 0.366) + " /cm"}});
     REQUIRE(b.rateConstant() == Approx(0.528).epsilon(1e-6));  // to_string keeps 6 decimals
     REQUIRE(b.penetrationDepth() == Approx(0.366).epsilon(1e-6));
 
@@ -42,9 +45,11 @@ TEST_CASE("Cure sections load with units and alternative parameterisations", "[c
 }
 
 TEST_CASE("A cure section inside a material file marks its keys read for the parent", "[cure]") {
-    ConfigNode root(json{{"wavelength", "405 nm"},
-                         {"cure", {{"model", "threshold"}, {"critical_dose", 0.61}, {"penetration_depth", 0.366}}}},
-                    "resin.json");
+    ConfigNode root(
+        json{{"wavelength", "405 nm"},
+             {"cure",
+              {{"model", "threshold"}, {"critical_dose", 0.61}, {"penetration_depth", 0.366}}}},
+        "resin.json");
     root.quantity("wavelength", dim::LENGTH);
     CureModel model = cureModelFromConfig(root, "cure");
     REQUIRE(model.criticalDose() == 0.61);
@@ -63,7 +68,7 @@ std::string errorFor(const json& section) {
     return "no error";
 }
 
-} // namespace
+}  // namespace
 
 TEST_CASE("Bad cure sections give one clear error naming the file and key", "[cure]") {
     using Catch::Contains;
@@ -72,16 +77,19 @@ TEST_CASE("Bad cure sections give one clear error naming the file and key", "[cu
         section.update(extra);
         return section;
     };
-    CHECK_THAT(errorFor(fpp({{"Kx", 1.0}})), Contains("resin.json") && Contains("cure.Kx") && Contains("unknown key"));
+    CHECK_THAT(errorFor(fpp({{"Kx", 1.0}})),
+               Contains("resin.json") && Contains("cure.Kx") && Contains("unknown key"));
     CHECK_THAT(errorFor(json{{"K", 0.5}}), Contains("cure.model"));
-    CHECK_THAT(errorFor(json{{"model", "arrhenius"}}), Contains("cure.model") && Contains("threshold, fpp"));
+    CHECK_THAT(errorFor(json{{"model", "arrhenius"}}),
+               Contains("cure.model") && Contains("threshold, fpp"));
     CHECK_THAT(errorFor(fpp({{"K", "10 mJ"}})), Contains("cure.K"));
     CHECK_THAT(errorFor(fpp({{"K", -0.5}})), Contains("cure.K") && Contains("positive"));
     CHECK_THAT(errorFor(fpp({{"gel_point", 1.2}})), Contains("cure.gel_point"));
     CHECK_THAT(errorFor(fpp({{"critical_dose", 0.6}})), Contains("exactly one of K"));
     CHECK_THAT(errorFor(fpp({{"penetration_depth", "0.3 mm"}, {"attenuation", "3 /mm"}})),
                Contains("not both"));
-    CHECK_THAT(errorFor(fpp({{"penetration_depth", "-0.3 mm"}})), Contains("cure.penetration_depth"));
+    CHECK_THAT(errorFor(fpp({{"penetration_depth", "-0.3 mm"}})),
+               Contains("cure.penetration_depth"));
     CHECK_THAT(errorFor(json{{"model", "threshold"}, {"critical_dose", 0.6}, {"gel_point", 0.3}}),
                Contains("cure.gel_point") && Contains("unknown key"));
     CHECK_THAT(errorFor(json::array({1, 2})), Contains("resin.json") && Contains("JSON object"));

@@ -13,8 +13,9 @@ TEST_CASE("Cure mask and conversion field agree with the scalar model", "[cure]"
     CureModel fpp = CureModel::fpp(0.528, 0.276);
     const float level = float(fpp.criticalDose());
     // Edge cases: exactly at the iso-level, just below, zero, negative, NaN, huge.
-    std::vector<float> dose = {level, std::nextafter(level, 0.0f), 0.0f, -1.0f,
-                               std::numeric_limits<float>::quiet_NaN(), 1e30f};
+    std::vector<float> dose = {
+        level, std::nextafter(level, 0.0f), 0.0f, -1.0f, std::numeric_limits<float>::quiet_NaN(),
+        1e30f};
     std::vector<uint8_t> mask = cureMask(fpp, dose);
     REQUIRE(mask == std::vector<uint8_t>{1, 0, 0, 0, 0, 1});
     std::vector<float> phi = conversionField(fpp, dose);
@@ -24,7 +25,8 @@ TEST_CASE("Cure mask and conversion field agree with the scalar model", "[cure]"
     REQUIRE(phi[5] == 1.0f);
 
     CureModel threshold = CureModel::threshold(0.61);
-    REQUIRE(conversionField(threshold, std::vector<float>{0.6f, 0.61f, 2.0f}) == std::vector<float>{0, 1, 1});
+    REQUIRE(conversionField(threshold, std::vector<float>{0.6f, 0.61f, 2.0f}) ==
+            std::vector<float>{0, 1, 1});
 }
 
 TEST_CASE("Threaded cure of a large array matches the per-voxel model", "[cure]") {

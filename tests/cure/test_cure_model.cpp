@@ -11,12 +11,14 @@
 using namespace vpsim;
 using namespace vpsim::cure;
 
-TEST_CASE("FPP cure depth (Eq. 2) equals the Jacobs working curve with Dp = 1/mu, Ec = ln(1/(1-Phi_c))/K",
-          "[cure]") {
-    // Both are closed forms of the same gel condition; they may differ only by rounding (1e-12 rel).
-    for (double k : {0.05, 0.528, 3.0})             // mm^2/mJ
-        for (double mu : {0.5, 2.73, 40.0})         // 1/mm
-            for (double gel : {0.05, 0.276, 0.9})   // Phi_c
+TEST_CASE(
+    "FPP cure depth (Eq. 2) equals the Jacobs working curve with Dp = 1/mu, Ec = ln(1/(1-Phi_c))/K",
+    "[cure]") {
+    // Both are closed forms of the same gel condition; they may differ only by rounding (1e-12
+    // rel).
+    for (double k : {0.05, 0.528, 3.0})            // mm^2/mJ
+        for (double mu : {0.5, 2.73, 40.0})        // 1/mm
+            for (double gel : {0.05, 0.276, 0.9})  // Phi_c
                 for (double factor : {1.001, 2.0, 17.0, 1e4}) {
                     double ec = fppGelDose(k, gel);
                     double dose = factor * ec;
@@ -32,7 +34,8 @@ TEST_CASE("FPP gel dose of the seed 001 resin gel point", "[cure]") {
     // Hand value: ln(1/(1-0.276)) = -ln(0.724) = 0.3229638865964207 (computed independently).
     REQUIRE(fppGelDose(1.0, 0.276) == Approx(0.3229638865964207).epsilon(1e-15));
     REQUIRE(fppGelDose(0.5, 0.276) == Approx(2.0 * 0.3229638865964207).epsilon(1e-15));
-    REQUIRE(fppRateConstantFromCriticalDose(fppGelDose(0.37, 0.4), 0.4) == Approx(0.37).epsilon(1e-15));
+    REQUIRE(fppRateConstantFromCriticalDose(fppGelDose(0.37, 0.4), 0.4) ==
+            Approx(0.37).epsilon(1e-15));
 }
 
 TEST_CASE("Conversion and cure depth are monotonic in dose and depth", "[cure]") {
@@ -71,7 +74,8 @@ TEST_CASE("CureModel: iso-level, conversion and cure depth", "[cure]") {
     REQUIRE(fpp.conversion(fpp.criticalDose()) == Approx(0.276).epsilon(1e-13));
     REQUIRE(fpp.isCured(fpp.criticalDose()));
     REQUIRE_FALSE(fpp.isCured(std::nextafter(fpp.criticalDose(), 0.0)));
-    REQUIRE(fpp.cureDepth(10.0 * fpp.criticalDose()) == Approx(0.366 * std::log(10.0)).epsilon(1e-14));
+    REQUIRE(fpp.cureDepth(10.0 * fpp.criticalDose()) ==
+            Approx(0.366 * std::log(10.0)).epsilon(1e-14));
 
     CureModel threshold = CureModel::threshold(0.6, 0.366);
     REQUIRE(threshold.kindName() == "threshold");

@@ -30,10 +30,11 @@ DlpColumnProblem seedResin(double maxDose) {
 
 const double GEL = 0.3229638865964207;  // ln(1/(1-0.276)), computed independently
 
-} // namespace
+}  // namespace
 
 TEST_CASE("DLP: bonding dose (Eq. 10) and transmission matrix (Eq. 7) by hand", "[cure]") {
-    // mu Le = ln 2 makes every attenuation factor a power of 1/2: exact in binary (tolerance 1e-15).
+    // mu Le = ln 2 makes every attenuation factor a power of 1/2: exact in binary (tolerance
+    // 1e-15).
     const double le = std::log(2.0);
     REQUIRE(bondingDose(1.0, 1.0, 0.276, le) == Approx(2.0 * GEL).epsilon(1e-15));
     REQUIRE(bondingDose(1.0, 1.0, 0.276, le, 2) == Approx(4.0 * GEL).epsilon(1e-15));
@@ -53,7 +54,8 @@ TEST_CASE("DLP: O(n) products equal the dense transmission matrix", "[cure]") {
     std::vector<double> d(n), v(n);
     for (size_t i = 0; i < n; ++i) d[i] = uniform(rng), v[i] = uniform(rng) - 1.0;
     std::vector<double> t = transmissionMatrix(n, le, k, mu);
-    std::vector<double> td = applyTransmission(d, le, k, mu), ttv = applyTransmissionTransposed(v, le, k, mu);
+    std::vector<double> td = applyTransmission(d, le, k, mu),
+                        ttv = applyTransmissionTransposed(v, le, k, mu);
     for (size_t p = 0; p < n; ++p) {
         double rowSum = 0.0, columnSum = 0.0;
         for (size_t r = 0; r < n; ++r) {
@@ -108,7 +110,8 @@ TEST_CASE("DLP: with inactive bounds the solve reaches T^-1 phi_obj", "[cure]") 
     DlpColumnResult r = optimiseColumnDosesForPattern(solid, solid, p);
     REQUIRE(r.converged);
     const double phi = std::log(0.05), a = std::exp(-p.attenuation * p.layerThickness);
-    for (size_t k = 0; k + 1 < n; ++k) REQUIRE(r.dose[k] == Approx(-(phi - a * phi) / p.rateConstant).epsilon(1e-8));
+    for (size_t k = 0; k + 1 < n; ++k)
+        REQUIRE(r.dose[k] == Approx(-(phi - a * phi) / p.rateConstant).epsilon(1e-8));
     REQUIRE(r.dose[n - 1] == Approx(-phi / p.rateConstant).epsilon(1e-8));
     for (double c : r.conversion) REQUIRE(c == Approx(0.95).epsilon(1e-9));
     REQUIRE(r.objective < 1e-14);
@@ -135,9 +138,11 @@ TEST_CASE("DLP: the constrained solve satisfies the KKT conditions", "[cure]") {
     std::vector<double> lower, upper;
     REQUIRE(exposureBounds(solid, solid, p, lower, upper));
     std::vector<double> target = objectivePhotopolymerisation(solid, p.targetConversion, p.penalty);
-    std::vector<double> phi = applyTransmission(r.dose, p.layerThickness, p.rateConstant, p.attenuation);
+    std::vector<double> phi =
+        applyTransmission(r.dose, p.layerThickness, p.rateConstant, p.attenuation);
     for (size_t k = 0; k < phi.size(); ++k) phi[k] -= target[k];
-    std::vector<double> g = applyTransmissionTransposed(phi, p.layerThickness, p.rateConstant, p.attenuation);
+    std::vector<double> g =
+        applyTransmissionTransposed(phi, p.layerThickness, p.rateConstant, p.attenuation);
     double scale = 0.0;
     for (double v : g) scale = std::max(scale, std::abs(v));
     const double tol = 1e-6 * std::max(scale, 1.0);
@@ -190,7 +195,8 @@ TEST_CASE("DLP: optimised overhang grows less than the uniform 78 mJ/cm^2 plan",
         // Never worse than exposing every solid layer (the search's starting pattern).
         REQUIRE(r.objective <= optimiseColumnDosesForPattern(solid, solid, p).objective);
         double g = growth(r.dose);
-        INFO("penalty " << penalty << ": growth " << g << " mm vs uniform " << uniformGrowth << " mm");
+        INFO("penalty " << penalty << ": growth " << g << " mm vs uniform " << uniformGrowth
+                        << " mm");
         REQUIRE(g < uniformGrowth);
         REQUIRE(g <= previousGrowth + 1e-9);
         previousGrowth = g;
@@ -199,7 +205,8 @@ TEST_CASE("DLP: optimised overhang grows less than the uniform 78 mJ/cm^2 plan",
 
 TEST_CASE("DLP: bad problems give clear errors", "[cure]") {
     using Catch::Contains;
-    REQUIRE_THROWS_WITH(optimiseColumnDoses({1, 1}, seedResin(0.5)), Contains("below the bonding dose"));
+    REQUIRE_THROWS_WITH(optimiseColumnDoses({1, 1}, seedResin(0.5)),
+                        Contains("below the bonding dose"));
     DlpColumnProblem p = seedResin(2.0);
     p.targetConversion = 1.0;
     REQUIRE_THROWS_WITH(optimiseColumnDoses({1}, p), Contains("target conversion"));
@@ -209,5 +216,6 @@ TEST_CASE("DLP: bad problems give clear errors", "[cure]") {
     p = seedResin(2.0);
     p.layerThickness = 0.0;
     REQUIRE_THROWS_WITH(optimiseColumnDoses({1}, p), Contains("layer thickness"));
-    REQUIRE_THROWS_WITH(optimiseColumnDosesForPattern({1, 1}, {1}, seedResin(2.0)), Contains("length"));
+    REQUIRE_THROWS_WITH(optimiseColumnDosesForPattern({1, 1}, {1}, seedResin(2.0)),
+                        Contains("length"));
 }

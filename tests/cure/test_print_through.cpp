@@ -23,9 +23,11 @@ TEST_CASE("Accumulated layer doses: recursion equals the direct sum", "[cure]") 
     REQUIRE(top.size() == doses.size());
     for (size_t i = 0; i < doses.size(); ++i) {
         double direct = 0.0;  // explicit sum of Eq. 4 terms over the layers exposed after i
-        for (size_t j = i; j < doses.size(); ++j) direct += doses[j] * std::exp(-double(j - i) * le / dp);
+        for (size_t j = i; j < doses.size(); ++j)
+            direct += doses[j] * std::exp(-double(j - i) * le / dp);
         REQUIRE(top[i] == Approx(direct).epsilon(1e-12));
-        REQUIRE(accumulatedDoseAtHeight(doses, le, dp, (i + 1) * le) == Approx(direct).epsilon(1e-12));
+        REQUIRE(accumulatedDoseAtHeight(doses, le, dp, (i + 1) * le) ==
+                Approx(direct).epsilon(1e-12));
         // The bottom of layer i lies one layer thickness below its top.
         REQUIRE(bottom[i] == Approx(direct * std::exp(-le / dp)).epsilon(1e-12));
         REQUIRE(accumulatedDoseAtHeight(doses, le, dp, i * le + 1e-9) ==
@@ -34,12 +36,14 @@ TEST_CASE("Accumulated layer doses: recursion equals the direct sum", "[cure]") 
 }
 
 TEST_CASE("Print-through of uniform layers approaches the geometric series", "[cure]") {
-    // d0 per layer: D_i = d0 (1 - a^(n-i)) / (1 - a), a = exp(-Le/Dp), the stepped profile of Fig. 3.
+    // d0 per layer: D_i = d0 (1 - a^(n-i)) / (1 - a), a = exp(-Le/Dp), the stepped profile of
+    // Fig. 3.
     const double d0 = 0.78, le = 0.05, dp = 0.366, a = std::exp(-le / dp);
     const size_t n = 120;
     std::vector<double> top = accumulatedLayerDoses(std::vector<double>(n, d0), le, dp);
     for (size_t i = 0; i < n; ++i)
-        REQUIRE(top[i] == Approx(d0 * (1.0 - std::pow(a, double(n - i))) / (1.0 - a)).epsilon(1e-12));
+        REQUIRE(top[i] ==
+                Approx(d0 * (1.0 - std::pow(a, double(n - i))) / (1.0 - a)).epsilon(1e-12));
     // Monotonic: the first layers receive the most dose (seed 001 Section 2.3).
     for (size_t i = 1; i < n; ++i) REQUIRE(top[i - 1] > top[i]);
     // The second layer's exposure adds Eq. 4's Delta d_2 = d0 exp(-mu Le) to the first layer.

@@ -26,8 +26,10 @@ using namespace vpsim::cure;
 
 namespace {
 
-const std::string TABLE1 = std::string(VPSIM_SHARED_DIR) + "/reference/seed001_table1_working_curve.csv";
-const std::string TABLE2 = std::string(VPSIM_SHARED_DIR) + "/reference/seed001_table2_z_dimensions.csv";
+const std::string TABLE1 =
+    std::string(VPSIM_SHARED_DIR) + "/reference/seed001_table1_working_curve.csv";
+const std::string TABLE2 =
+    std::string(VPSIM_SHARED_DIR) + "/reference/seed001_table2_z_dimensions.csv";
 constexpr double GEL_POINT = 0.276;
 constexpr double LAYER = 0.05;  // mm, seed 001 Section 4.1 / 5.1
 
@@ -42,10 +44,11 @@ WorkingCurveFit table1Fit() {
 /// print-through column (200 layers: a^200 < 1e-11) rather than the closed form.
 std::pair<double, double> steadyDoseRange(double perLayerDose, double dp) {
     std::vector<double> stack(200, perLayerDose);
-    return {accumulatedBottomDoses(stack, LAYER, dp)[0], accumulatedLayerDoses(stack, LAYER, dp)[0]};
+    return {accumulatedBottomDoses(stack, LAYER, dp)[0],
+            accumulatedLayerDoses(stack, LAYER, dp)[0]};
 }
 
-} // namespace
+}  // namespace
 
 TEST_CASE("Table 1 calibration: fitted values", "[cure]") {
     WorkingCurveFit fit = table1Fit();
@@ -63,31 +66,37 @@ TEST_CASE("Table 1 calibration: fitted values", "[cure]") {
     REQUIRE(fpp.attenuation == Approx(1.0 / fit.penetrationDepth).epsilon(1e-15));
 }
 
-TEST_CASE("Table 1 calibration reproduces the paper's mean thicknesses within its deviations", "[cure]") {
+TEST_CASE("Table 1 calibration reproduces the paper's mean thicknesses within its deviations",
+          "[cure]") {
     // Table 1's Mean and Deviation columns: the fitted curve must pass within 2 deviations of each
     // mean (2 sd of one sample is a ~95% band; the means themselves are tighter, the rest is the
     // departure of the real resin from a straight line in ln E, at most 1.9 deviations here).
     WorkingCurveFit fit = table1Fit();
-    struct Row { double doseMjPerCm2, mean, deviation; };
+    struct Row {
+        double doseMjPerCm2, mean, deviation;
+    };
     for (Row row : {Row{104, 0.193, 0.009}, Row{156, 0.337, 0.003}, Row{260, 0.537, 0.007},
                     Row{416, 0.705, 0.009}, Row{1040, 1.033, 0.003}}) {
         INFO("dose " << row.doseMjPerCm2 << " mJ/cm^2");
-        REQUIRE(fit.predictDepth(row.doseMjPerCm2 / 100.0) == Approx(row.mean).margin(2.0 * row.deviation));
+        REQUIRE(fit.predictDepth(row.doseMjPerCm2 / 100.0) ==
+                Approx(row.mean).margin(2.0 * row.deviation));
     }
 }
 
-TEST_CASE("Table 1 calibration gives the paper's minimum photoconversion 0.939 at 50 um layers", "[cure]") {
-    // Eq. 10 with n_z = 1: d_min = exp(mu Le) ln(1/(1-Phi_c)) / K bonds each layer to the one below.
-    // With d_min on every layer the conversion inside the part varies over each layer between the
-    // bottom and top accumulated doses. The paper's 0.939 must lie in that range; the range is
-    // narrow ([0.920, 0.945] with our fit) and moves with mu: Dp = 0.30 mm or 0.45 mm would put
-    // 0.939 outside, so the check constrains the fitted attenuation.
+TEST_CASE("Table 1 calibration gives the paper's minimum photoconversion 0.939 at 50 um layers",
+          "[cure]") {
+    // Eq. 10 with n_z = 1: d_min = exp(mu Le) ln(1/(1-Phi_c)) / K bonds each layer to the one
+    // below. With d_min on every layer the conversion inside the part varies over each layer
+    // between the bottom and top accumulated doses. The paper's 0.939 must lie in that range; the
+    // range is narrow ([0.920, 0.945] with our fit) and moves with mu: Dp = 0.30 mm or 0.45 mm
+    // would put 0.939 outside, so the check constrains the fitted attenuation.
     WorkingCurveFit fit = table1Fit();
     CureModel resin = CureModel::fpp(fppFromWorkingCurve(fit, GEL_POINT).rateConstant, GEL_POINT,
                                      fit.penetrationDepth);
     const double dMin = std::exp(LAYER / fit.penetrationDepth) * resin.criticalDose();
     auto [bottom, top] = steadyDoseRange(dMin, fit.penetrationDepth);
-    INFO("conversion range over a layer: " << resin.conversion(bottom) << " .. " << resin.conversion(top));
+    INFO("conversion range over a layer: " << resin.conversion(bottom) << " .. "
+                                           << resin.conversion(top));
     REQUIRE(resin.conversion(bottom) <= 0.939);
     REQUIRE(resin.conversion(top) >= 0.939);
 }
@@ -100,12 +109,14 @@ TEST_CASE("Table 1 calibration: uniform 78 mJ/cm^2 layers give conversion about 
     CureModel resin = CureModel::fpp(fppFromWorkingCurve(fit, GEL_POINT).rateConstant, GEL_POINT,
                                      fit.penetrationDepth);
     auto [bottom, top] = steadyDoseRange(0.78, fit.penetrationDepth);
-    INFO("conversion range over a layer: " << resin.conversion(bottom) << " .. " << resin.conversion(top));
+    INFO("conversion range over a layer: " << resin.conversion(bottom) << " .. "
+                                           << resin.conversion(top));
     REQUIRE(resin.conversion(bottom) <= 0.95);
     REQUIRE(resin.conversion(top) >= 0.95);
 }
 
-TEST_CASE("Table 1 calibration predicts the print-through growth of Table 2's non-optimised parts", "[cure]") {
+TEST_CASE("Table 1 calibration predicts the print-through growth of Table 2's non-optimised parts",
+          "[cure]") {
     // A down-facing surface (bottom of a hole or overhang) under a stack of layers exposed at a
     // uniform 78 mJ/cm^2 receives the accumulated bottom dose of the lowest layer; resin below it
     // cures to the Jacobs depth Dp ln(D / Ec). The part geometry above each surface is in figures
@@ -114,7 +125,8 @@ TEST_CASE("Table 1 calibration predicts the print-through growth of Table 2's no
     // The paper's own model missed its prints by mean -0.06 mm, sd 0.11 mm (Section 5.2), so we
     // require our prediction within 0.06 + 2 x 0.11 = 0.28 mm of the measured mean growth.
     WorkingCurveFit fit = table1Fit();
-    const double bottomDose = accumulatedBottomDoses(std::vector<double>(40, 0.78), LAYER, fit.penetrationDepth)[0];
+    const double bottomDose =
+        accumulatedBottomDoses(std::vector<double>(40, 0.78), LAYER, fit.penetrationDepth)[0];
     const double predicted = jacobsCureDepth(bottomDose, fit.criticalDose, fit.penetrationDepth);
 
     std::istringstream table(readFile(TABLE2));
@@ -128,7 +140,8 @@ TEST_CASE("Table 1 calibration predicts the print-through growth of Table 2's no
         for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
         REQUIRE(cells.size() == 7);
         if (cells[2] != "non-optimised") continue;
-        sum += std::abs(std::stod(cells[3]) - std::stod(cells[4])) + std::abs(std::stod(cells[5]) - std::stod(cells[6]));
+        sum += std::abs(std::stod(cells[3]) - std::stod(cells[4])) +
+               std::abs(std::stod(cells[5]) - std::stod(cells[6]));
         count += 2;
     }
     REQUIRE(count == 12);

@@ -9,12 +9,15 @@
 
 namespace vpsim::test {
 
-/// Runs an engine (ExposureEngine or TabulatedExposureEngine) and keeps every slice, [layer][slice].
+/// Runs an engine (ExposureEngine or TabulatedExposureEngine) and keeps every slice,
+/// [layer][slice].
 template <class Engine>
-std::vector<std::vector<exposure::SurfaceGrid>> exposeAll(Engine& engine, const plan::ScanPlan& plan) {
+std::vector<std::vector<exposure::SurfaceGrid>> exposeAll(Engine& engine,
+                                                          const plan::ScanPlan& plan) {
     std::vector<std::vector<exposure::SurfaceGrid>> slices(
         plan.layers.size(), std::vector<exposure::SurfaceGrid>(engine.grid().slicesPerLayer));
-    engine.run(plan, [&](const exposure::ExposureSlice& s) { slices[s.layer][s.slice] = *s.values; });
+    engine.run(plan,
+               [&](const exposure::ExposureSlice& s) { slices[s.layer][s.slice] = *s.values; });
     return slices;
 }
 
@@ -28,11 +31,12 @@ inline plan::ScanPlan randomPlan(int layers, double h, unsigned seed, double ext
     for (int k = 0; k < layers; ++k) {
         plan::LayerPlan layer;
         layer.z = (k + 1) * h;
-        for (int v = 0; v < 3; ++v) layer.vectors.push_back({pos(rng), pos(rng), pos(rng), pos(rng), power(rng), 500.0});
+        for (int v = 0; v < 3; ++v)
+            layer.vectors.push_back({pos(rng), pos(rng), pos(rng), pos(rng), power(rng), 500.0});
         layer.points.push_back({pos(rng), pos(rng), 0.01 * power(rng)});
         plan.layers.push_back(layer);
     }
     return plan;
 }
 
-} // namespace vpsim::test
+}  // namespace vpsim::test

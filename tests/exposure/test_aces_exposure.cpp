@@ -29,7 +29,8 @@ TEST_CASE("an ACES plan exposes the middle of the region at the target dose", "[
     for (int j = 0; j < grid.ny; ++j)
         for (int i = 0; i < grid.nx; ++i) {
             double x = map.centreX(i), y = map.centreY(j);
-            if (x > 0.4 && x < 0.8 && y > 0.3 && y < 0.5) CHECK(map.at(i, j) == Approx(design.targetDose).epsilon(0.015));
+            if (x > 0.4 && x < 0.8 && y > 0.3 && y < 0.5)
+                CHECK(map.at(i, j) == Approx(design.targetDose).epsilon(0.015));
         }
     // Seed App. A: at the contour the exposure is about 5% of the plateau (the DFBTP edge
     // features fill the rest); 2% absolute covers the grid and the finite field.

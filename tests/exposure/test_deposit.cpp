@@ -10,7 +10,8 @@ using namespace vpsim::exposure;
 TEST_CASE("deposits conserve the energy of vectors points and masks", "[exposure]") {
     SurfaceGrid grid(200, 200, -1.0, -1.0, 0.01);
     plan::LayerPlan layer;
-    layer.vectors.push_back({-0.7, -0.3, 0.55, 0.61, 12.0, 300.0});  // oblique: crosses cells both ways
+    layer.vectors.push_back(
+        {-0.7, -0.3, 0.55, 0.61, 12.0, 300.0});  // oblique: crosses cells both ways
     layer.points.push_back({0.123, -0.456, 0.02});
     plan::MaskImage mask;
     mask.width = 4;

@@ -12,7 +12,8 @@ TEST_CASE("dose volumes store slices sparsely at their voxel indices", "[exposur
     SurfaceGrid slice(grid.nx, grid.ny, grid.originX, grid.originY, grid.pitch);
     for (int k = 0; k < 4; ++k) {
         for (int j = 0; j < grid.ny; ++j)
-            for (int i = 0; i < grid.nx; ++i) slice.at(i, j) = i < 10 ? float(k + 1) : 0.1f;  // right half below threshold
+            for (int i = 0; i < grid.nx; ++i)
+                slice.at(i, j) = i < 10 ? float(k + 1) : 0.1f;  // right half below threshold
         volume.add({k / 2, k % 2, (k + 0.5) * 0.025, &slice});
     }
     CHECK(volume.activeVoxels() == uint64_t(10 * grid.ny * 4));

@@ -23,7 +23,7 @@ plan::LayerPlan lineLayer(double z, double y, double power, double speed) {
     return layer;
 }
 
-} // namespace
+}  // namespace
 
 // A scanned line's exposure across the line is seed 000 Eq. C.6:
 // Es(y) = sqrt(2/pi) P / (W V) exp(-2 y^2 / W^2). Tolerance 1%: the 5 um grid samples a 50 um
@@ -55,11 +55,13 @@ TEST_CASE("an ACES field reaches the plateau exposure of Eq. C.8", "[exposure]")
     ExposureEngine engine(grid, BEAM, 0.05);
     SurfaceGrid deposit(grid.nx, grid.ny, grid.originX, grid.originY, pitch);
     plan::LayerPlan layer;
-    for (double y = -0.5; y <= 0.5 + 1e-9; y += hs) layer.vectors.push_back({-0.5, y, 0.5, y, P, V});
+    for (double y = -0.5; y <= 0.5 + 1e-9; y += hs)
+        layer.vectors.push_back({-0.5, y, 0.5, y, P, V});
     depositLayer(layer, deposit);
     SurfaceGrid map = engine.exposureMap(deposit);
     const double plateau = P / (V * hs);
-    for (int j = grid.ny / 2 - 20; j <= grid.ny / 2 + 20; ++j) CHECK(map.at(grid.nx / 2, j) == Approx(plateau).epsilon(0.005));
+    for (int j = grid.ny / 2 - 20; j <= grid.ny / 2 + 20; ++j)
+        CHECK(map.at(grid.nx / 2, j) == Approx(plateau).epsilon(0.005));
     // Energy is conserved by the blur (renormalised taps): float sums over 57,600 cells -> 1e-5.
     CHECK(map.totalEnergy() == Approx(deposit.totalEnergy()).epsilon(1e-5));
 }
@@ -83,7 +85,9 @@ TEST_CASE("the print-through recursion equals the direct sum over layers", "[exp
             double z = plan.layers[k].z - (s + 0.5) * h / 2;
             for (size_t c = 0; c < maps[0].values.size(); c += 37) {
                 double direct = 0;
-                for (int j = k; j < 6; ++j) direct += maps[j].values[c] * std::exp(-(plan.layers[j].z - z) / BEAM.attenuationLength);
+                for (int j = k; j < 6; ++j)
+                    direct += maps[j].values[c] *
+                              std::exp(-(plan.layers[j].z - z) / BEAM.attenuationLength);
                 CHECK(slices[k][s].values[c] == Approx(direct).epsilon(1e-5).margin(1e-9));
             }
         }
@@ -93,7 +97,8 @@ TEST_CASE("the print-through recursion equals the direct sum over layers", "[exp
 // the sum of the two run alone. Tolerance: float rounding, 1e-5 relative.
 TEST_CASE("exposure obeys superposition and linearity", "[exposure]") {
     const double h = 0.05;
-    plan::ScanPlan a = test::randomPlan(3, h, 11), b = test::randomPlan(3, h, 12), sum = a, doubled = a;
+    plan::ScanPlan a = test::randomPlan(3, h, 11), b = test::randomPlan(3, h, 12), sum = a,
+                   doubled = a;
     for (int k = 0; k < 3; ++k) {
         for (const auto& v : b.layers[k].vectors) sum.layers[k].vectors.push_back(v);
         for (const auto& p : b.layers[k].points) sum.layers[k].points.push_back(p);
@@ -102,10 +107,12 @@ TEST_CASE("exposure obeys superposition and linearity", "[exposure]") {
     }
     ExposureGrid grid = ExposureGrid::covering(-0.4, -0.4, 0.4, 0.4, 0.1, 0.01, 1);
     ExposureEngine engine(grid, BEAM, h);
-    auto ea = test::exposeAll(engine, a), eb = test::exposeAll(engine, b), es = test::exposeAll(engine, sum), ed = test::exposeAll(engine, doubled);
+    auto ea = test::exposeAll(engine, a), eb = test::exposeAll(engine, b),
+         es = test::exposeAll(engine, sum), ed = test::exposeAll(engine, doubled);
     for (int k = 0; k < 3; ++k)
         for (size_t c = 0; c < ea[k][0].values.size(); c += 13) {
-            CHECK(es[k][0].values[c] == Approx(ea[k][0].values[c] + eb[k][0].values[c]).epsilon(1e-5).margin(1e-7));
+            CHECK(es[k][0].values[c] ==
+                  Approx(ea[k][0].values[c] + eb[k][0].values[c]).epsilon(1e-5).margin(1e-7));
             CHECK(ed[k][0].values[c] == Approx(2 * ea[k][0].values[c]).epsilon(1e-5).margin(1e-7));
         }
 }
@@ -123,7 +130,8 @@ TEST_CASE("GPU and CPU exposure agree", "[exposure][gpu]") {
     for (int k = 0; k < 4; ++k)
         for (int s = 0; s < 2; ++s)
             for (size_t c = 0; c < ec[k][s].values.size(); ++c)
-                REQUIRE(eg[k][s].values[c] == Approx(ec[k][s].values[c]).epsilon(1e-5).margin(1e-8));
+                REQUIRE(eg[k][s].values[c] ==
+                        Approx(ec[k][s].values[c]).epsilon(1e-5).margin(1e-8));
     VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
 }
 
@@ -132,9 +140,11 @@ TEST_CASE("impossible exposure parameters are refused clearly", "[exposure]") {
     CHECK_THROWS_AS(ExposureEngine(grid, {0.0, 0.1}, 0.05), InputError);
     CHECK_THROWS_AS(ExposureEngine(grid, {0.05, -1.0}, 0.05), InputError);
     CHECK_THROWS_AS(ExposureEngine(grid, BEAM, 0.0), InputError);
-    CHECK_THROWS_WITH(ExposureEngine(grid, {0.005, 0.1}, 0.05), Catch::Matchers::Contains("coarser than the beam"));
+    CHECK_THROWS_WITH(ExposureEngine(grid, {0.005, 0.1}, 0.05),
+                      Catch::Matchers::Contains("coarser than the beam"));
     ExposureGrid huge = ExposureGrid::covering(0, 0, 1000, 1000, 0, 0.01, 1);
-    CHECK_THROWS_WITH(ExposureEngine(huge, BEAM, 0.05), Catch::Matchers::Contains("use a coarser pitch"));
+    CHECK_THROWS_WITH(ExposureEngine(huge, BEAM, 0.05),
+                      Catch::Matchers::Contains("use a coarser pitch"));
 }
 
 // The beam efficiency scales the exposure once (linearity in the kernel amplitude), on both paths.

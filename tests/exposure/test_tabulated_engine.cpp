@@ -20,7 +20,8 @@ namespace {
 constexpr double PI = 3.14159265358979323846;
 
 /// A kernel table filled at its bin centres from intensity(r, z) (mW/mm^2).
-kernel::BeamKernel tableKernel(double power, double rBin, uint32_t rBins, double zBin, uint32_t zBins,
+kernel::BeamKernel tableKernel(double power, double rBin, uint32_t rBins, double zBin,
+                               uint32_t zBins,
                                const std::function<double(double, double)>& intensity) {
     kernel::BeamKernel k;
     k.power = power;
@@ -31,7 +32,8 @@ kernel::BeamKernel tableKernel(double power, double rBin, uint32_t rBins, double
     k.intensity.resize(size_t(rBins) * zBins);
     for (uint32_t iz = 0; iz < zBins; ++iz)
         for (uint32_t ir = 0; ir < rBins; ++ir)
-            k.intensity[size_t(iz) * rBins + ir] = float(intensity((ir + 0.5) * rBin, (iz + 0.5) * zBin));
+            k.intensity[size_t(iz) * rBins + ir] =
+                float(intensity((ir + 0.5) * rBin, (iz + 0.5) * zBin));
     return k;
 }
 
@@ -39,8 +41,9 @@ kernel::BeamKernel tableKernel(double power, double rBin, uint32_t rBins, double
 /// on fine bins (1 um radially to 3 W, 2 um in depth to `depth`).
 kernel::BeamKernel separableKernel(double power, double W, double De, double depth) {
     const double A = 2 * power / (PI * W * W);
-    return tableKernel(power, 0.001, uint32_t(std::ceil(3 * W / 0.001)), 0.002, uint32_t(std::ceil(depth / 0.002)),
-                       [=](double r, double z) { return A * std::exp(-2 * r * r / (W * W)) * std::exp(-z / De); });
+    return tableKernel(
+        power, 0.001, uint32_t(std::ceil(3 * W / 0.001)), 0.002, uint32_t(std::ceil(depth / 0.002)),
+        [=](double r, double z) { return A * std::exp(-2 * r * r / (W * W)) * std::exp(-z / De); });
 }
 
 /// A grid of 2 half + 1 cells per side whose centre cell is centred on the origin.
@@ -66,7 +69,7 @@ plan::ScanPlan pointPlan(int layers, int pointLayer, double h, double Q) {
     return plan;
 }
 
-} // namespace
+}  // namespace
 
 // A table that is exactly Eq. 12 must reproduce the fitted engine. Two set-ups: a deep kernel
 // (De = 100 um, 2 slices per layer, every layer within reach of the top one) and a shallow one
@@ -84,7 +87,8 @@ TEST_CASE("a separable table reproduces the fitted exposure engine", "[exposure]
     for (Setup setup : {Setup{0.1, 2, 3}, Setup{0.025, 1, 6}}) {
         const double P = 10.0, W = 0.05, h = 0.05;
         plan::ScanPlan plan = test::randomPlan(setup.layers, h, 7, 0.2);
-        ExposureGrid grid = ExposureGrid::covering(-0.2, -0.2, 0.2, 0.2, 0.1, 0.005, setup.slicesPerLayer);
+        ExposureGrid grid =
+            ExposureGrid::covering(-0.2, -0.2, 0.2, 0.2, 0.1, 0.005, setup.slicesPerLayer);
         ExposureEngine fitted(grid, SeparableBeam{W, setup.De, 1.0}, h);
         TabulatedExposureEngine tabulated(grid, separableKernel(P, W, setup.De, 8 * setup.De), h);
         if (setup.layers == 6) REQUIRE(tabulated.layersInFlight() < 6);  // exercises the ring
@@ -98,7 +102,9 @@ TEST_CASE("a separable table reproduces the fitted exposure engine", "[exposure]
                 double worst = 0, worstNearPeak = 0;
                 for (size_t c = 0; c < f.size(); ++c) {
                     worst = std::max(worst, double(std::abs(t[c] - f[c])) / peak);
-                    if (f[c] > 0.5 * peak) worstNearPeak = std::max(worstNearPeak, double(std::abs(t[c] - f[c])) / f[c]);
+                    if (f[c] > 0.5 * peak)
+                        worstNearPeak =
+                            std::max(worstNearPeak, double(std::abs(t[c] - f[c])) / f[c]);
                 }
                 INFO("De " << setup.De << " layer " << k << " slice " << s);
                 CHECK(worst < 0.02);
@@ -114,7 +120,8 @@ TEST_CASE("a separable table reproduces the fitted exposure engine", "[exposure]
 // 99% of it. The table ends at 0.3 mm, so slices deeper than that must get nothing. Tolerance
 // 0.5%: table interpolation ((1 um / W)^2 and (2.5 um / 50 um)^2 / 8, < 1e-3) and the sub-sampled
 // disk edge, where I is 1% of the axis value.
-TEST_CASE("each slice receives the kernel's power through its depth plane", "[exposure][tabulated]") {
+TEST_CASE("each slice receives the kernel's power through its depth plane",
+          "[exposure][tabulated]") {
     const double P = 10.0, W0 = 0.05, h = 0.05, Q = 0.02, pitch = 0.01;
     auto width = [=](double z) { return W0 * (1 + z / 0.2); };
     auto g = [](double z) { return (1 + z / 0.01) * std::exp(-z / 0.05); };
@@ -124,7 +131,8 @@ TEST_CASE("each slice receives the kernel's power through its depth plane", "[ex
     });
     const int layers = 8, n = 2;
     TabulatedExposureEngine engine(centredGrid(30, pitch, n), k, h);
-    REQUIRE(engine.stencils().size() == 12);  // slice centres (m + 0.5) 25 um inside the 300 um table
+    REQUIRE(engine.stencils().size() ==
+            12);  // slice centres (m + 0.5) 25 um inside the 300 um table
     auto slices = test::exposeAll(engine, pointPlan(layers, layers - 1, h, Q));
     for (int kk = 0; kk < layers; ++kk)
         for (int s = 0; s < n; ++s) {
@@ -143,7 +151,8 @@ TEST_CASE("each slice receives the kernel's power through its depth plane", "[ex
 // of each alone. Tolerance: float rounding of the accumulation, 1e-5 relative.
 TEST_CASE("tabulated exposure obeys superposition and linearity", "[exposure][tabulated]") {
     const double h = 0.05;
-    plan::ScanPlan a = test::randomPlan(4, h, 11, 0.2), b = test::randomPlan(4, h, 12, 0.2), sum = a, doubled = a;
+    plan::ScanPlan a = test::randomPlan(4, h, 11, 0.2), b = test::randomPlan(4, h, 12, 0.2),
+                   sum = a, doubled = a;
     for (int k = 0; k < 4; ++k) {
         for (const auto& v : b.layers[k].vectors) sum.layers[k].vectors.push_back(v);
         for (const auto& p : b.layers[k].points) sum.layers[k].points.push_back(p);
@@ -157,8 +166,10 @@ TEST_CASE("tabulated exposure obeys superposition and linearity", "[exposure][ta
     for (int k = 0; k < 4; ++k)
         for (int s = 0; s < 2; ++s)
             for (size_t c = 0; c < ea[k][s].values.size(); c += 7) {
-                CHECK(es[k][s].values[c] == Approx(ea[k][s].values[c] + eb[k][s].values[c]).epsilon(1e-5).margin(1e-7));
-                CHECK(ed[k][s].values[c] == Approx(2 * ea[k][s].values[c]).epsilon(1e-5).margin(1e-7));
+                CHECK(es[k][s].values[c] ==
+                      Approx(ea[k][s].values[c] + eb[k][s].values[c]).epsilon(1e-5).margin(1e-7));
+                CHECK(ed[k][s].values[c] ==
+                      Approx(2 * ea[k][s].values[c]).epsilon(1e-5).margin(1e-7));
             }
 }
 
@@ -167,10 +178,12 @@ TEST_CASE("tabulated exposure obeys superposition and linearity", "[exposure][ta
 // belongs to. Tolerance 1e-3: linear interpolation of exp(-z / De) on 2 um bins errs by
 // (2 um / De)^2 / 8 = 2e-4. Also checks the emission order: top layer first, slice 0 first, z at
 // the slice centre.
-TEST_CASE("a layer's exposure prints through to the slices below in top-down order", "[exposure][tabulated]") {
+TEST_CASE("a layer's exposure prints through to the slices below in top-down order",
+          "[exposure][tabulated]") {
     const double h = 0.04, De = 0.06;
     const int layers = 4, n = 2;
-    TabulatedExposureEngine engine(centredGrid(20, 0.01, n), separableKernel(10.0, 0.05, De, 0.5), h);
+    TabulatedExposureEngine engine(centredGrid(20, 0.01, n), separableKernel(10.0, 0.05, De, 0.5),
+                                   h);
     plan::ScanPlan plan = pointPlan(layers, layers - 1, h, 0.01);
     std::vector<std::pair<int, int>> order;
     std::vector<double> axis;
@@ -252,6 +265,7 @@ TEST_CASE("GPU and CPU tabulated exposure agree", "[exposure][tabulated][gpu]") 
     for (size_t layer = 0; layer < ec.size(); ++layer)
         for (int s = 0; s < 2; ++s)
             for (size_t c = 0; c < ec[layer][s].values.size(); ++c)
-                REQUIRE(eg[layer][s].values[c] == Approx(ec[layer][s].values[c]).epsilon(1e-5).margin(1e-7));
+                REQUIRE(eg[layer][s].values[c] ==
+                        Approx(ec[layer][s].values[c]).epsilon(1e-5).margin(1e-7));
     VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
 }

@@ -25,7 +25,8 @@ TEST_CASE("layer stack saves and loads back exactly", "[stack]") {
     REQUIRE(back.layers.size() == stack.layers.size());
     for (size_t k = 0; k < stack.layers.size(); ++k) {
         CHECK(back.layers[k].z == stack.layers[k].z);
-        CHECK(back.layers[k].region.area() == stack.layers[k].region.area());  // exact: same 1 nm grid
+        CHECK(back.layers[k].region.area() ==
+              stack.layers[k].region.area());  // exact: same 1 nm grid
         CHECK(back.layers[k].region.outerCount() == 1);
     }
     // Holes survive the round trip.
@@ -37,8 +38,11 @@ TEST_CASE("layer stack saves and loads back exactly", "[stack]") {
 TEST_CASE("malformed layer stacks are clear errors", "[stack][bad-input]") {
     const std::string path = test::tempPath("bad_stack.json");
     test::writeBytes(path, R"({"format": "something else"})");
-    CHECK_THROWS_WITH(LayerStack::load(path), Contains("bad_stack.json") && Contains("not a layer stack"));
-    test::writeBytes(path, R"({"format": "vpsim-layer-stack", "version": 1, "source": "x", "layer_thickness_mm": 0.05,
+    CHECK_THROWS_WITH(LayerStack::load(path),
+                      Contains("bad_stack.json") && Contains("not a layer stack"));
+    test::writeBytes(
+        path,
+        R"({"format": "vpsim-layer-stack", "version": 1, "source": "x", "layer_thickness_mm": 0.05,
         "plane_position": 0.5, "z_start_mm": 0, "layers": [{"index": 0, "z": 0.025, "z_bottom": 0,
         "parts": [{"outer": [[0, 0], [1, "a"], [0, 1]]}]}]})");
     CHECK_THROWS_WITH(LayerStack::load(path), Contains("layers[0].parts[0].outer"));

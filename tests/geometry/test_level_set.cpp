@@ -20,15 +20,16 @@ LevelSetOptions voxels(double h) {
     return o;
 }
 
-} // namespace
+}  // namespace
 
 TEST_CASE("box level set: sign and distance near the faces", "[levelset]") {
     const double h = 0.1;
-    const LevelSet ls = LevelSet::fromMesh(makeTestPart("box", test::sizeHeight(2.0, 2.0)), voxels(h));  // [-1,1]^2 x [0,2]
+    const LevelSet ls = LevelSet::fromMesh(makeTestPart("box", test::sizeHeight(2.0, 2.0)),
+                                           voxels(h));  // [-1,1]^2 x [0,2]
     CHECK(ls.voxelSize() == Approx(h));
     CHECK(ls.halfWidth() == Approx(3 * h).epsilon(1e-6));
-    CHECK(ls.signedDistance({0, 0, 1}) < 0.0);     // deep inside: -background
-    CHECK(ls.signedDistance({3, 0, 1}) > 0.0);     // far outside: +background
+    CHECK(ls.signedDistance({0, 0, 1}) < 0.0);  // deep inside: -background
+    CHECK(ls.signedDistance({3, 0, 1}) > 0.0);  // far outside: +background
     // Tolerance one voxel (the brief's bound; trilinear interpolation of exact voxel distances
     // is much better on flat faces).
     for (double d : {-0.23, -0.12, -0.05, 0.0, 0.04, 0.13, 0.21}) {
@@ -38,11 +39,13 @@ TEST_CASE("box level set: sign and distance near the faces", "[levelset]") {
         CHECK(ls.signedDistance({-0.4, 0.0, -d}) == Approx(d).margin(h));
     }
     // Batch sampling gives the same values as single queries.
-    const std::vector<glm::dvec3> points{{1.05, 0.1, 1.0}, {0.0, 0.0, 1.0}, {0.3, -0.2, 2.02}, {5, 5, 5}};
+    const std::vector<glm::dvec3> points{
+        {1.05, 0.1, 1.0}, {0.0, 0.0, 1.0}, {0.3, -0.2, 2.02}, {5, 5, 5}};
     std::vector<float> values;
     ls.sample(points, values);
     REQUIRE(values.size() == points.size());
-    for (size_t i = 0; i < points.size(); ++i) CHECK(values[i] == Approx(ls.signedDistance(points[i])).margin(1e-6));
+    for (size_t i = 0; i < points.size(); ++i)
+        CHECK(values[i] == Approx(ls.signedDistance(points[i])).margin(1e-6));
     const Bounds b = ls.activeBounds();
     CHECK(b.lo.x == Approx(-1.0 - 3 * h).margin(h));
     CHECK(b.hi.z == Approx(2.0 + 3 * h).margin(h));
@@ -56,13 +59,15 @@ TEST_CASE("cylinder level set matches the distance to the curved side", "[levels
     for (double angle : {0.1, 1.0, 2.5, 4.0}) {
         for (double d : {-0.1, -0.03, 0.02, 0.11}) {
             const double r = 5.0 + d;
-            CHECK(ls.signedDistance({r * std::cos(angle), r * std::sin(angle), 5.0}) == Approx(d).margin(h));
+            CHECK(ls.signedDistance({r * std::cos(angle), r * std::sin(angle), 5.0}) ==
+                  Approx(d).margin(h));
         }
     }
 }
 
 TEST_CASE("level set saves to .vdb and loads back", "[levelset]") {
-    const LevelSet ls = LevelSet::fromMesh(makeTestPart("l-shape", test::sizeHeight(4.0, 2.0)), voxels(0.1));
+    const LevelSet ls =
+        LevelSet::fromMesh(makeTestPart("l-shape", test::sizeHeight(4.0, 2.0)), voxels(0.1));
     const std::string path = test::tempPath("l.vdb");
     ls.save(path);
     const LevelSet back = LevelSet::load(path);

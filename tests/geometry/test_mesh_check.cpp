@@ -35,7 +35,7 @@ std::string errorOf(const Mesh& mesh, const std::string& name) {
     return "(accepted)";
 }
 
-} // namespace
+}  // namespace
 
 TEST_CASE("every test part passes the checks without repairs", "[mesh]") {
     for (const auto& name : testPartNames()) {
@@ -85,8 +85,8 @@ TEST_CASE("an inside-out mesh is turned around", "[mesh][repair]") {
 }
 
 TEST_CASE("a cavity shell is oriented inward, whatever its input orientation", "[mesh][repair]") {
-    Mesh outer = makeTestPart("box");                   // 10 mm cube
-    const Mesh inner = makeTestPart("box", test::sizeHeight(4.0, 4.0)); // 4 mm cube inside it
+    Mesh outer = makeTestPart("box");                                    // 10 mm cube
+    const Mesh inner = makeTestPart("box", test::sizeHeight(4.0, 4.0));  // 4 mm cube inside it
     Mesh part = outer;
     Mesh innerShifted = inner;
     innerShifted.translate({0.0, 0.0, 3.0});
@@ -105,7 +105,8 @@ TEST_CASE("an open mesh is a clear error with the count and a location", "[mesh]
     Mesh box = makeTestPart("box");
     box.triangles.pop_back();
     CHECK_THAT(errorOf(box, "open.stl"),
-               Contains("open.stl: 3 open edges (mesh is not watertight), first near (") && Contains(") mm"));
+               Contains("open.stl: 3 open edges (mesh is not watertight), first near (") &&
+                   Contains(") mm"));
 }
 
 TEST_CASE("non-manifold edges are a clear error", "[mesh][bad-input]") {

@@ -11,7 +11,7 @@ using namespace vpsim::geometry;
 namespace {
 constexpr double PI = 3.14159265358979323846;
 const PolygonSet SQUARE = PolygonSet::rectangle({0, 0}, {10, 10});
-} // namespace
+}  // namespace
 
 TEST_CASE("rectangle area, perimeter, orientation, containment", "[polygons]") {
     CHECK(SQUARE.area() == Approx(100.0).epsilon(1e-15));
@@ -58,7 +58,7 @@ TEST_CASE("offsets of a square", "[polygons]") {
     const double round = 100.0 + 40.0 * d + PI * d * d;
     CHECK(std::abs(SQUARE.offset(d, JoinType::Round).area() - round) < 2.0 * PI * d * 1e-3);
     CHECK(SQUARE.offset(-d).area() == Approx(64.0).epsilon(1e-12));  // inward offset keeps corners
-    CHECK(SQUARE.offset(-6.0).empty());                               // shrinks away
+    CHECK(SQUARE.offset(-6.0).empty());                              // shrinks away
 }
 
 TEST_CASE("translation moves the region", "[polygons]") {
@@ -79,7 +79,7 @@ TEST_CASE("scanline intervals and rotation", "[polygons]") {
     CHECK(through[1].second == Approx(10.0));
     REQUIRE(ring.intervalsAt(1.0).size() == 1);
     CHECK(ring.intervalsAt(1.0)[0].second == Approx(10.0));
-    CHECK(ring.intervalsAt(10.0).empty());   // top edge: half-open, excluded
+    CHECK(ring.intervalsAt(10.0).empty());     // top edge: half-open, excluded
     CHECK(ring.intervalsAt(0.0).size() == 1);  // bottom edge: included
     // A diamond (square rotated 45 degrees about its centre): width 2 (r - |y - 5|) at height y.
     const PolygonSet diamond = SQUARE.rotated(0.25 * PI, {5, 5});

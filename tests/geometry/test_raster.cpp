@@ -18,7 +18,7 @@ double coveredArea(const PolygonSet& region, const RasterGrid& grid) {
     return std::accumulate(coverage.begin(), coverage.end(), 0.0) * grid.pitch * grid.pitch;
 }
 
-} // namespace
+}  // namespace
 
 TEST_CASE("coverage of a square offset from the pixel grid is exact per pixel", "[raster]") {
     const PolygonSet square = PolygonSet::rectangle({0.25, 0.25}, {1.75, 1.5});
@@ -71,21 +71,24 @@ TEST_CASE("a grid cutting through the region covers only its inside part", "[ras
 }
 
 TEST_CASE("binary mask marks pixel centres inside", "[raster]") {
-    const PolygonSet region = sliceAt(makeTestPart("l-shape"), 1.0).difference(
-        PolygonSet::fromContours({{{-3.3, -3.1}, {-1.2, -3.4}, {-2.0, -0.7}}}));
+    const PolygonSet region =
+        sliceAt(makeTestPart("l-shape"), 1.0)
+            .difference(PolygonSet::fromContours({{{-3.3, -3.1}, {-1.2, -3.4}, {-2.0, -0.7}}}));
     const auto [lo, hi] = region.bounds();
     const RasterGrid grid = RasterGrid::covering(lo, hi, 0.173, 2);
     const auto mask = rasterizeBinary(region, grid);
     size_t mismatches = 0;
     for (int j = 0; j < grid.height; ++j) {
         for (int i = 0; i < grid.width; ++i) {
-            mismatches += mask[size_t(j) * grid.width + i] != uint8_t(region.contains(grid.pixelCentre(i, j)));
+            mismatches += mask[size_t(j) * grid.width + i] !=
+                          uint8_t(region.contains(grid.pixelCentre(i, j)));
         }
     }
     CHECK(mismatches == 0);  // no centre lies on an edge with this pitch
     const double count = double(std::accumulate(mask.begin(), mask.end(), size_t(0)));
     // Centre sampling: area error bounded by perimeter x pitch.
-    CHECK(std::abs(count * grid.pitch * grid.pitch - region.area()) < region.perimeter() * grid.pitch);
+    CHECK(std::abs(count * grid.pitch * grid.pitch - region.area()) <
+          region.perimeter() * grid.pitch);
 }
 
 TEST_CASE("target map distances match the analytic distance to a square", "[raster]") {
@@ -96,12 +99,15 @@ TEST_CASE("target map distances match the analytic distance to a square", "[rast
     for (int j = 0; j < grid.height; ++j) {
         for (int i = 0; i < grid.width; ++i) {
             const glm::dvec2 p = grid.pixelCentre(i, j);
-            const double dx = std::max({-p.x, p.x - 2.0, 0.0}), dy = std::max({-p.y, p.y - 2.0, 0.0});
+            const double dx = std::max({-p.x, p.x - 2.0, 0.0}),
+                         dy = std::max({-p.y, p.y - 2.0, 0.0});
             const bool inside = p.x > 0 && p.x < 2 && p.y > 0 && p.y < 2;
-            const double exact = inside ? -std::min({p.x, 2 - p.x, p.y, 2 - p.y}) : std::hypot(dx, dy);
+            const double exact =
+                inside ? -std::min({p.x, 2 - p.x, p.y, 2 - p.y}) : std::hypot(dx, dy);
             const double expected = std::clamp(exact, -band, band);
             // float storage: 1e-6 mm.
-            REQUIRE(map.signedDistance[size_t(j) * grid.width + i] == Approx(expected).margin(1e-6));
+            REQUIRE(map.signedDistance[size_t(j) * grid.width + i] ==
+                    Approx(expected).margin(1e-6));
         }
     }
 }

@@ -40,11 +40,11 @@ SliceOptions layers(double thickness, double plane = 0.5) {
     return o;
 }
 
-} // namespace
+}  // namespace
 
 TEST_CASE("layer count and plane positions", "[slice]") {
     const Mesh box = makeTestPart("box");
-    CHECK(layerCount(box, layers(0.05)) == 200);   // 10 mm / 50 um, no float sliver layer
+    CHECK(layerCount(box, layers(0.05)) == 200);  // 10 mm / 50 um, no float sliver layer
     CHECK(layerCount(box, layers(0.025)) == 400);
     CHECK(layerCount(box, layers(3.0)) == 4);
     const auto slices = sliceMesh(box, layers(0.05), {0, 199});
@@ -88,16 +88,18 @@ TEST_CASE("cylinder slices are exactly the N-gon", "[slice]") {
 }
 
 TEST_CASE("holes part: the two through-holes split the layers at the right heights", "[slice]") {
-    const Mesh part = makeTestPart("holes");  // 10 x 5 x 11, holes 3 mm (z 2..5) and 1.5 mm (z 7..8.5)
+    const Mesh part =
+        makeTestPart("holes");  // 10 x 5 x 11, holes 3 mm (z 2..5) and 1.5 mm (z 7..8.5)
     const auto slices = sliceMesh(part, layers(0.05));
     REQUIRE(slices.size() == 220);
     int bottomHoleLayers = 0, topHoleLayers = 0;
     for (const auto& layer : slices) {
-        const bool inBottom = layer.z > 2.0 && layer.z < 5.0, inTop = layer.z > 7.0 && layer.z < 8.5;
+        const bool inBottom = layer.z > 2.0 && layer.z<5.0, inTop = layer.z> 7.0 && layer.z < 8.5;
         INFO("z = " << layer.z);
         const double width = inBottom ? 7.0 : inTop ? 8.5 : 10.0;
         CHECK(layer.region.outerCount() == (inBottom || inTop ? 2u : 1u));
-        checkArea(layer.region, width * 5.0, inBottom || inTop ? 2.0 * (2 * width / 2 + 10.0) : 30.0);
+        checkArea(layer.region, width * 5.0,
+                  inBottom || inTop ? 2.0 * (2 * width / 2 + 10.0) : 30.0);
         bottomHoleLayers += inBottom;
         topHoleLayers += inTop;
     }
@@ -120,7 +122,7 @@ TEST_CASE("l-shape keeps its sharp convex and concave corners", "[slice]") {
     REQUIRE(region.outerCount() == 1);
     checkArea(region, 75.0, 40.0);
     checkOrientation(region);
-    CHECK(region.parts()[0].outer.size() == 6);  // collinear grid points removed, 6 corners left
+    CHECK(region.parts()[0].outer.size() == 6);   // collinear grid points removed, 6 corners left
     CHECK(region.contains({2.0, 2.0}) == false);  // the notch
     CHECK(region.contains({-2.0, 2.0}));
 }
@@ -205,12 +207,14 @@ TEST_CASE("zStart shifts the layer grid", "[slice]") {
     CHECK(layerCount(box, o) == 11);
     const auto slices = sliceMesh(box, o);
     CHECK(slices.front().z == 0.0);
-    CHECK(slices.front().region.area() == Approx(100.0));  // plane on the bottom face, section above
+    CHECK(slices.front().region.area() ==
+          Approx(100.0));  // plane on the bottom face, section above
     CHECK(slices.back().z == 10.0);
-    CHECK(slices.back().region.empty());                  // plane on the top face, section above
+    CHECK(slices.back().region.empty());  // plane on the top face, section above
 }
 
-TEST_CASE("a tilted cube in general position: every layer closes and areas integrate to the volume", "[slice]") {
+TEST_CASE("a tilted cube in general position: every layer closes and areas integrate to the volume",
+          "[slice]") {
     // Rotation by fixed angles (no vertex on a plane, edges at all slopes). The midpoint rule on
     // the piecewise-quadratic area A(z) errs by at most t^2/24 * integral |A''| (well below
     // 1e-4 of the volume at t = 20 um), so a 1e-4 relative tolerance checks the slices.

@@ -28,7 +28,7 @@ std::string messageOf(const std::function<void()>& f) {
     return "(no InputError)";
 }
 
-} // namespace
+}  // namespace
 
 TEST_CASE("binary STL round trip keeps the mesh exactly", "[stl]") {
     const Mesh part = makeTestPart("holes");
@@ -39,7 +39,8 @@ TEST_CASE("binary STL round trip keeps the mesh exactly", "[stl]") {
     CHECK(report.ok());
     CHECK(report.repairs.empty());
     CHECK(back.triangles.size() == part.triangles.size());
-    CHECK(back.vertices.size() == part.vertices.size());  // duplicates merged back to shared vertices
+    CHECK(back.vertices.size() ==
+          part.vertices.size());  // duplicates merged back to shared vertices
     CHECK(back.volume() == Approx(part.volume()).epsilon(EXACT));
     CHECK(report.volume == Approx(10.0 * 5.0 * 11.0 - 5.0 * (9.0 + 2.25)).epsilon(EXACT));
 }
@@ -76,7 +77,8 @@ TEST_CASE("truncated and size-mismatched binary STL are clear errors", "[stl][ba
     const std::string path = test::tempPath("broken.stl");
 
     test::writeBytes(path, bytes.substr(0, bytes.size() - 30));
-    CHECK_THAT(messageOf([&] { readStl(path); }), Contains("broken.stl") && Contains("truncated binary STL") &&
+    CHECK_THAT(messageOf([&] { readStl(path); }), Contains("broken.stl") &&
+                                                      Contains("truncated binary STL") &&
                                                       Contains("12 triangles"));
 
     // A binary file whose header starts with "solid" is still recognised as a truncated binary.
@@ -96,26 +98,32 @@ TEST_CASE("truncated and size-mismatched binary STL are clear errors", "[stl][ba
     CHECK_THAT(messageOf([&] { readStl(test::tempPath("missing.stl")); }), Contains("missing.stl"));
 }
 
-TEST_CASE("NaN and infinite coordinates are rejected with the triangle number", "[stl][bad-input]") {
+TEST_CASE("NaN and infinite coordinates are rejected with the triangle number",
+          "[stl][bad-input]") {
     Mesh soup = makeTestPart("box");
     const uint32_t bad = soup.triangles[3][1];
     soup.vertices[bad].y = std::numeric_limits<double>::quiet_NaN();
     size_t first = 0;  // the first triangle using that vertex, 1-based in the message
-    while (std::count(soup.triangles[first].begin(), soup.triangles[first].end(), bad) == 0) ++first;
+    while (std::count(soup.triangles[first].begin(), soup.triangles[first].end(), bad) == 0)
+        ++first;
     const std::string path = test::tempPath("nan.stl");
     test::writeBytes(path, test::binaryStlBytes(soup));
-    CHECK_THAT(messageOf([&] { readStl(path); }),
-               Contains("triangle " + std::to_string(first + 1) + " has") && Contains("non-finite"));
+    CHECK_THAT(
+        messageOf([&] { readStl(path); }),
+        Contains("triangle " + std::to_string(first + 1) + " has") && Contains("non-finite"));
 
-    test::writeBytes(path, "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 inf\n"
-                           "vertex 0 1 0\nendloop\nendfacet\nendsolid x\n");
+    test::writeBytes(path,
+                     "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 inf\n"
+                     "vertex 0 1 0\nendloop\nendfacet\nendsolid x\n");
     CHECK_THAT(messageOf([&] { readStl(path); }), Contains("nan.stl:3") && Contains("non-finite"));
 }
 
 TEST_CASE("malformed ASCII STL names the line", "[stl][bad-input]") {
     const std::string path = test::tempPath("bad_ascii.stl");
-    test::writeBytes(path, "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 zero 0\n");
-    CHECK_THAT(messageOf([&] { readStl(path); }), Contains("bad_ascii.stl:5") && Contains("expected a number"));
+    test::writeBytes(path,
+                     "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 zero 0\n");
+    CHECK_THAT(messageOf([&] { readStl(path); }),
+               Contains("bad_ascii.stl:5") && Contains("expected a number"));
     test::writeBytes(path, "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n");
     CHECK_THAT(messageOf([&] { readStl(path); }), Contains("end of file"));
     test::writeBytes(path, "solid x\nendsolid x\n");
@@ -124,9 +132,12 @@ TEST_CASE("malformed ASCII STL names the line", "[stl][bad-input]") {
 
 TEST_CASE("bundled example parts read cleanly with their documented volumes", "[stl]") {
     const std::string dir = std::string(VPSIM_SOURCE_DIR) + "/examples/parts/";
-    const std::vector<std::pair<std::string, double>> parts{
-        {"holes", 493.75}, {"overhangs", 320.0}, {"l-shape", 750.0}, {"tapered", 1750.0 / 3.0},
-        {"bottom-narrow", 1750.0 / 3.0}, {"pillars", 8.0}};
+    const std::vector<std::pair<std::string, double>> parts{{"holes", 493.75},
+                                                            {"overhangs", 320.0},
+                                                            {"l-shape", 750.0},
+                                                            {"tapered", 1750.0 / 3.0},
+                                                            {"bottom-narrow", 1750.0 / 3.0},
+                                                            {"pillars", 8.0}};
     for (const auto& [name, volume] : parts) {
         MeshReport report;
         const Mesh mesh = readStl(dir + name + ".stl", {}, &report);

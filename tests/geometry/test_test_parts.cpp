@@ -15,12 +15,13 @@ using namespace vpsim::geometry;
 namespace {
 constexpr double PI = 3.14159265358979323846;
 constexpr double EXACT = 1e-12;
-} // namespace
+}  // namespace
 
 TEST_CASE("test part volumes match closed forms", "[parts]") {
     CHECK(makeTestPart("box").volume() == Approx(1000.0).epsilon(EXACT));
     // Frustum: h/3 (a^2 + ab + b^2) with a = 10, b = 5, h = 10.
-    CHECK(makeTestPart("tapered").volume() == Approx(10.0 / 3.0 * (100.0 + 50.0 + 25.0)).epsilon(EXACT));
+    CHECK(makeTestPart("tapered").volume() ==
+          Approx(10.0 / 3.0 * (100.0 + 50.0 + 25.0)).epsilon(EXACT));
     CHECK(makeTestPart("bottom-narrow").volume() == Approx(10.0 / 3.0 * 175.0).epsilon(EXACT));
     CHECK(makeTestPart("l-shape").volume() == Approx(750.0).epsilon(EXACT));
     // 10 x 5 x 11 block minus holes 3 x 3 and 1.5 x 1.5 through 5 mm.
@@ -57,7 +58,8 @@ TEST_CASE("test part options change the shape", "[parts]") {
 
 TEST_CASE("bad test part options are clear errors", "[parts][bad-input]") {
     TestPartOptions o;
-    CHECK_THROWS_WITH(makeTestPart("sphere"), Catch::Matchers::Contains("unknown test part 'sphere'"));
+    CHECK_THROWS_WITH(makeTestPart("sphere"),
+                      Catch::Matchers::Contains("unknown test part 'sphere'"));
     o.size = -1.0;
     CHECK_THROWS_AS(makeTestPart("box", o), InputError);
     o.size = 3.0;
@@ -68,7 +70,8 @@ TEST_CASE("bad test part options are clear errors", "[parts][bad-input]") {
     TestPartOptions p;
     p.spacing = 0.5;
     CHECK_THROWS_WITH(makeTestPart("pillars", p), Catch::Matchers::Contains("spacing"));
-    CHECK_THROWS_WITH(makeTestPart("box", p), Catch::Matchers::Contains("option spacing does not apply"));
+    CHECK_THROWS_WITH(makeTestPart("box", p),
+                      Catch::Matchers::Contains("option spacing does not apply"));
     TestPartOptions h;
     h.height = 5.0;
     CHECK_THROWS_WITH(makeTestPart("holes", h), Catch::Matchers::Contains("fixed by seed 001"));

@@ -2,13 +2,13 @@
 // Helpers shared by the geometry tests: a per-process temp directory and raw STL writers for
 // building broken files byte by byte.
 
+#include <unistd.h>
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 #include "vpsim/geometry/mesh.h"
 #include "vpsim/geometry/test_parts.h"
@@ -18,7 +18,9 @@ namespace vpsim::test {
 /// A per-process temporary directory, removed when the test program exits.
 class TempDir {
 public:
-    TempDir() : mPath(std::filesystem::temp_directory_path() / ("vpsim_geometry_test_" + std::to_string(::getpid()))) {
+    TempDir()
+        : mPath(std::filesystem::temp_directory_path() /
+                ("vpsim_geometry_test_" + std::to_string(::getpid()))) {
         std::filesystem::create_directories(mPath);
     }
     ~TempDir() {
@@ -50,7 +52,8 @@ inline void writeBytes(const std::string& path, const std::string& bytes) {
 }
 
 /// Binary STL bytes of a mesh as triangle soup; `declared` overrides the header count.
-inline std::string binaryStlBytes(const geometry::Mesh& mesh, int64_t declared = -1, const char* header = "test") {
+inline std::string binaryStlBytes(const geometry::Mesh& mesh, int64_t declared = -1,
+                                  const char* header = "test") {
     std::string out(84, '\0');
     std::memcpy(&out[0], header, std::min<size_t>(std::strlen(header), 80));
     const auto count = uint32_t(declared >= 0 ? declared : int64_t(mesh.triangles.size()));
@@ -66,4 +69,4 @@ inline std::string binaryStlBytes(const geometry::Mesh& mesh, int64_t declared =
     return out;
 }
 
-} // namespace vpsim::test
+}  // namespace vpsim::test

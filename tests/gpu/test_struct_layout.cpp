@@ -7,9 +7,9 @@
 #include "vpsim/shaders/layout_probe_spv.h"
 
 namespace vpsim::glsl {
-#include "shared_structs.glsl"
 #include "photon_types.glsl"
-} // namespace vpsim::glsl
+#include "shared_structs.glsl"
+}  // namespace vpsim::glsl
 
 using namespace vpsim;
 
@@ -37,42 +37,70 @@ void checkStruct(const char* name, size_t size, std::initializer_list<MemberLayo
     CHECK(reflected.arrayStride == size);
 }
 
-} // namespace
+}  // namespace
 
-#define VPSIM_MEMBER(type, member) MemberLayout{#member, offsetof(type, member)}
+#define VPSIM_MEMBER(type, member)      \
+    MemberLayout {                      \
+#member, offsetof(type, member) \
+    }
 
 TEST_CASE("shared structs have the same layout in C++ and std430 GLSL", "[gpu][layout]") {
     using glsl::RngStreamParams;
-    checkStruct("RngStreamParams", sizeof(RngStreamParams),
-                {VPSIM_MEMBER(RngStreamParams, seed), VPSIM_MEMBER(RngStreamParams, firstStream),
-                 VPSIM_MEMBER(RngStreamParams, streamCount), VPSIM_MEMBER(RngStreamParams, valuesPerStream),
-                 VPSIM_MEMBER(RngStreamParams, mode), VPSIM_MEMBER(RngStreamParams, pad0),
-                 VPSIM_MEMBER(RngStreamParams, pad1), VPSIM_MEMBER(RngStreamParams, pad2)});
+    checkStruct(
+        "RngStreamParams", sizeof(RngStreamParams),
+        {VPSIM_MEMBER(RngStreamParams, seed), VPSIM_MEMBER(RngStreamParams, firstStream),
+         VPSIM_MEMBER(RngStreamParams, streamCount), VPSIM_MEMBER(RngStreamParams, valuesPerStream),
+         VPSIM_MEMBER(RngStreamParams, mode), VPSIM_MEMBER(RngStreamParams, pad0),
+         VPSIM_MEMBER(RngStreamParams, pad1), VPSIM_MEMBER(RngStreamParams, pad2)});
     using glsl::ExposureBlurParams;
-    checkStruct("ExposureBlurParams", sizeof(ExposureBlurParams),
-                {VPSIM_MEMBER(ExposureBlurParams, nx), VPSIM_MEMBER(ExposureBlurParams, ny),
-                 VPSIM_MEMBER(ExposureBlurParams, axis), VPSIM_MEMBER(ExposureBlurParams, halfWidth),
-                 VPSIM_MEMBER(ExposureBlurParams, sigmaCells), VPSIM_MEMBER(ExposureBlurParams, norm),
-                 VPSIM_MEMBER(ExposureBlurParams, pad0), VPSIM_MEMBER(ExposureBlurParams, pad1)});
+    checkStruct(
+        "ExposureBlurParams", sizeof(ExposureBlurParams),
+        {VPSIM_MEMBER(ExposureBlurParams, nx), VPSIM_MEMBER(ExposureBlurParams, ny),
+         VPSIM_MEMBER(ExposureBlurParams, axis), VPSIM_MEMBER(ExposureBlurParams, halfWidth),
+         VPSIM_MEMBER(ExposureBlurParams, sigmaCells), VPSIM_MEMBER(ExposureBlurParams, norm),
+         VPSIM_MEMBER(ExposureBlurParams, pad0), VPSIM_MEMBER(ExposureBlurParams, pad1)});
     using glsl::ExposureRecursionParams;
-    checkStruct("ExposureRecursionParams", sizeof(ExposureRecursionParams),
-                {VPSIM_MEMBER(ExposureRecursionParams, count), VPSIM_MEMBER(ExposureRecursionParams, decay),
-                 VPSIM_MEMBER(ExposureRecursionParams, pad0), VPSIM_MEMBER(ExposureRecursionParams, pad1)});
+    checkStruct(
+        "ExposureRecursionParams", sizeof(ExposureRecursionParams),
+        {VPSIM_MEMBER(ExposureRecursionParams, count), VPSIM_MEMBER(ExposureRecursionParams, decay),
+         VPSIM_MEMBER(ExposureRecursionParams, pad0), VPSIM_MEMBER(ExposureRecursionParams, pad1)});
     using glsl::ExposureStencilParams;
     checkStruct("ExposureStencilParams", sizeof(ExposureStencilParams),
                 {VPSIM_MEMBER(ExposureStencilParams, nx), VPSIM_MEMBER(ExposureStencilParams, ny),
-                 VPSIM_MEMBER(ExposureStencilParams, halfWidth), VPSIM_MEMBER(ExposureStencilParams, weightOffset)});
+                 VPSIM_MEMBER(ExposureStencilParams, halfWidth),
+                 VPSIM_MEMBER(ExposureStencilParams, weightOffset)});
     using glsl::PhotonParams;
     checkStruct("PhotonParams", sizeof(PhotonParams),
-                {VPSIM_MEMBER(PhotonParams, seed), VPSIM_MEMBER(PhotonParams, photonStart), VPSIM_MEMBER(PhotonParams, photonEnd),
-                 VPSIM_MEMBER(PhotonParams, invocationStride), VPSIM_MEMBER(PhotonParams, beamShape), VPSIM_MEMBER(PhotonParams, beamW0),
-                 VPSIM_MEMBER(PhotonParams, mua), VPSIM_MEMBER(PhotonParams, mus), VPSIM_MEMBER(PhotonParams, g),
-                 VPSIM_MEMBER(PhotonParams, phaseModel), VPSIM_MEMBER(PhotonParams, phaseTableSize), VPSIM_MEMBER(PhotonParams, nMedium),
-                 VPSIM_MEMBER(PhotonParams, nAbove), VPSIM_MEMBER(PhotonParams, nBelow), VPSIM_MEMBER(PhotonParams, thickness),
-                 VPSIM_MEMBER(PhotonParams, lateralRadius), VPSIM_MEMBER(PhotonParams, launchWeight), VPSIM_MEMBER(PhotonParams, enteringWeight),
-                 VPSIM_MEMBER(PhotonParams, rBinWidth), VPSIM_MEMBER(PhotonParams, zBinWidth), VPSIM_MEMBER(PhotonParams, rBins),
-                 VPSIM_MEMBER(PhotonParams, zBins), VPSIM_MEMBER(PhotonParams, gridVoxel), VPSIM_MEMBER(PhotonParams, gridNxy),
-                 VPSIM_MEMBER(PhotonParams, gridNz), VPSIM_MEMBER(PhotonParams, depth0), VPSIM_MEMBER(PhotonParams, depth1),
-                 VPSIM_MEMBER(PhotonParams, depth2), VPSIM_MEMBER(PhotonParams, depth3), VPSIM_MEMBER(PhotonParams, depthCount),
-                 VPSIM_MEMBER(PhotonParams, reserved0), VPSIM_MEMBER(PhotonParams, reserved1)});
+                {VPSIM_MEMBER(PhotonParams, seed),
+                 VPSIM_MEMBER(PhotonParams, photonStart),
+                 VPSIM_MEMBER(PhotonParams, photonEnd),
+                 VPSIM_MEMBER(PhotonParams, invocationStride),
+                 VPSIM_MEMBER(PhotonParams, beamShape),
+                 VPSIM_MEMBER(PhotonParams, beamW0),
+                 VPSIM_MEMBER(PhotonParams, mua),
+                 VPSIM_MEMBER(PhotonParams, mus),
+                 VPSIM_MEMBER(PhotonParams, g),
+                 VPSIM_MEMBER(PhotonParams, phaseModel),
+                 VPSIM_MEMBER(PhotonParams, phaseTableSize),
+                 VPSIM_MEMBER(PhotonParams, nMedium),
+                 VPSIM_MEMBER(PhotonParams, nAbove),
+                 VPSIM_MEMBER(PhotonParams, nBelow),
+                 VPSIM_MEMBER(PhotonParams, thickness),
+                 VPSIM_MEMBER(PhotonParams, lateralRadius),
+                 VPSIM_MEMBER(PhotonParams, launchWeight),
+                 VPSIM_MEMBER(PhotonParams, enteringWeight),
+                 VPSIM_MEMBER(PhotonParams, rBinWidth),
+                 VPSIM_MEMBER(PhotonParams, zBinWidth),
+                 VPSIM_MEMBER(PhotonParams, rBins),
+                 VPSIM_MEMBER(PhotonParams, zBins),
+                 VPSIM_MEMBER(PhotonParams, gridVoxel),
+                 VPSIM_MEMBER(PhotonParams, gridNxy),
+                 VPSIM_MEMBER(PhotonParams, gridNz),
+                 VPSIM_MEMBER(PhotonParams, depth0),
+                 VPSIM_MEMBER(PhotonParams, depth1),
+                 VPSIM_MEMBER(PhotonParams, depth2),
+                 VPSIM_MEMBER(PhotonParams, depth3),
+                 VPSIM_MEMBER(PhotonParams, depthCount),
+                 VPSIM_MEMBER(PhotonParams, reserved0),
+                 VPSIM_MEMBER(PhotonParams, reserved1)});
 }

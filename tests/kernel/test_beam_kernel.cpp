@@ -41,9 +41,11 @@ BeamKernel synthetic(double w, Amplitude amplitude, double noise = 0.0, uint32_t
     return k;
 }
 
-std::string tempPath(const std::string& name) { return std::string("/tmp/vpsim_test_kernel_") + name; }
+std::string tempPath(const std::string& name) {
+    return std::string("/tmp/vpsim_test_kernel_") + name;
+}
 
-} // namespace
+}  // namespace
 
 TEST_CASE("Eq. 12 fit recovers a synthetic Gaussian x exponential field", "[kernel]") {
     // Exact model at bin centres: the log-linear fit is exact up to float rounding (1e-4).
@@ -56,10 +58,12 @@ TEST_CASE("Eq. 12 fit recovers a synthetic Gaussian x exponential field", "[kern
     CHECK(k.fit.residual < 1e-4);
     CHECK(k.zmax == Approx(0.5 * k.zBin));  // maximum in the first slice
     for (uint32_t iz = 0; iz < 20; ++iz) CHECK(k.depthRadius[iz] == Approx(w).epsilon(1e-4));
-    CHECK(k.fitted(0.01, 0.02) == Approx(a0 * std::exp(-2e-4 / (w * w)) * std::exp(-0.5)).epsilon(1e-4));
+    CHECK(k.fitted(0.01, 0.02) ==
+          Approx(a0 * std::exp(-2e-4 / (w * w)) * std::exp(-0.5)).epsilon(1e-4));
 
     // 10% multiplicative noise (fixed seed): parameters within 2%, residual reflects the noise.
-    BeamKernel noisy = synthetic(w, [&](double z) { return a0 * std::exp(-z / d); }, 0.10, 7);
+    BeamKernel noisy = synthetic(
+        w, [&](double z) { return a0 * std::exp(-z / d); }, 0.10, 7);
     fitKernel(noisy);
     CHECK(noisy.fit.we3d == Approx(w).epsilon(0.02));
     CHECK(noisy.fit.de3d == Approx(d).epsilon(0.02));
@@ -70,12 +74,15 @@ TEST_CASE("Eq. 12 fit recovers a synthetic Gaussian x exponential field", "[kern
 TEST_CASE("a sub-surface maximum is located and the fit starts there", "[kernel]") {
     // Amplitude (1 - 0.6 exp(-z/z1)) exp(-z/d) peaks at z* = z1 ln(0.6 (d + z1) / z1).
     const double z1 = 0.01, d = 0.05;
-    auto amplitude = [&](double z) { return 2000 * (1 - 0.6 * std::exp(-z / z1)) * std::exp(-z / d); };
+    auto amplitude = [&](double z) {
+        return 2000 * (1 - 0.6 * std::exp(-z / z1)) * std::exp(-z / d);
+    };
     const double expected = z1 * std::log(0.6 * (d + z1) / z1);
     BeamKernel k = synthetic(0.05, amplitude);
     fitKernel(k);
     INFO("zmax " << k.zmax << " expected " << expected);
-    CHECK(std::abs(k.zmax - expected) < 0.5 * k.zBin);  // parabola over 5 slices of a skewed peak: half a bin
+    CHECK(std::abs(k.zmax - expected) <
+          0.5 * k.zBin);  // parabola over 5 slices of a skewed peak: half a bin
     CHECK(k.fit.fitDepthStart >= k.zmax - 0.5 * k.zBin);
     CHECK(k.fit.we3d == Approx(0.05).epsilon(0.01));  // z-misfit leaks slightly into r
     // Below zmax the amplitude decays more slowly than exp(-z/d) alone would suggest near the
@@ -97,7 +104,8 @@ TEST_CASE("Eq. 11 on an unscattered Gaussian beam gives the Beer-Lambert intensi
     s.seed = 3;
     s.bins = {0.15, 0.3, 30, 30};
     BeamKernel k = kernelFromMonteCarlo(transport::runPhotonMcCpu(s), 10.0);
-    const double peak = (1 - std::pow(0.45 / 2.45, 2)) * 2 * 10.0 / (3.14159265358979 * 0.05 * 0.05);
+    const double peak =
+        (1 - std::pow(0.45 / 2.45, 2)) * 2 * 10.0 / (3.14159265358979 * 0.05 * 0.05);
     CHECK(k.beerLambert(0, 0) == Approx(peak).epsilon(1e-6));
     CHECK(k.fit.we3d == Approx(0.05).epsilon(0.03));
     CHECK(k.fit.de3d == Approx(1 / 8.4).epsilon(0.03));
@@ -106,7 +114,8 @@ TEST_CASE("Eq. 11 on an unscattered Gaussian beam gives the Beer-Lambert intensi
 }
 
 TEST_CASE("beam kernel JSON round trip and output files", "[kernel]") {
-    BeamKernel k = synthetic(0.05, [](double z) { return 1500 * std::exp(-z / 0.03); }, 0.05, 11);
+    BeamKernel k = synthetic(
+        0.05, [](double z) { return 1500 * std::exp(-z / 0.03); }, 0.05, 11);
     fitKernel(k);
     k.specularReflectance = 0.0337;
     k.photons = 123456;
@@ -133,8 +142,9 @@ TEST_CASE("beam kernel JSON round trip and output files", "[kernel]") {
 
     const std::string dir = tempPath("figures");
     writeKernelFigures(dir, k);
-    for (const char* name : {"intensity_scattered.png", "intensity_no_scattering.png", "intensity_fit.png",
-                             "amplitude_vs_depth.svg", "radius_vs_depth.svg"}) {
+    for (const char* name :
+         {"intensity_scattered.png", "intensity_no_scattering.png", "intensity_fit.png",
+          "amplitude_vs_depth.svg", "radius_vs_depth.svg"}) {
         std::ifstream file(dir + "/" + name, std::ios::binary | std::ios::ate);
         INFO(name);
         CHECK(file.good());

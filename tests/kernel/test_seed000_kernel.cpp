@@ -19,7 +19,8 @@ namespace {
 
 BeamKernel runSeed000Kernel(double nOutside) {
     transport::McSetup s;
-    s.optics = optics::loadMediumOptics(VPSIM_SOURCE_DIR "/examples/materials/alumina-seed000.json");
+    s.optics =
+        optics::loadMediumOptics(VPSIM_SOURCE_DIR "/examples/materials/alumina-seed000.json");
     s.beam = transport::BeamShape::Gaussian;
     s.w0 = 0.05;
     s.nAbove = nOutside;
@@ -46,17 +47,19 @@ void contour(double amplitude, double w, double d, double level, double& depth, 
     halfWidth = w * std::sqrt(ratio / 2);
 }
 
-} // namespace
+}  // namespace
 
-TEST_CASE("seed 000 slurry: cure shallower and wider than Beer-Lambert with a radius close to W0", "[kernel]") {
+TEST_CASE("seed 000 slurry: cure shallower and wider than Beer-Lambert with a radius close to W0",
+          "[kernel]") {
     const BeamKernel& k = seed000Kernel(1.0);  // resin under air: Fresnel at the top surface
     const double dp0 = 0.119, w0 = 0.05;
-    INFO("We3D " << k.fit.we3d << " De3D " << k.fit.de3d << " A " << k.fit.amplitude << " zmax " << k.zmax);
+    INFO("We3D " << k.fit.we3d << " De3D " << k.fit.de3d << " A " << k.fit.amplitude << " zmax "
+                 << k.zmax);
     CHECK(k.mua == Approx(1 / dp0).epsilon(1e-3));
-    CHECK(k.fit.de3d < 0.5 * dp0);                    // measured ~36 um vs 119 um
-    CHECK(k.fit.amplitude > k.beerLambert(0, 0));     // peak raised by scattered light (~1.5x)
-    CHECK(k.fit.we3d > w0);                           // broadened ...
-    CHECK(k.fit.we3d < 1.4 * w0);                     // ... but close to W0 (~1.25 W0)
+    CHECK(k.fit.de3d < 0.5 * dp0);                 // measured ~36 um vs 119 um
+    CHECK(k.fit.amplitude > k.beerLambert(0, 0));  // peak raised by scattered light (~1.5x)
+    CHECK(k.fit.we3d > w0);                        // broadened ...
+    CHECK(k.fit.we3d < 1.4 * w0);                  // ... but close to W0 (~1.25 W0)
     // Contour at 10% of the unscattered peak intensity: shallower and wider.
     const double level = 0.1 * k.beerLambert(0, 0);
     double depthBL, widthBL, depthMC, widthMC;
@@ -71,7 +74,8 @@ TEST_CASE("seed 000 slurry: cure shallower and wider than Beer-Lambert with a ra
     CHECK(k.fit.residual < 0.3);
 }
 
-TEST_CASE("seed 000 slurry: intensity maximum below the surface when photons escape freely", "[kernel]") {
+TEST_CASE("seed 000 slurry: intensity maximum below the surface when photons escape freely",
+          "[kernel]") {
     // The seed's MC lets photons leave through the top (no Fresnel): with an index-matched top
     // surface the maximum of Ie(0, z) lies a few um down. Under air, total internal reflection
     // keeps scattered light near the surface and the maximum moves up to z = 0.
@@ -80,10 +84,11 @@ TEST_CASE("seed 000 slurry: intensity maximum below the surface when photons esc
     // Mean slice amplitude 2.5-10 um deep over the amplitude of the top 2.5 um slice: measured
     // 1.018-1.030 matched, 0.957-0.968 under air (seeds 1-3); slice noise is ~1%.
     auto rise = [](const BeamKernel& k) {
-        return (k.depthAmplitude[1] + k.depthAmplitude[2] + k.depthAmplitude[3]) / (3 * k.depthAmplitude[0]);
+        return (k.depthAmplitude[1] + k.depthAmplitude[2] + k.depthAmplitude[3]) /
+               (3 * k.depthAmplitude[0]);
     };
-    INFO("zmax matched " << matched.zmax << " air " << air.zmax << "; rise matched " << rise(matched) << " air "
-                         << rise(air));
+    INFO("zmax matched " << matched.zmax << " air " << air.zmax << "; rise matched "
+                         << rise(matched) << " air " << rise(air));
     CHECK(rise(matched) > 1.0);
     CHECK(rise(air) < 1.0);
     CHECK(matched.zmax > 1.5 * matched.zBin);  // > 3.75 um; measured 4.6-6.1 um over seeds 1-6

@@ -3,10 +3,10 @@
 
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
 #include <atomic>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 #include <string>
 
 #include "vpsim/core/error.h"
@@ -24,12 +24,14 @@ const std::string EXAMPLES = std::string(VPSIM_SOURCE_DIR) + "/examples/material
 std::string writeTemp(const std::string& text) {
     static std::atomic<int> counter{0};
     auto path = std::filesystem::temp_directory_path() /
-                ("vpsim_material_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++) + ".json");
+                ("vpsim_material_test_" + std::to_string(::getpid()) + "_" +
+                 std::to_string(counter++) + ".json");
     std::ofstream(path) << text;
     return path.string();
 }
 
-const char* SLURRY_HEAD = R"({"wavelength": "405 nm", "resin": {"refractive_index": 1.45, "penetration_depth": "119 um"},)";
+const char* SLURRY_HEAD =
+    R"({"wavelength": "405 nm", "resin": {"refractive_index": 1.45, "penetration_depth": "119 um"},)";
 
 /// The InputError of loading `json`, which must name the file and contain `key` and `reason`.
 void expectError(const std::string& json, const std::string& key, const std::string& reason) {
@@ -48,11 +50,11 @@ void expectError(const std::string& json, const std::string& key, const std::str
     std::filesystem::remove(path);
 }
 
-} // namespace
+}  // namespace
 
 TEST_CASE("Shipped material files load", "[material]") {
     MediumOptics slab = loadMediumOptics(EXAMPLES + "vandehulst-slab.json");
-    CHECK_THAT(slab.mua, WithinRel(1.0, 1e-12));   // 10 /cm = 1 /mm
+    CHECK_THAT(slab.mua, WithinRel(1.0, 1e-12));  // 10 /cm = 1 /mm
     CHECK_THAT(slab.mus, WithinRel(9.0, 1e-12));
     CHECK(slab.g == 0.75);
     CHECK(slab.phase == PhaseModel::HenyeyGreenstein);
@@ -71,11 +73,13 @@ TEST_CASE("Shipped material files load", "[material]") {
     CHECK_THAT(m.mua, WithinRel(1.0 / 0.119, 1e-12));
     CHECK_THAT(m.wavelength, WithinRel(405e-6, 1e-12));
     // Overrides reach the file's keys.
-    MediumOptics thin = loadMediumOptics(EXAMPLES + "alumina-seed000.json", {"particles.volume_fraction=0.25"});
+    MediumOptics thin =
+        loadMediumOptics(EXAMPLES + "alumina-seed000.json", {"particles.volume_fraction=0.25"});
     CHECK_THAT(thin.mus, WithinRel(0.5 * m.mus, 1e-12));
 }
 
-TEST_CASE("Slurry options: complex particle index, log-normal sizes, table size, resin fraction", "[material]") {
+TEST_CASE("Slurry options: complex particle index, log-normal sizes, table size, resin fraction",
+          "[material]") {
     const std::string path = writeTemp(std::string(SLURRY_HEAD) + R"(
         "particles": {"refractive_index": "1.75-0.001i", "radius": 0.0025, "volume_fraction": 0.4,
                       "size_distribution": {"type": "lognormal", "sigma_g": 1.2, "points": 32}},
@@ -91,52 +95,70 @@ TEST_CASE("Slurry options: complex particle index, log-normal sizes, table size,
 }
 
 TEST_CASE("Bad material files give one InputError naming the file and key", "[material]") {
-    const std::string particles = R"("particles": {"refractive_index": 1.75, "radius": "2.5 um", "volume_fraction": 0.5})";
+    const std::string particles =
+        R"("particles": {"refractive_index": 1.75, "radius": "2.5 um", "volume_fraction": 0.5})";
     // Unknown keys (typos) anywhere.
-    expectError(std::string(SLURRY_HEAD) + particles + R"(, "phase_tabel_size": 10})", "phase_tabel_size", "unknown key");
-    expectError(std::string(SLURRY_HEAD) +
-                    R"("particles": {"refractive_index": 1.75, "raduis": "2.5 um", "volume_fraction": 0.5}})",
-                "particles.radius", "missing");
-    expectError(R"({"optics": {"mua": "10 /cm", "mus": "90 /cm", "g": 0.75, "colour": "red"}})", "optics.colour",
-                "unknown key");
+    expectError(std::string(SLURRY_HEAD) + particles + R"(, "phase_tabel_size": 10})",
+                "phase_tabel_size", "unknown key");
+    expectError(
+        std::string(SLURRY_HEAD) +
+            R"("particles": {"refractive_index": 1.75, "raduis": "2.5 um", "volume_fraction": 0.5}})",
+        "particles.radius", "missing");
+    expectError(R"({"optics": {"mua": "10 /cm", "mus": "90 /cm", "g": 0.75, "colour": "red"}})",
+                "optics.colour", "unknown key");
     // Wrong units.
-    expectError(std::string(SLURRY_HEAD) +
-                    R"("particles": {"refractive_index": 1.75, "radius": "2.5 mW", "volume_fraction": 0.5}})",
-                "particles.radius", "length");
+    expectError(
+        std::string(SLURRY_HEAD) +
+            R"("particles": {"refractive_index": 1.75, "radius": "2.5 mW", "volume_fraction": 0.5}})",
+        "particles.radius", "length");
     expectError(R"({"optics": {"mua": "10 mm", "mus": "90 /cm", "g": 0.75}})", "optics.mua", "");
-    expectError(R"({"wavelength": "405 parsecs", "resin": {"refractive_index": 1.45, "penetration_depth": "119 um"},)" +
-                    particles + "}",
-                "wavelength", "");
+    expectError(
+        R"({"wavelength": "405 parsecs", "resin": {"refractive_index": 1.45, "penetration_depth": "119 um"},)" +
+            particles + "}",
+        "wavelength", "");
     // Impossible values.
-    expectError(std::string(SLURRY_HEAD) +
-                    R"("particles": {"refractive_index": 1.75, "radius": "-2.5 um", "volume_fraction": 0.5}})",
-                "particles.radius", "positive");
-    expectError(std::string(SLURRY_HEAD) +
-                    R"("particles": {"refractive_index": 1.75, "radius": "2.5 um", "volume_fraction": 0.74}})",
-                "particles.volume_fraction", "0.74");
-    expectError(std::string(SLURRY_HEAD) +
-                    R"("particles": {"refractive_index": 1.75, "radius": "2.5 um", "volume_fraction": 0}})",
-                "particles.volume_fraction", "0.74");
-    expectError(std::string(SLURRY_HEAD) +
-                    R"("particles": {"refractive_index": 0, "radius": "2.5 um", "volume_fraction": 0.5}})",
-                "particles.refractive_index", "positive");
-    expectError(std::string(SLURRY_HEAD) +
-                    R"("particles": {"refractive_index": "1.75+0.1i", "radius": "2.5 um", "volume_fraction": 0.5}})",
-                "particles.refractive_index", "negative imaginary");
-    expectError(R"({"wavelength": "405 nm", "resin": {"refractive_index": -1.45, "penetration_depth": "119 um"},)" +
-                    particles + "}",
-                "resin.refractive_index", "positive");
-    expectError(std::string(SLURRY_HEAD) +
-                    R"("particles": {"refractive_index": 1.75, "radius": "2.5 um", "volume_fraction": 0.5,
+    expectError(
+        std::string(SLURRY_HEAD) +
+            R"("particles": {"refractive_index": 1.75, "radius": "-2.5 um", "volume_fraction": 0.5}})",
+        "particles.radius", "positive");
+    expectError(
+        std::string(SLURRY_HEAD) +
+            R"("particles": {"refractive_index": 1.75, "radius": "2.5 um", "volume_fraction": 0.74}})",
+        "particles.volume_fraction", "0.74");
+    expectError(
+        std::string(SLURRY_HEAD) +
+            R"("particles": {"refractive_index": 1.75, "radius": "2.5 um", "volume_fraction": 0}})",
+        "particles.volume_fraction", "0.74");
+    expectError(
+        std::string(SLURRY_HEAD) +
+            R"("particles": {"refractive_index": 0, "radius": "2.5 um", "volume_fraction": 0.5}})",
+        "particles.refractive_index", "positive");
+    expectError(
+        std::string(SLURRY_HEAD) +
+            R"("particles": {"refractive_index": "1.75+0.1i", "radius": "2.5 um", "volume_fraction": 0.5}})",
+        "particles.refractive_index", "negative imaginary");
+    expectError(
+        R"({"wavelength": "405 nm", "resin": {"refractive_index": -1.45, "penetration_depth": "119 um"},)" +
+            particles + "}",
+        "resin.refractive_index", "positive");
+    expectError(
+        std::string(SLURRY_HEAD) +
+            R"("particles": {"refractive_index": 1.75, "radius": "2.5 um", "volume_fraction": 0.5,
                        "size_distribution": {"type": "lognormal", "sigma_g": 0.9}}})",
-                "particles.size_distribution.sigma_g", "[1, 5]");
-    expectError(std::string(SLURRY_HEAD) + R"("particles": {"refractive_index": 1.75, "radius": "5 mm", "volume_fraction": 0.5}})",
-                "particles", "size parameter");
-    expectError(R"({"optics": {"mua": "10 /cm", "mus": "90 /cm", "g": 1.0}})", "optics.g", "(-1, 1)");
-    expectError(R"({"optics": {"mua": "-1 /cm", "mus": "90 /cm", "g": 0.5}})", "optics.mua", "negative");
-    expectError(R"({"optics": {"mua": 1, "mus": 9, "g": 0.5, "phase": "mie"}})", "optics.phase", "hg");
+        "particles.size_distribution.sigma_g", "[1, 5]");
+    expectError(
+        std::string(SLURRY_HEAD) +
+            R"("particles": {"refractive_index": 1.75, "radius": "5 mm", "volume_fraction": 0.5}})",
+        "particles", "size parameter");
+    expectError(R"({"optics": {"mua": "10 /cm", "mus": "90 /cm", "g": 1.0}})", "optics.g",
+                "(-1, 1)");
+    expectError(R"({"optics": {"mua": "-1 /cm", "mus": "90 /cm", "g": 0.5}})", "optics.mua",
+                "negative");
+    expectError(R"({"optics": {"mua": 1, "mus": 9, "g": 0.5, "phase": "mie"}})", "optics.phase",
+                "hg");
     // Both forms, neither form.
-    expectError(std::string(SLURRY_HEAD) + particles + R"(, "optics": {"mua": 1, "mus": 9}})", "optics", "not both");
+    expectError(std::string(SLURRY_HEAD) + particles + R"(, "optics": {"mua": 1, "mus": 9}})",
+                "optics", "not both");
     expectError(R"({"name": "nothing"})", "", "not a material file");
     // Malformed JSON names the file and line.
     expectError("{\n  \"optics\": {\"mua\": 1,,\n}", "", "malformed JSON");

@@ -17,14 +17,15 @@ using Catch::Matchers::WithinRel;
 namespace {
 constexpr double PI = 3.14159265358979323846;
 constexpr double SEED_QSCA = 2.317144881;  // mpmath, see "independent 60-digit computation"
-}
+}  // namespace
 
 TEST_CASE("Mie reduces to Rayleigh scattering for x = 0.01", "[mie]") {
     // Closed forms (BH Eq. 5.8, 5.11, m = n - ik so the absorbing Im part enters with a minus):
     //   Qsca = 8/3 x^4 |(m^2-1)/(m^2+2)|^2, Qabs = -4 x Im((m^2-1)/(m^2+2)), Qback = 1.5 Qsca,
     //   g -> 0. Corrections are O(x^2) = 1e-4 relative, so the tolerance is 1e-3.
     const double x = 0.01;
-    for (Complex m : {Complex(1.5, 0.0), Complex(1.33, -0.01), Complex(1.75, -0.5), Complex(0.75, 0.0)}) {
+    for (Complex m :
+         {Complex(1.5, 0.0), Complex(1.33, -0.01), Complex(1.75, -0.5), Complex(0.75, 0.0)}) {
         INFO("m = " << formatRefractiveIndex(m));
         const Complex polar = (m * m - 1.0) / (m * m + 2.0);
         MieEfficiencies e = mieEfficiencies(mieCoefficients(m, x));
@@ -32,8 +33,10 @@ TEST_CASE("Mie reduces to Rayleigh scattering for x = 0.01", "[mie]") {
         CHECK_THAT(e.qsca, WithinRel(qsca, 1e-3));
         CHECK_THAT(e.qback, WithinRel(1.5 * qsca, 1e-3));
         CHECK(std::fabs(e.g) < 1e-3);
-        if (m.imag() < 0.0) CHECK_THAT(e.qabs, WithinRel(-4.0 * x * polar.imag(), 1e-3));
-        else CHECK(std::fabs(e.qabs) < 1e-12 * e.qsca + 1e-20);
+        if (m.imag() < 0.0)
+            CHECK_THAT(e.qabs, WithinRel(-4.0 * x * polar.imag(), 1e-3));
+        else
+            CHECK(std::fabs(e.qabs) < 1e-12 * e.qsca + 1e-20);
     }
 }
 
@@ -54,7 +57,8 @@ TEST_CASE("Optical theorem: Qext = 4/x^2 Re S(0) and S1(0) = S2(0), S1(180) = -S
     }
 }
 
-TEST_CASE("Integral of K over the sphere equals pi x^2 Qsca and its mean cosine equals g", "[mie]") {
+TEST_CASE("Integral of K over the sphere equals pi x^2 Qsca and its mean cosine equals g",
+          "[mie]") {
     // Two independent routes: Qsca and g from sums over the coefficients, the integrals from
     // S1, S2 on 0.1-degree (or finer) panels. Tolerance 1e-6 relative (the quadrature is of
     // high order; the requirement is 1e-4).
@@ -80,11 +84,13 @@ TEST_CASE("Integral of K equals pi x^2 Qsca at x = 10^4", "[mie][slow]") {
     CHECK_THAT(t.meanCosine, WithinAbs(e.g, 1e-4));
 }
 
-TEST_CASE("Mie is stable and physical from x = 0.01 to 10^4 for strongly absorbing, large |m|x", "[mie]") {
+TEST_CASE("Mie is stable and physical from x = 0.01 to 10^4 for strongly absorbing, large |m|x",
+          "[mie]") {
     // |m|x up to 1.4e5: the Lentz-seeded downward recurrence must give finite, physical values
     // and the large-x extinction limit Qext -> 2 (van de Hulst's extinction paradox; the edge
     // correction is ~2 x^(-2/3) = 0.004 at x = 1e4, tolerance 0.01).
-    for (Complex m : {Complex(1.01, 0.0), Complex(1.75, 0.0), Complex(10.0, -10.0), Complex(1.5, -5.0)}) {
+    for (Complex m :
+         {Complex(1.01, 0.0), Complex(1.75, 0.0), Complex(10.0, -10.0), Complex(1.5, -5.0)}) {
         for (double x = 0.01; x <= 1.0001e4; x *= 10.0) {
             INFO("x = " << x << " m = " << formatRefractiveIndex(m));
             MieEfficiencies e = mieEfficiencies(mieCoefficients(m, x));
@@ -105,9 +111,11 @@ TEST_CASE("Mie agrees with an independent 60-digit computation", "[mie]") {
     // logarithmic derivatives), printed to 10 digits: a cross-check, not a publication.
     // m = 1.01, x = 1e4 (rho = 200, where anomalous diffraction is still off by 2 %) and the
     // seed-000 sphere m = 1.75/1.45, x = 2 pi 2.5 um 1.45 / 405 nm.
-    CHECK_THAT(mieEfficiencies(mieCoefficients({1.01, 0.0}, 1e4)).qext, WithinRel(2.021983175, 1e-9));
+    CHECK_THAT(mieEfficiencies(mieCoefficients({1.01, 0.0}, 1e4)).qext,
+               WithinRel(2.021983175, 1e-9));
     const double xSeed = 2.0 * PI * 2.5 * 1.45 / 0.405;
-    CHECK_THAT(mieEfficiencies(mieCoefficients({1.75 / 1.45, 0.0}, xSeed)).qsca, WithinRel(SEED_QSCA, 1e-9));
+    CHECK_THAT(mieEfficiencies(mieCoefficients({1.75 / 1.45, 0.0}, xSeed)).qsca,
+               WithinRel(SEED_QSCA, 1e-9));
 }
 
 TEST_CASE("Wiscombe's term count", "[mie]") {
@@ -127,7 +135,8 @@ TEST_CASE("Refractive index strings follow m = n - ik", "[mie]") {
     CHECK(parseRefractiveIndex("1.5+0i") == Complex(1.5, 0.0));
     // A positive imaginary part would be a gain medium in this convention: refused with advice.
     CHECK_THROWS_WITH(parseRefractiveIndex("1.5+0.1i", "--m"), Contains("negative imaginary"));
-    for (const char* bad : {"", "abc", "1.5-0.1", "1.5-0.1k", "1.5--0.1i", "-1.5", "0", "1.5i", "nan"}) {
+    for (const char* bad :
+         {"", "abc", "1.5-0.1", "1.5-0.1k", "1.5--0.1i", "-1.5", "0", "1.5i", "nan"}) {
         INFO("'" << bad << "'");
         CHECK_THROWS_AS(parseRefractiveIndex(bad), vpsim::InputError);
     }

@@ -35,7 +35,7 @@ struct Case {
 double s11(const MieCoefficients& c, double degrees) {
     return miePhaseIntensity(c, std::cos(degrees * PI / 180.0));
 }
-} // namespace
+}  // namespace
 
 TEST_CASE("Mie efficiencies match Wiscombe's MIEV0 test cases from x = 0.055 to 10^4", "[mie]") {
     // [W79] test cases; absolute tolerance 1e-6 = the last printed digit.
@@ -94,7 +94,8 @@ TEST_CASE("Mie backscatter amplitudes match MIEV0 for real and large spheres", "
     MieAmplitudes s8 = mieAmplitudes(mieCoefficients({0.75, 0.0}, 1000.0), -1.0);
     CHECK_THAT(s8.s1.real(), WithinRel(1.70578e1, 1e-5));
     CHECK_THAT(s8.s1.imag(), WithinRel(4.84251e2, 1e-5));
-    // [W79] appendix, m = 1.5: S1(180) = 4.322 + 4.868i (x = 10), 40.77 + 51.75i (x = 100), 4 digits.
+    // [W79] appendix, m = 1.5: S1(180) = 4.322 + 4.868i (x = 10), 40.77 + 51.75i (x = 100), 4
+    // digits.
     MieAmplitudes a = mieAmplitudes(mieCoefficients({1.5, 0.0}, 10.0), -1.0);
     CHECK_THAT(a.s1.real(), WithinRel(4.322, 2e-4));
     CHECK_THAT(a.s1.imag(), WithinRel(4.868, 2e-4));
@@ -137,11 +138,10 @@ TEST_CASE("Mie matches the Bohren & Huffman BHMIE sample (m = 1.55, x = 5.213)",
     CHECK_THAT(e.qext, WithinAbs(3.10543, 1e-5));
     CHECK_THAT(e.qsca, WithinAbs(3.10543, 1e-5));
     CHECK_THAT(e.qback, WithinAbs(2.92534, 1e-5));
-    const double normalised[21] = {1.0,         0.785390,    0.356897,    0.766119e-1, 0.355355e-1,
-                                   0.701845e-1, 0.574313e-1, 0.219660e-1, 0.125959e-1, 0.173750e-1,
-                                   0.124601e-1, 0.679093e-2, 0.954239e-2, 0.863419e-2, 0.227421e-2,
-                                   0.543998e-2, 0.160243e-1, 0.188852e-1, 0.195254e-1, 0.301676e-1,
-                                   0.383189e-1};
+    const double normalised[21] = {
+        1.0,         0.785390,    0.356897,    0.766119e-1, 0.355355e-1, 0.701845e-1, 0.574313e-1,
+        0.219660e-1, 0.125959e-1, 0.173750e-1, 0.124601e-1, 0.679093e-2, 0.954239e-2, 0.863419e-2,
+        0.227421e-2, 0.543998e-2, 0.160243e-1, 0.188852e-1, 0.195254e-1, 0.301676e-1, 0.383189e-1};
     const double forward = s11(c, 0.0);
     for (int i = 0; i < 21; ++i) {
         INFO("theta = " << 9 * i << " deg");

@@ -39,7 +39,7 @@ double stratifiedSampleMean(const PhaseTable& t, int n, unsigned seed) {
     for (int i = 0; i < n; ++i) sum += t.sampleCosine((i + uniform(rng)) / n);
     return sum / n;
 }
-} // namespace
+}  // namespace
 
 TEST_CASE("Seed-000 slurry: x, m, Qs, g and mean free paths", "[phase]") {
     // Inputs from seed 000 Sec. II-C (lambda 405 nm, n_m 1.45, n_s 1.75, R 2.5 um, Phi 0.5,
@@ -67,7 +67,8 @@ TEST_CASE("Seed-000 slurry: x, m, Qs, g and mean free paths", "[phase]") {
     CHECK(o.medium.inverseCdf.size() == static_cast<size_t>(DEFAULT_PHASE_TABLE_SIZE));
 }
 
-TEST_CASE("Seed-000 phase table: normalisation and mean cosine (tabulated and sampled)", "[phase]") {
+TEST_CASE("Seed-000 phase table: normalisation and mean cosine (tabulated and sampled)",
+          "[phase]") {
     // Requirement 1e-4 for each. The sampled mean uses 2e6 jittered-stratified samples (its
     // statistical error is far below 1e-5), i.e. it measures the interpolation the MC uses.
     SlurryOptics o = computeSlurryOptics(seedSlurry());
@@ -95,7 +96,8 @@ TEST_CASE("Inverse CDF runs from +1 to -1, is monotone, and inverts the CDF", "[
     const PhaseTable& t = o.phase;
     REQUIRE(t.inverseCdf.front() == 1.0f);
     REQUIRE(t.inverseCdf.back() == -1.0f);
-    for (size_t i = 1; i < t.inverseCdf.size(); ++i) REQUIRE(t.inverseCdf[i] <= t.inverseCdf[i - 1]);
+    for (size_t i = 1; i < t.inverseCdf.size(); ++i)
+        REQUIRE(t.inverseCdf[i] <= t.inverseCdf[i - 1]);
     // CDF(theta(u)) = u: the theta of entry i maps back to u_i within one panel's CDF step.
     const size_t n = t.inverseCdf.size();
     for (size_t i = 1; i + 1 < n; i += 97) {
@@ -115,14 +117,18 @@ TEST_CASE("Isotropic K gives the analytic uniform-in-cos table", "[phase]") {
     PhaseTable t = buildPhaseTable(q, std::vector<double>(q.nodeMu.size(), 3.0), 1001);
     CHECK_THAT(t.integral, WithinRel(3.0 * 4.0 * PI, 1e-12));
     CHECK_THAT(t.meanCosine, WithinAbs(0.0, 1e-12));
-    for (int i = 0; i < 1001; i += 50) CHECK_THAT(t.inverseCdf[i], WithinAbs(1.0 - 2.0 * i / 1000.0, 1e-6));
+    for (int i = 0; i < 1001; i += 50)
+        CHECK_THAT(t.inverseCdf[i], WithinAbs(1.0 - 2.0 * i / 1000.0, 1e-6));
     CHECK_THAT(t.cdfAt(PI / 3.0), WithinAbs(0.25, 1e-6));
     CHECK_THROWS_AS(buildPhaseTable(q, std::vector<double>(3, 1.0)), vpsim::InputError);
-    CHECK_THROWS_AS(buildPhaseTable(q, std::vector<double>(q.nodeMu.size(), 0.0)), vpsim::InputError);
-    CHECK_THROWS_AS(buildPhaseTable(q, std::vector<double>(q.nodeMu.size(), 1.0), 1), vpsim::InputError);
+    CHECK_THROWS_AS(buildPhaseTable(q, std::vector<double>(q.nodeMu.size(), 0.0)),
+                    vpsim::InputError);
+    CHECK_THROWS_AS(buildPhaseTable(q, std::vector<double>(q.nodeMu.size(), 1.0), 1),
+                    vpsim::InputError);
 }
 
-TEST_CASE("Log-normal slurry: averages reduce correctly and the table stays normalised", "[phase]") {
+TEST_CASE("Log-normal slurry: averages reduce correctly and the table stays normalised",
+          "[phase]") {
     SlurrySpec mono = seedSlurry();
     SlurrySpec poly = mono;
     poly.size.kind = SizeDistribution::Kind::LogNormal;
@@ -136,7 +142,8 @@ TEST_CASE("Log-normal slurry: averages reduce correctly and the table stays norm
     // Number density from <r^3> = rg^3 exp(4.5 ln^2 sigma_g) (closed form of the log-normal):
     // mus = Phi <Csca> / (4/3 pi <r^3>); the quadrature must reproduce it to 1e-4.
     const double r3 = std::pow(2.5e-3, 3) * std::exp(4.5 * std::pow(std::log(1.3), 2));
-    CHECK_THAT(p.medium.mus, WithinRel(0.5 * p.scatteringCrossSection / (4.0 / 3.0 * PI * r3), 1e-4));
+    CHECK_THAT(p.medium.mus,
+               WithinRel(0.5 * p.scatteringCrossSection / (4.0 / 3.0 * PI * r3), 1e-4));
     // A width sigma_g -> 1 converges to the monodisperse result. Absorbing particles are used
     // because the narrow Mie resonances of a real m = 1.2 sphere make even a 0.1 % size spread
     // change Qsca by 0.25 %; with k = 0.01 (Im(m) x = 0.4) the resonances are damped and the
@@ -151,8 +158,10 @@ TEST_CASE("Log-normal slurry: averages reduce correctly and the table stays norm
     CHECK_THAT(n.efficiencies.g, WithinAbs(m.efficiencies.g, 1e-5));
 }
 
-TEST_CASE("Absorption: pure-resin reading of seed Eq. 10, optional resin-fraction scaling, absorbing particles",
-          "[phase]") {
+TEST_CASE(
+    "Absorption: pure-resin reading of seed Eq. 10, optional resin-fraction scaling, absorbing "
+    "particles",
+    "[phase]") {
     SlurrySpec s = seedSlurry();
     s.absorptionScaledByResinFraction = true;
     CHECK_THAT(computeSlurryOptics(s).medium.mua, WithinRel(0.5 / 0.119, 1e-12));
@@ -161,7 +170,8 @@ TEST_CASE("Absorption: pure-resin reading of seed Eq. 10, optional resin-fractio
     a.particleIndex = {1.75, -0.01};
     SlurryOptics o = computeSlurryOptics(a);
     REQUIRE(o.efficiencies.qabs > 0.0);
-    CHECK_THAT(o.medium.mua, WithinRel(1.0 / 0.119 + 3.0 * 0.5 * o.efficiencies.qabs / (4.0 * 2.5e-3), 1e-12));
+    CHECK_THAT(o.medium.mua,
+               WithinRel(1.0 / 0.119 + 3.0 * 0.5 * o.efficiencies.qabs / (4.0 * 2.5e-3), 1e-12));
 }
 
 TEST_CASE("Slurry refuses impossible values", "[phase]") {

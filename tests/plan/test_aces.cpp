@@ -48,15 +48,16 @@ TEST_CASE("ACES design follows Eq. 14 and Eq. C.9", "[plan][aces]") {
     CHECK(design.hatchSpacing <= acesHatchRatio(0.01) * 0.05 + 1e-12);
     CHECK(design.ripple <= 0.01 + 1e-9);
     CHECK(design.direction == Approx(0.0).margin(1e-12));  // the longest edge runs along x
-    CHECK(design.edgeOffset == Approx(acesEdgeDistance(acesHatchRatio(0.01), 0.05) * 0.05).epsilon(1e-9));
+    CHECK(design.edgeOffset ==
+          Approx(acesEdgeDistance(acesHatchRatio(0.01), 0.05) * 0.05).epsilon(1e-9));
     p.laserPower = 0;
     CHECK_THROWS_AS(designAces(p, square), InputError);
 }
 
 TEST_CASE("hatching clips scan lines to the region and alternates direction", "[plan][aces]") {
     // A 1 x 1 square with a 0.5 x 0.5 hole: 11 lines at 0.1 mm; the 5 through the hole split.
-    auto region = geometry::PolygonSet::rectangle({0, 0}, {1, 1}).difference(
-        geometry::PolygonSet::rectangle({0.25, 0.25}, {0.75, 0.75}));
+    auto region = geometry::PolygonSet::rectangle({0, 0}, {1, 1})
+                      .difference(geometry::PolygonSet::rectangle({0.25, 0.25}, {0.75, 0.75}));
     auto vectors = hatchRegion(region, 0.1, 0.0, 10.0, 100.0);
     double length = 0;
     for (const auto& v : vectors) {

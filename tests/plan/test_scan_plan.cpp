@@ -36,16 +36,20 @@ TEST_CASE("scan plans round-trip through JSON", "[plan]") {
     CHECK(loaded.layers[0].masks[0].dose[0] == 0.78f);
     CHECK(loaded.totalEnergy() == Approx(plan.totalEnergy()).epsilon(1e-12));
     // energy = point + vector (P * length / v) + mask (dose * pixel area)
-    CHECK(plan.totalEnergy() == Approx(0.003 + 10 * std::hypot(1.0, 0.5) / 250 + 0.78 * 0.0625 * 0.0625).epsilon(1e-6));
+    CHECK(plan.totalEnergy() ==
+          Approx(0.003 + 10 * std::hypot(1.0, 0.5) / 250 + 0.78 * 0.0625 * 0.0625).epsilon(1e-6));
 }
 
 TEST_CASE("malformed scan plans are refused with the key", "[plan]") {
     auto path = (std::filesystem::temp_directory_path() / "vpsim_bad_plan.json").string();
     auto write = [&](const std::string& text) { std::ofstream(path) << text; };
-    write(R"({"machine": {"layer_thickness": 0.05, "laser_power": 10, "beam_radius": 0.05, "pixel_pitch": 0.06},
+    write(
+        R"({"machine": {"layer_thickness": 0.05, "laser_power": 10, "beam_radius": 0.05, "pixel_pitch": 0.06},
               "layers": [{"z": 0.05, "points_x_y_energy": [], "vectors_x0_y0_x1_y1_power_speed": [[0, 0, 1, 0, 10, 0]],
                           "masks": []}]})");
-    CHECK_THROWS_WITH(plan::loadScanPlan(path), Contains("vectors_x0_y0_x1_y1_power_speed") && Contains("speed > 0"));
-    write(R"({"machine": {"layer_thickness": -1, "laser_power": 10, "beam_radius": 0.05, "pixel_pitch": 0.06}, "layers": []})");
+    CHECK_THROWS_WITH(plan::loadScanPlan(path),
+                      Contains("vectors_x0_y0_x1_y1_power_speed") && Contains("speed > 0"));
+    write(
+        R"({"machine": {"layer_thickness": -1, "laser_power": 10, "beam_radius": 0.05, "pixel_pitch": 0.06}, "layers": []})");
     CHECK_THROWS_WITH(plan::loadScanPlan(path), Contains("machine.layer_thickness"));
 }

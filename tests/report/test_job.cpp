@@ -29,15 +29,17 @@ nlohmann::json givenKernelJob() {
       "simulation": {"voxel": "10 um", "slices_per_layer": 2, "write_vdb": false}})");
 }
 
-} // namespace
+}  // namespace
 
 TEST_CASE("bad jobs give one clear error naming the key", "[report]") {
     auto job = givenKernelJob();
     job["plan"]["stratgy"] = "aces";
-    CHECK_THROWS_WITH(report::loadJob(writeJob("typo", job)), Contains("plan.stratgy") && Contains("unknown key"));
+    CHECK_THROWS_WITH(report::loadJob(writeJob("typo", job)),
+                      Contains("plan.stratgy") && Contains("unknown key"));
     job = givenKernelJob();
     job["machine"]["laser_power"] = "10 mm";
-    CHECK_THROWS_WITH(report::loadJob(writeJob("unit", job)), Contains("machine.laser_power") && Contains("power"));
+    CHECK_THROWS_WITH(report::loadJob(writeJob("unit", job)),
+                      Contains("machine.laser_power") && Contains("power"));
     job = givenKernelJob();
     job["part"] = {{"stl", "no/such/part.stl"}};
     CHECK_THROWS_WITH(report::loadJob(writeJob("stl", job)), Contains("file not found"));
@@ -56,12 +58,13 @@ TEST_CASE("bad jobs give one clear error naming the key", "[report]") {
 TEST_CASE("a small job runs end to end and reproduces its part", "[report][slow]") {
     auto out = std::filesystem::temp_directory_path() / "vpsim_job_run";
     std::filesystem::remove_all(out);
-    auto report = report::runJob(report::loadJob(writeJob("run", givenKernelJob())), out.string(), nullptr);
+    auto report =
+        report::runJob(report::loadJob(writeJob("run", givenKernelJob())), out.string(), nullptr);
     CHECK(report["iou"].get<double>() > 0.8);
     CHECK(std::abs(report["surface_deviation_mm"]["mean"].get<double>()) < 0.05);
     CHECK(report["overcure_below_downfacing_mm"].get<double>() == 0.0);
-    for (const char* file : {"report.json", "index.html", "cured.stl", "part.stl", "plan.json", "exposure_xz.png",
-                             "exposure_xy.png", "deviation_histogram.svg"})
+    for (const char* file : {"report.json", "index.html", "cured.stl", "part.stl", "plan.json",
+                             "exposure_xz.png", "exposure_xy.png", "deviation_histogram.svg"})
         CHECK(std::filesystem::exists(out / file));
     CHECK(report["stage_seconds"].contains("expose"));
 }
@@ -75,13 +78,15 @@ TEST_CASE("a Monte Carlo job can expose with the tabulated kernel", "[report][sl
     setenv("VPSIM_CACHE_DIR", cache.c_str(), 1);
     auto job = givenKernelJob();
     job["material"] = std::string(VPSIM_SOURCE_DIR) + "/examples/materials/alumina-seed000.json";
-    job["kernel"] = {{"source", "monte-carlo"}, {"photons", 20000}, {"seed", 2}, {"use", "tabulated"}};
+    job["kernel"] = {
+        {"source", "monte-carlo"}, {"photons", 20000}, {"seed", 2}, {"use", "tabulated"}};
     auto out = std::filesystem::temp_directory_path() / "vpsim_job_tabulated";
     auto first = report::runJob(report::loadJob(writeJob("tabulated", job)), out.string(), nullptr);
     CHECK(first["kernel"]["exposure_uses"] == "table");
     CHECK(first["kernel"]["from_cache"] == false);
     CHECK(first["iou"].get<double>() > 0.7);
-    auto second = report::runJob(report::loadJob(writeJob("tabulated", job)), out.string(), nullptr);
+    auto second =
+        report::runJob(report::loadJob(writeJob("tabulated", job)), out.string(), nullptr);
     CHECK(second["kernel"]["from_cache"] == true);
     CHECK(second["iou"].get<double>() == first["iou"].get<double>());
     unsetenv("VPSIM_CACHE_DIR");

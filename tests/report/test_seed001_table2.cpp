@@ -15,15 +15,18 @@ using namespace vpsim;
 // holes shrink and overhangs thicken, by more than half of the measured change.
 TEST_CASE("seed 001 Table 2 Z dimensions are reproduced", "[report][slow][seed001]") {
     for (const char* name : {"seed001-holes", "seed001-overhangs"}) {
-        report::Job job = report::loadJob(std::string(VPSIM_SOURCE_DIR) + "/examples/" + name + ".json");
+        report::Job job =
+            report::loadJob(std::string(VPSIM_SOURCE_DIR) + "/examples/" + name + ".json");
         auto out = std::filesystem::temp_directory_path() / name;
         nlohmann::json report = report::runJob(job, out.string(), nullptr);
         REQUIRE(report["features"].size() == 2);
         for (const auto& feature : report["features"]) {
             double simulated = feature["simulated_mm"], objective = feature["objective_mm"];
             double measured = 0;
-            for (double m : feature["measured_mm"]) measured += m / double(feature["measured_mm"].size());
-            INFO(name << ": " << feature["name"] << " simulated " << simulated << " measured " << measured);
+            for (double m : feature["measured_mm"])
+                measured += m / double(feature["measured_mm"].size());
+            INFO(name << ": " << feature["name"] << " simulated " << simulated << " measured "
+                      << measured);
             CHECK(std::abs(simulated - measured) < 0.3);
             CHECK((simulated - objective) * (measured - objective) > 0);
             CHECK(std::abs(simulated - objective) > 0.5 * std::abs(measured - objective));

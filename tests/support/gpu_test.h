@@ -20,11 +20,11 @@ inline std::shared_ptr<gpu::Context> gpuContext() {
     return context;
 }
 
-} // namespace vpsim::test
+}  // namespace vpsim::test
 
-#define VPSIM_REQUIRE_VALIDATION_CLEAN(ctx)                                   \
-    do {                                                                      \
+#define VPSIM_REQUIRE_VALIDATION_CLEAN(ctx)                                  \
+    do {                                                                     \
         INFO("last validation message: " << (ctx)->lastValidationMessage()); \
-        REQUIRE((ctx)->validationEnabled());                                  \
-        REQUIRE((ctx)->validationMessageCount() == 0);                        \
+        REQUIRE((ctx)->validationEnabled());                                 \
+        REQUIRE((ctx)->validationMessageCount() == 0);                       \
     } while (0)

@@ -12,7 +12,7 @@ namespace vpsim::test {
 struct SpirvStruct {
     std::vector<std::string> memberNames;
     std::map<uint32_t, uint32_t> memberOffsets;  ///< member index -> byte offset
-    uint32_t arrayStride = 0;                     ///< stride of a runtime array of this struct
+    uint32_t arrayStride = 0;                    ///< stride of a runtime array of this struct
 };
 
 inline std::string spirvString(const uint32_t* words, size_t count) {
@@ -29,7 +29,8 @@ inline std::string spirvString(const uint32_t* words, size_t count) {
 /// Parses the named structs of a SPIR-V module (by OpName).
 inline std::map<std::string, SpirvStruct> reflectStructs(const uint32_t* words, size_t wordCount) {
     constexpr uint32_t OP_NAME = 5, OP_MEMBER_NAME = 6, OP_DECORATE = 71, OP_MEMBER_DECORATE = 72,
-                       OP_TYPE_RUNTIME_ARRAY = 29, DECORATION_OFFSET = 35, DECORATION_ARRAY_STRIDE = 6;
+                       OP_TYPE_RUNTIME_ARRAY = 29, DECORATION_OFFSET = 35,
+                       DECORATION_ARRAY_STRIDE = 6;
     std::map<uint32_t, std::string> names;
     std::map<uint32_t, SpirvStruct> byId;
     std::map<uint32_t, uint32_t> strides, arrayElement;
@@ -43,7 +44,8 @@ inline std::map<std::string, SpirvStruct> reflectStructs(const uint32_t* words, 
             if (members.size() <= op[2]) members.resize(op[2] + 1);
             members[op[2]] = spirvString(op + 3, length - 3);
         }
-        if (opcode == OP_MEMBER_DECORATE && op[3] == DECORATION_OFFSET) byId[op[1]].memberOffsets[op[2]] = op[4];
+        if (opcode == OP_MEMBER_DECORATE && op[3] == DECORATION_OFFSET)
+            byId[op[1]].memberOffsets[op[2]] = op[4];
         if (opcode == OP_DECORATE && op[2] == DECORATION_ARRAY_STRIDE) strides[op[1]] = op[3];
         if (opcode == OP_TYPE_RUNTIME_ARRAY) arrayElement[op[1]] = op[2];
         i += length;
@@ -56,4 +58,4 @@ inline std::map<std::string, SpirvStruct> reflectStructs(const uint32_t* words, 
     return result;
 }
 
-} // namespace vpsim::test
+}  // namespace vpsim::test

@@ -29,7 +29,7 @@ bool agree(const Fraction& a, const Fraction& b, double sigmas) {
     return std::abs(a.value - b.value) <= sigmas * std::hypot(a.standardError, b.standardError);
 }
 
-} // namespace
+}  // namespace
 
 TEST_CASE("GPU photon MC matches van de Hulst and the CPU path", "[transport][gpu]") {
     auto ctx = test::gpuContext();
@@ -49,7 +49,8 @@ TEST_CASE("GPU photon MC matches van de Hulst and the CPU path", "[transport][gp
     CHECK(agree(gpu.absorbed(), cpu.absorbed(), 4));
     CHECK(agree(gpu.absorbedWithin(0), cpu.absorbedWithin(0), 4));
     CHECK(agree(gpu.absorbedWithin(1), cpu.absorbedWithin(1), 4));
-    CHECK(std::abs(gpu.scatteringsPerPhoton() - cpu.scatteringsPerPhoton()) < 0.05 * cpu.scatteringsPerPhoton());
+    CHECK(std::abs(gpu.scatteringsPerPhoton() - cpu.scatteringsPerPhoton()) <
+          0.05 * cpu.scatteringsPerPhoton());
     VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
 }
 

@@ -28,9 +28,11 @@ McSetup hgSlab(double mua, double mus, double g, double thickness, uint64_t phot
     return s;
 }
 
-double binomialSigma(double p, uint64_t n) { return std::sqrt(std::max(p * (1 - p), 1e-12) / double(n)); }
+double binomialSigma(double p, uint64_t n) {
+    return std::sqrt(std::max(p * (1 - p), 1e-12) / double(n));
+}
 
-} // namespace
+}  // namespace
 
 TEST_CASE("energy balance is exact in integer weight quanta", "[transport]") {
     // Index mismatch at both faces, scattering, absorption, a lateral bound: every tally is used.
@@ -44,7 +46,8 @@ TEST_CASE("energy balance is exact in integer weight quanta", "[transport]") {
     BatchTally t = r.total();
     CHECK(t.photons == 20000);
     // Exact integer equality: launched = specular + diffuse + transmitted + absorbed + escaped.
-    CHECK(t.photons * r.launchWeight == t.specular + t.diffuse + t.transmitted + t.absorbed + t.escaped);
+    CHECK(t.photons * r.launchWeight ==
+          t.specular + t.diffuse + t.transmitted + t.absorbed + t.escaped);
     CHECK(r.energyBalanced());
     CHECK(t.escaped > 0);
     CHECK(t.transmitted > 0);
@@ -67,7 +70,8 @@ TEST_CASE("matched slab reproduces the van de Hulst reflectance and transmittanc
     CHECK(r.diffuse().standardError > 0.0);
 }
 
-TEST_CASE("semi-infinite isotropic medium reproduces the Chandrasekhar plane albedo", "[transport]") {
+TEST_CASE("semi-infinite isotropic medium reproduces the Chandrasekhar plane albedo",
+          "[transport]") {
     // Albedo 0.9, g = 0, matched index, normal incidence: R = 1 - H(1) sqrt(1 - 0.9) = 0.414947
     // with Chandrasekhar's H(1) = 1.850099 (evaluated from its integral form). 4 binomial sigma.
     const uint64_t n = 200000;
@@ -82,15 +86,17 @@ TEST_CASE("the result summary carries every field of vpsim mc --json", "[transpo
     McSetup s = hgSlab(1.0, 9.0, 0.75, 0.2, 1000);
     s.depths = {0.03, 0.084};
     nlohmann::json j = runPhotonMcCpu(s).summaryJson();
-    for (const char* key : {"photons", "specular_reflectance", "diffuse_reflectance", "transmittance", "absorbed",
-                            "specular_reflectance_stderr", "diffuse_reflectance_stderr", "transmittance_stderr",
-                            "absorbed_stderr", "scatterings_per_photon", "photons_per_second", "absorbed_within"})
+    for (const char* key :
+         {"photons", "specular_reflectance", "diffuse_reflectance", "transmittance", "absorbed",
+          "specular_reflectance_stderr", "diffuse_reflectance_stderr", "transmittance_stderr",
+          "absorbed_stderr", "scatterings_per_photon", "photons_per_second", "absorbed_within"})
         CHECK(j.contains(key));
     CHECK(j["absorbed_within"].size() == 2);
     CHECK(j["absorbed_within"][0].get<double>() <= j["absorbed_within"][1].get<double>());
 }
 
-TEST_CASE("without scattering the transmittance and absorption follow Beer-Lambert", "[transport]") {
+TEST_CASE("without scattering the transmittance and absorption follow Beer-Lambert",
+          "[transport]") {
     const double mua = 5.0, d = 0.3;
     const uint64_t n = 100000;
     McSetup s = hgSlab(mua, 0.0, 0.0, d, n);
@@ -117,19 +123,22 @@ TEST_CASE("without scattering the transmittance and absorption follow Beer-Lambe
     }
 }
 
-TEST_CASE("Fresnel: specular reflectance and internal reflection with a mismatched index", "[transport]") {
-    // Non-absorbing, non-scattering slab n = 1.5 in air: R_sp = 0.04 exactly (to the 2^-24 quantum),
-    // and multiple reflections give total R = 2R/(1+R) = 0.076923 at normal incidence.
+TEST_CASE("Fresnel: specular reflectance and internal reflection with a mismatched index",
+          "[transport]") {
+    // Non-absorbing, non-scattering slab n = 1.5 in air: R_sp = 0.04 exactly (to the 2^-24
+    // quantum), and multiple reflections give total R = 2R/(1+R) = 0.076923 at normal incidence.
     McSetup s = hgSlab(0.0, 0.0, 0.0, 1.0, 50000);
     s.optics.refractiveIndex = 1.5;
     McResult r = runPhotonMcCpu(s);
     CHECK(r.specular().value == Approx(0.04).margin(1e-7));
     CHECK(r.absorbed().value == 0.0);
     double rTotal = 2 * 0.04 / 1.04;
-    CHECK(std::abs(r.specular().value + r.diffuse().value - rTotal) < 4 * binomialSigma(rTotal - 0.04, 50000));
+    CHECK(std::abs(r.specular().value + r.diffuse().value - rTotal) <
+          4 * binomialSigma(rTotal - 0.04, 50000));
 }
 
-TEST_CASE("white furnace: without absorption all weight is reflected or transmitted", "[transport]") {
+TEST_CASE("white furnace: without absorption all weight is reflected or transmitted",
+          "[transport]") {
     McSetup s = hgSlab(0.0, 20.0, 0.9, 0.5, 20000);
     s.optics.refractiveIndex = 1.45;
     McResult r = runPhotonMcCpu(s);
@@ -140,7 +149,8 @@ TEST_CASE("white furnace: without absorption all weight is reflected or transmit
     CHECK(r.scatteringsPerPhoton() > 5.0);
 }
 
-TEST_CASE("Gaussian beam: unscattered absorption is distributed as exp(-2 r^2 / W0^2)", "[transport]") {
+TEST_CASE("Gaussian beam: unscattered absorption is distributed as exp(-2 r^2 / W0^2)",
+          "[transport]") {
     // W0 is the 1/e^2 intensity radius: the power inside r is 1 - exp(-2 r^2 / W0^2).
     const double w0 = 0.05;
     const uint64_t n = 100000;
@@ -177,7 +187,8 @@ TEST_CASE("the same seed gives identical tallies on 1 thread and many", "[transp
     CHECK(other.total().diffuse != one.total().diffuse);
 }
 
-TEST_CASE("tabulated phase function matches Henyey-Greenstein when tabulated from it", "[transport]") {
+TEST_CASE("tabulated phase function matches Henyey-Greenstein when tabulated from it",
+          "[transport]") {
     // Inverse CDF of HG g = 0.75 sampled at 4001 points: the tabulated path must agree with the
     // analytic one within statistics (3 combined standard errors).
     McSetup hg = hgSlab(1.0, 9.0, 0.75, 0.2, 100000);
@@ -187,7 +198,8 @@ TEST_CASE("tabulated phase function matches Henyey-Greenstein when tabulated fro
     for (int i = 0; i < n; ++i) {
         double u = double(i) / (n - 1);
         double g = 0.75, t = (1 - g * g) / (1 - g + 2 * g * (1 - u));  // u = 0 -> cos = +1
-        tab.optics.inverseCdf.push_back(float(std::clamp((1 + g * g - t * t) / (2 * g), -1.0, 1.0)));
+        tab.optics.inverseCdf.push_back(
+            float(std::clamp((1 + g * g - t * t) / (2 * g), -1.0, 1.0)));
     }
     tab.seed = 777;
     McResult a = runPhotonMcCpu(hg), b = runPhotonMcCpu(tab);

@@ -13,8 +13,10 @@ namespace {
 /// Closed box mesh with outward normals.
 geometry::Mesh box(glm::dvec3 lo, glm::dvec3 hi) {
     geometry::Mesh mesh;
-    for (int k = 0; k < 8; ++k) mesh.vertices.push_back({k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z});
-    const uint32_t faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (int k = 0; k < 8; ++k)
+        mesh.vertices.push_back({k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z});
+    const uint32_t faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                  {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
     for (const auto& f : faces) {
         mesh.triangles.push_back({f[0], f[1], f[2]});
         mesh.triangles.push_back({f[0], f[2], f[3]});
@@ -23,8 +25,10 @@ geometry::Mesh box(glm::dvec3 lo, glm::dvec3 hi) {
 }
 
 /// Feeds the validator synthetic slices, top down: dose 2 Ec inside `cured`, 0 elsewhere.
-validate::SliceValidationSummary validateSynthetic(const geometry::Mesh& reference, glm::dvec3 lo, glm::dvec3 hi,
-                                                   const exposure::ExposureGrid& grid, double dz, int slices) {
+validate::SliceValidationSummary validateSynthetic(const geometry::Mesh& reference, glm::dvec3 lo,
+                                                   glm::dvec3 hi,
+                                                   const exposure::ExposureGrid& grid, double dz,
+                                                   int slices) {
     const double ec = 1.0;
     validate::SliceValidator validator(reference, grid, ec, dz);
     exposure::SurfaceGrid values(grid.nx, grid.ny, grid.originX, grid.originY, grid.pitch);
@@ -36,12 +40,13 @@ validate::SliceValidationSummary validateSynthetic(const geometry::Mesh& referen
                 bool inside = x > lo.x && x < hi.x && y > lo.y && y < hi.y && z > lo.z && z < hi.z;
                 values.at(i, j) = inside ? float(2 * ec) : 0.0f;
             }
-        validator.add({k / grid.slicesPerLayer, grid.slicesPerLayer - 1 - k % grid.slicesPerLayer, z, &values});
+        validator.add({k / grid.slicesPerLayer, grid.slicesPerLayer - 1 - k % grid.slicesPerLayer,
+                       z, &values});
     }
     return validator.summary();
 }
 
-} // namespace
+}  // namespace
 
 // A reference block floating at z in [0.5, 1.0] (its underside is down-facing) and a cured block
 // grown by 0.1 mm in x and y and reaching 0.2 mm lower. Cell edges coincide with the box faces,
@@ -83,7 +88,8 @@ TEST_CASE("surface deviation of a grown block", "[validate]") {
     options.halfWidthVoxels = 12;
     auto levelSet = geometry::LevelSet::fromMesh(reference, options);
     const double g = 0.05;
-    auto deviation = validate::measureSurfaceDeviation(box({-g, -g, -g}, {1 + g, 1 + g, 1 + g}), levelSet);
+    auto deviation =
+        validate::measureSurfaceDeviation(box({-g, -g, -g}, {1 + g, 1 + g, 1 + g}), levelSet);
     CHECK(deviation.samples == 8);
     CHECK(deviation.mean == Approx(std::sqrt(3.0) * g).margin(2e-3));
     CHECK(deviation.max == Approx(std::sqrt(3.0) * g).margin(2e-3));
@@ -101,7 +107,8 @@ TEST_CASE("the cured iso-surface encloses the cured voxels", "[validate][vdb]") 
         for (int j = 0; j < grid.ny; ++j)
             for (int i = 0; i < grid.nx; ++i) {
                 double x = values.centreX(i), y = values.centreY(j), z = (k + 0.5) * 0.02;
-                values.at(i, j) = (x > 0.2 && x < 0.8 && y > 0.2 && y < 0.6 && z > 0.1 && z < 0.5) ? 2.0f : 0.0f;
+                values.at(i, j) =
+                    (x > 0.2 && x < 0.8 && y > 0.2 && y < 0.6 && z > 0.1 && z < 0.5) ? 2.0f : 0.0f;
             }
         volume.add({k, 0, (k + 0.5) * 0.02, &values});
     }

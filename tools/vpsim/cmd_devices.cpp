@@ -18,13 +18,14 @@ void printDevices(bool json) {
     }
     if (devices.empty()) std::cout << "no Vulkan devices (the CPU path will be used)\n";
     for (const auto& d : devices) {
-        std::cout << d.index << ": " << d.name << " [" << d.type << ", Vulkan " << d.apiVersion << ", "
-                  << d.driver << "]\n"
+        std::cout << d.index << ": " << d.name << " [" << d.type << ", Vulkan " << d.apiVersion
+                  << ", " << d.driver << "]\n"
                   << "   max storage buffer " << vpsim::formatBytes(double(d.maxStorageBufferRange))
                   << ", device memory " << vpsim::formatBytes(double(d.deviceLocalBytes)) << "\n"
-                  << "   max workgroups " << d.maxWorkgroupCount[0] << " x " << d.maxWorkgroupCount[1] << " x "
-                  << d.maxWorkgroupCount[2] << ", max invocations " << d.maxWorkgroupInvocations
-                  << ", subgroup " << d.subgroupSize << "\n"
+                  << "   max workgroups " << d.maxWorkgroupCount[0] << " x "
+                  << d.maxWorkgroupCount[1] << " x " << d.maxWorkgroupCount[2]
+                  << ", max invocations " << d.maxWorkgroupInvocations << ", subgroup "
+                  << d.subgroupSize << "\n"
                   << "   push constants " << d.maxPushConstantBytes << " B, shared memory "
                   << d.maxSharedMemoryBytes << " B\n"
                   << "   int64 " << (d.int64 ? "yes" : "no") << ", int64 atomics "
@@ -34,11 +35,13 @@ void printDevices(bool json) {
     }
 }
 
-vpsim::cli::CommandRegistration registerDevices{"devices", [](CLI::App& app, const vpsim::cli::Globals&) {
-    auto* command = app.add_subcommand("devices", "list Vulkan devices with the limits that matter");
-    auto json = std::make_shared<bool>(false);
-    command->add_flag("--json", *json, "print JSON");
-    command->callback([json] { printDevices(*json); });
-}};
+vpsim::cli::CommandRegistration registerDevices{
+    "devices", [](CLI::App& app, const vpsim::cli::Globals&) {
+        auto* command =
+            app.add_subcommand("devices", "list Vulkan devices with the limits that matter");
+        auto json = std::make_shared<bool>(false);
+        command->add_flag("--json", *json, "print JSON");
+        command->callback([json] { printDevices(*json); });
+    }};
 
-} // namespace
+}  // namespace

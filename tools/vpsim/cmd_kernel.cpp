@@ -40,19 +40,23 @@ double quantity(const std::string& text, vpsim::Dimension dimension, const std::
 }
 
 void runKernel(const KernelOptions& o, const vpsim::cli::Globals& g) {
-    const vpsim::optics::MediumOptics optics = vpsim::optics::loadMediumOptics(o.material, g.overrides);
+    const vpsim::optics::MediumOptics optics =
+        vpsim::optics::loadMediumOptics(o.material, g.overrides);
     if (!(optics.mua > 0))
-        throw InputError("the beam kernel needs an absorbing material (mua > 0): Eq. 11 divides by mua", o.material,
-                         "mua");
+        throw InputError(
+            "the beam kernel needs an absorbing material (mua > 0): Eq. 11 divides by mua",
+            o.material, "mua");
     const double power = quantity(o.power, vpsim::dim::POWER, "--power");
-    const double thickness = o.thickness.empty() ? 0.0 : quantity(o.thickness, vpsim::dim::LENGTH, "--thickness");
+    const double thickness =
+        o.thickness.empty() ? 0.0 : quantity(o.thickness, vpsim::dim::LENGTH, "--thickness");
     McSetup s = kernelSetup(optics, quantity(o.w0, vpsim::dim::LENGTH, "--w0"), thickness);
     s.photons = vpsim::cli::parseCount(o.photons, MAX_PHOTONS, "--photons");
     s.seed = o.seed;
     s.nAbove = s.nBelow = o.nOutside;
     if (!o.rMax.empty()) s.bins.rMax = quantity(o.rMax, vpsim::dim::LENGTH, "--r-max");
     if (!o.zMax.empty()) s.bins.zMax = quantity(o.zMax, vpsim::dim::LENGTH, "--z-max");
-    if (o.bins < 4 || o.bins > 1000) throw InputError("--bins: expected 4..1000, got " + std::to_string(o.bins));
+    if (o.bins < 4 || o.bins > 1000)
+        throw InputError("--bins: expected 4..1000, got " + std::to_string(o.bins));
     s.bins.rBins = s.bins.zBins = o.bins;
 
     McResult mc = runPhotonMc(s, g.gpu());
@@ -79,28 +83,32 @@ void runKernel(const KernelOptions& o, const vpsim::cli::Globals& g) {
     std::printf("Beam kernel of %s (%llu photons on %s) -> %s\n", o.material.c_str(),
                 static_cast<unsigned long long>(k.photons), mc.backend.c_str(), o.out.c_str());
     std::printf("  We3D  %.2f um   (incident W0 %.2f um)\n", k.fit.we3d * 1000, s.w0 * 1000);
-    std::printf("  De3D  %.2f um   (no scattering 1/mua = %.2f um)\n", k.fit.de3d * 1000, 1000 / s.optics.mua);
+    std::printf("  De3D  %.2f um   (no scattering 1/mua = %.2f um)\n", k.fit.de3d * 1000,
+                1000 / s.optics.mua);
     std::printf("  zmax  %.2f um   (depth of the largest Ie(0,z))\n", k.zmax * 1000);
-    std::printf("  Ie3D(0,0) %.4g mW/mm^2 (no scattering %.4g), fit residual %.3f\n", k.fit.amplitude,
-                k.beerLambert(0, 0), k.fit.residual);
+    std::printf("  Ie3D(0,0) %.4g mW/mm^2 (no scattering %.4g), fit residual %.3f\n",
+                k.fit.amplitude, k.beerLambert(0, 0), k.fit.residual);
 }
 
-vpsim::cli::CommandRegistration registerKernel{"kernel", [](CLI::App& app, const vpsim::cli::Globals& g) {
-    auto* cmd = app.add_subcommand("kernel", "Beam kernel I(r,z) of a material by photon Monte Carlo (Eq. 11-12)");
-    auto o = std::make_shared<KernelOptions>();
-    cmd->add_option("--material", o->material, "material JSON file")->required();
-    cmd->add_option("--power", o->power, "laser power, e.g. 10mW");
-    cmd->add_option("--w0", o->w0, "Gaussian beam 1/e^2 intensity radius W0, e.g. 50um");
-    cmd->add_option("--out", o->out, "output directory")->required();
-    cmd->add_option("--photons", o->photons, "photons to launch (e.g. 1e6)");
-    cmd->add_option("--seed", o->seed, "random seed");
-    cmd->add_option("--thickness", o->thickness, "slab thickness (default: semi-infinite)");
-    cmd->add_option("--n-outside", o->nOutside, "refractive index above (and below) the medium");
-    cmd->add_option("--r-max", o->rMax, "radius of the tabulated kernel (default 4 W0)");
-    cmd->add_option("--z-max", o->zMax, "depth of the tabulated kernel (default 3/mua)");
-    cmd->add_option("--bins", o->bins, "bins along r and along z");
-    cmd->add_flag("--json", o->json, "print JSON");
-    cmd->callback([o, &g] { runKernel(*o, g); });
-}};
+vpsim::cli::CommandRegistration registerKernel{
+    "kernel", [](CLI::App& app, const vpsim::cli::Globals& g) {
+        auto* cmd = app.add_subcommand(
+            "kernel", "Beam kernel I(r,z) of a material by photon Monte Carlo (Eq. 11-12)");
+        auto o = std::make_shared<KernelOptions>();
+        cmd->add_option("--material", o->material, "material JSON file")->required();
+        cmd->add_option("--power", o->power, "laser power, e.g. 10mW");
+        cmd->add_option("--w0", o->w0, "Gaussian beam 1/e^2 intensity radius W0, e.g. 50um");
+        cmd->add_option("--out", o->out, "output directory")->required();
+        cmd->add_option("--photons", o->photons, "photons to launch (e.g. 1e6)");
+        cmd->add_option("--seed", o->seed, "random seed");
+        cmd->add_option("--thickness", o->thickness, "slab thickness (default: semi-infinite)");
+        cmd->add_option("--n-outside", o->nOutside,
+                        "refractive index above (and below) the medium");
+        cmd->add_option("--r-max", o->rMax, "radius of the tabulated kernel (default 4 W0)");
+        cmd->add_option("--z-max", o->zMax, "depth of the tabulated kernel (default 3/mua)");
+        cmd->add_option("--bins", o->bins, "bins along r and along z");
+        cmd->add_flag("--json", o->json, "print JSON");
+        cmd->callback([o, &g] { runKernel(*o, g); });
+    }};
 
-} // namespace
+}  // namespace

@@ -70,7 +70,8 @@ void runMc(const McOptions& o, const vpsim::cli::Globals& g) {
     nlohmann::json out = r.summaryJson();
     out["material"] = o.material;
     out["seed"] = setup.seed;
-    out["thickness_mm"] = setup.thickness > 0 ? nlohmann::json(setup.thickness) : nlohmann::json("semi-infinite");
+    out["thickness_mm"] =
+        setup.thickness > 0 ? nlohmann::json(setup.thickness) : nlohmann::json("semi-infinite");
     if (o.json) {
         vpsim::cli::printJson(out);
         return;
@@ -78,7 +79,8 @@ void runMc(const McOptions& o, const vpsim::cli::Globals& g) {
     char medium[64] = "semi-infinite";
     if (setup.thickness > 0) std::snprintf(medium, sizeof medium, "slab %g mm", setup.thickness);
     std::printf("Photon Monte Carlo: %s, %llu photons, seed %u, %s, on %s\n", o.material.c_str(),
-                static_cast<unsigned long long>(r.total().photons), setup.seed, medium, r.backend.c_str());
+                static_cast<unsigned long long>(r.total().photons), setup.seed, medium,
+                r.backend.c_str());
     auto line = [](const char* name, Fraction f) {
         std::printf("  %-26s %.6f +- %.6f\n", name, f.value, f.standardError);
     };
@@ -91,30 +93,39 @@ void runMc(const McOptions& o, const vpsim::cli::Globals& g) {
         std::snprintf(name, sizeof name, "absorbed above %g um", setup.depths[k] * 1000);
         line(name, r.absorbedWithin(k));
     }
-    std::printf("  %-26s %.3f\n  %-26s %.4g\n", "scatterings/photon", r.scatteringsPerPhoton(), "photons/s",
-                r.photonsPerSecond());
+    std::printf("  %-26s %.3f\n  %-26s %.4g\n", "scatterings/photon", r.scatteringsPerPhoton(),
+                "photons/s", r.photonsPerSecond());
 }
 
-vpsim::cli::CommandRegistration registerMc{"mc", [](CLI::App& app, const vpsim::cli::Globals& g) {
-    auto* cmd = app.add_subcommand("mc", "Photon Monte Carlo of a beam entering a turbid material");
-    auto o = std::make_shared<McOptions>();
-    cmd->add_option("--material", o->material, "material JSON file (slurry or plain optics form)")->required();
-    cmd->add_option("--photons", o->photons, "photons to launch (e.g. 1e6)");
-    cmd->add_option("--seed", o->seed, "random seed (same seed, same result on any thread count)");
-    cmd->add_option("--thickness", o->thickness, "slab thickness, e.g. 0.2mm (default: semi-infinite)");
-    cmd->add_option("--n-outside", o->nOutside, "refractive index above (and below) the medium");
-    cmd->add_option("--beam", o->beam, "beam shape at normal incidence")
-        ->check(CLI::IsMember({"pencil", "gaussian"}));
-    cmd->add_option("--w0", o->w0, "Gaussian beam 1/e^2 intensity radius W0, e.g. 50um");
-    cmd->add_option("--depths", o->depths, "depths for absorbed_within, e.g. 30um,84um (at most 4)")
-        ->delimiter(',');
-    cmd->add_option("--r-max", o->rMax, "radius of the (r,z) absorption tally");
-    cmd->add_option("--z-max", o->zMax, "depth of the (r,z) absorption tally");
-    cmd->add_option("--bins", o->bins, "bins along r and along z of the tally");
-    cmd->add_option("--vdb", o->vdb, "also tally a Cartesian absorption grid and save it to this .vdb file");
-    cmd->add_option("--voxel", o->voxel, "voxel edge of the --vdb grid");
-    cmd->add_flag("--json", o->json, "print JSON");
-    cmd->callback([o, &g] { runMc(*o, g); });
-}};
+vpsim::cli::CommandRegistration registerMc{
+    "mc", [](CLI::App& app, const vpsim::cli::Globals& g) {
+        auto* cmd =
+            app.add_subcommand("mc", "Photon Monte Carlo of a beam entering a turbid material");
+        auto o = std::make_shared<McOptions>();
+        cmd->add_option("--material", o->material,
+                        "material JSON file (slurry or plain optics form)")
+            ->required();
+        cmd->add_option("--photons", o->photons, "photons to launch (e.g. 1e6)");
+        cmd->add_option("--seed", o->seed,
+                        "random seed (same seed, same result on any thread count)");
+        cmd->add_option("--thickness", o->thickness,
+                        "slab thickness, e.g. 0.2mm (default: semi-infinite)");
+        cmd->add_option("--n-outside", o->nOutside,
+                        "refractive index above (and below) the medium");
+        cmd->add_option("--beam", o->beam, "beam shape at normal incidence")
+            ->check(CLI::IsMember({"pencil", "gaussian"}));
+        cmd->add_option("--w0", o->w0, "Gaussian beam 1/e^2 intensity radius W0, e.g. 50um");
+        cmd->add_option("--depths", o->depths,
+                        "depths for absorbed_within, e.g. 30um,84um (at most 4)")
+            ->delimiter(',');
+        cmd->add_option("--r-max", o->rMax, "radius of the (r,z) absorption tally");
+        cmd->add_option("--z-max", o->zMax, "depth of the (r,z) absorption tally");
+        cmd->add_option("--bins", o->bins, "bins along r and along z of the tally");
+        cmd->add_option("--vdb", o->vdb,
+                        "also tally a Cartesian absorption grid and save it to this .vdb file");
+        cmd->add_option("--voxel", o->voxel, "voxel edge of the --vdb grid");
+        cmd->add_flag("--json", o->json, "print JSON");
+        cmd->callback([o, &g] { runMc(*o, g); });
+    }};
 
-} // namespace
+}  // namespace

@@ -25,7 +25,7 @@ constexpr double MM_TO_UM = 1000.0;
 struct MieOptions {
     std::string m;
     double x = 0.0;
-    std::vector<double> angles;     ///< degrees
+    std::vector<double> angles;  ///< degrees
     std::string material;
     std::vector<double> cdfAngles;  ///< degrees
     std::string plot;               ///< SVG of the phase function
@@ -45,10 +45,13 @@ void writePhasePlot(const std::string& path, const PhaseTable& t, const std::str
         series.x.push_back(0.5 * (t0 + t1) * 180.0 / PI);
         series.y.push_back(std::log10(p));
     }
-    vpsim::writeSvgLinePlot(path, title, "scattering angle (deg)", "log10 p(theta) (1/sr)", {series});
+    vpsim::writeSvgLinePlot(path, title, "scattering angle (deg)", "log10 p(theta) (1/sr)",
+                            {series});
 }
 
-nlohmann::json complexJson(Complex z) { return nlohmann::json::array({z.real(), z.imag()}); }
+nlohmann::json complexJson(Complex z) {
+    return nlohmann::json::array({z.real(), z.imag()});
+}
 
 void checkAngles(const std::vector<double>& angles, const std::string& option) {
     for (double a : angles)
@@ -81,10 +84,12 @@ void addSphere(nlohmann::json& out, const MieCoefficients& c, const MieEfficienc
 }
 
 void printSphereTable(const nlohmann::json& out) {
-    std::printf("  Qext  %.7g\n  Qsca  %.7g\n  Qabs  %.7g\n  Qback %.7g  (Bohren & Huffman, 4|S1(180)|^2/x^2)\n"
-                "  g     %.7g\n  terms %d\n",
-                out["qext"].get<double>(), out["qsca"].get<double>(), out["qabs"].get<double>(),
-                out["qback"].get<double>(), out["g"].get<double>(), out["terms"].get<int>());
+    std::printf(
+        "  Qext  %.7g\n  Qsca  %.7g\n  Qabs  %.7g\n  Qback %.7g  (Bohren & Huffman, "
+        "4|S1(180)|^2/x^2)\n"
+        "  g     %.7g\n  terms %d\n",
+        out["qext"].get<double>(), out["qsca"].get<double>(), out["qabs"].get<double>(),
+        out["qback"].get<double>(), out["g"].get<double>(), out["terms"].get<int>());
     if (!out.contains("s1")) return;
     std::printf("  %9s %14s %14s %14s %14s\n", "angle", "Re S1", "Im S1", "Re S2", "Im S2");
     for (size_t i = 0; i < out["s1"].size(); ++i)
@@ -94,7 +99,8 @@ void printSphereTable(const nlohmann::json& out) {
 }
 
 void runSphere(const MieOptions& o) {
-    if (o.m.empty() || o.x == 0.0) throw InputError("mie: give both --m and --x, or --material FILE");
+    if (o.m.empty() || o.x == 0.0)
+        throw InputError("mie: give both --m and --x, or --material FILE");
     if (!o.cdfAngles.empty()) throw InputError("mie: --cdf-angles needs --material");
     Complex m = parseRefractiveIndex(o.m, "--m");
     checkMieInput(m, o.x);
@@ -104,20 +110,23 @@ void runSphere(const MieOptions& o) {
     out["m"] = complexJson(m);
     addSphere(out, c, mieEfficiencies(c), o.angles);
     if (!o.plot.empty()) {
-        writePhasePlot(o.plot, miePhaseTable(c), "Mie phase function, x = " + std::to_string(o.x) +
-                                                     ", m = " + formatRefractiveIndex(m));
+        writePhasePlot(
+            o.plot, miePhaseTable(c),
+            "Mie phase function, x = " + std::to_string(o.x) + ", m = " + formatRefractiveIndex(m));
         out["plot"] = o.plot;
     }
     if (o.json) {
         vpsim::cli::printJson(out);
         return;
     }
-    std::printf("Mie sphere x = %g, m = %s (convention m = n - ik)\n", o.x, formatRefractiveIndex(m).c_str());
+    std::printf("Mie sphere x = %g, m = %s (convention m = n - ik)\n", o.x,
+                formatRefractiveIndex(m).c_str());
     printSphereTable(out);
 }
 
 void runMaterial(const MieOptions& o, const vpsim::cli::Globals& g) {
-    if (!o.m.empty() || o.x != 0.0) throw InputError("mie: --material cannot be combined with --m/--x");
+    if (!o.m.empty() || o.x != 0.0)
+        throw InputError("mie: --material cannot be combined with --m/--x");
     MaterialDefinition material = loadMaterialDefinition(o.material, g.overrides);
     SlurryOptics s = computeSlurryOptics(material);
     nlohmann::json out;
@@ -153,32 +162,41 @@ void runMaterial(const MieOptions& o, const vpsim::cli::Globals& g) {
     printSphereTable(out);
     std::printf("  scattering mean free path  %.6g um (mus = %.6g /mm)\n",
                 out["scattering_mean_free_path_um"].get<double>(), s.medium.mus);
-    std::printf("  transport mean free path   %.6g um\n", out["transport_mean_free_path_um"].get<double>());
+    std::printf("  transport mean free path   %.6g um\n",
+                out["transport_mean_free_path_um"].get<double>());
     std::printf("  absorption mua             %.6g /mm\n", s.medium.mua);
-    std::printf("  phase table                %zu entries, mean cosine %.6f\n", s.phase.inverseCdf.size(),
-                s.phase.tableMeanCosine());
+    std::printf("  phase table                %zu entries, mean cosine %.6f\n",
+                s.phase.inverseCdf.size(), s.phase.tableMeanCosine());
     for (size_t i = 0; i < o.cdfAngles.size(); ++i)
         std::printf("  CDF(%g deg) = %.6f\n", o.cdfAngles[i], out["cdf"][i].get<double>());
 }
 
-vpsim::cli::CommandRegistration registerMie{"mie", [](CLI::App& app, const vpsim::cli::Globals& g) {
-    auto* cmd = app.add_subcommand("mie", "Lorenz-Mie scattering of a sphere or a slurry material");
-    auto o = std::make_shared<MieOptions>();
-    cmd->add_option("--m", o->m, "relative refractive index n-ki, e.g. 1.5-0.1i (absorbing: negative imaginary part)");
-    cmd->add_option("--x", o->x, "size parameter 2 pi r n_medium / lambda0");
-    cmd->add_option("--angles", o->angles, "scattering angles for S1, S2, degrees (comma-separated)")
-        ->delimiter(',');
-    cmd->add_option("--material", o->material, "slurry material JSON file");
-    cmd->add_option("--cdf-angles", o->cdfAngles, "angles at which to print the phase CDF, degrees")
-        ->delimiter(',');
-    cmd->add_option("--plot", o->plot, "write the phase function as an SVG plot to this file");
-    cmd->add_flag("--json", o->json, "print JSON");
-    cmd->callback([o, &g] {
-        checkAngles(o->angles, "--angles");
-        checkAngles(o->cdfAngles, "--cdf-angles");
-        if (!o->material.empty()) runMaterial(*o, g);
-        else runSphere(*o);
-    });
-}};
+vpsim::cli::CommandRegistration registerMie{
+    "mie", [](CLI::App& app, const vpsim::cli::Globals& g) {
+        auto* cmd =
+            app.add_subcommand("mie", "Lorenz-Mie scattering of a sphere or a slurry material");
+        auto o = std::make_shared<MieOptions>();
+        cmd->add_option(
+            "--m", o->m,
+            "relative refractive index n-ki, e.g. 1.5-0.1i (absorbing: negative imaginary part)");
+        cmd->add_option("--x", o->x, "size parameter 2 pi r n_medium / lambda0");
+        cmd->add_option("--angles", o->angles,
+                        "scattering angles for S1, S2, degrees (comma-separated)")
+            ->delimiter(',');
+        cmd->add_option("--material", o->material, "slurry material JSON file");
+        cmd->add_option("--cdf-angles", o->cdfAngles,
+                        "angles at which to print the phase CDF, degrees")
+            ->delimiter(',');
+        cmd->add_option("--plot", o->plot, "write the phase function as an SVG plot to this file");
+        cmd->add_flag("--json", o->json, "print JSON");
+        cmd->callback([o, &g] {
+            checkAngles(o->angles, "--angles");
+            checkAngles(o->cdfAngles, "--cdf-angles");
+            if (!o->material.empty())
+                runMaterial(*o, g);
+            else
+                runSphere(*o);
+        });
+    }};
 
-} // namespace
+}  // namespace

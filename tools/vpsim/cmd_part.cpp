@@ -61,15 +61,21 @@ void runMake(const MakeOptions& o) {
     } else {
         writeStl(o.out, mesh, o.name);
     }
-    nlohmann::json out{{"part", o.name}, {"file", o.out}, {"triangles", mesh.triangles.size()},
-                       {"volume_mm3", mesh.volume()}, {"area_mm2", mesh.area()}, {"bounds_mm", boundsJson(mesh.bounds())}};
+    nlohmann::json out{{"part", o.name},
+                       {"file", o.out},
+                       {"triangles", mesh.triangles.size()},
+                       {"volume_mm3", mesh.volume()},
+                       {"area_mm2", mesh.area()},
+                       {"bounds_mm", boundsJson(mesh.bounds())}};
     if (o.json) {
         cli::printJson(out);
         return;
     }
     const Bounds b = mesh.bounds();
-    std::printf("%s -> %s: %zu triangles, volume %.6g mm^3, bounds (%g, %g, %g) .. (%g, %g, %g) mm\n", o.name.c_str(),
-                o.out.c_str(), mesh.triangles.size(), mesh.volume(), b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
+    std::printf(
+        "%s -> %s: %zu triangles, volume %.6g mm^3, bounds (%g, %g, %g) .. (%g, %g, %g) mm\n",
+        o.name.c_str(), o.out.c_str(), mesh.triangles.size(), mesh.volume(), b.lo.x, b.lo.y, b.lo.z,
+        b.hi.x, b.hi.y, b.hi.z);
 }
 
 void runCheck(const CheckOptions& o) {
@@ -82,16 +88,19 @@ void runCheck(const CheckOptions& o) {
     if (o.json) {
         cli::printJson(report.toJson());
     } else {
-        std::printf("%s\n  triangles          %zu (%zu vertices after merging %zu duplicates)\n", o.file.c_str(),
-                    report.trianglesIn, report.verticesIn - report.duplicateVerticesMerged,
+        std::printf("%s\n  triangles          %zu (%zu vertices after merging %zu duplicates)\n",
+                    o.file.c_str(), report.trianglesIn,
+                    report.verticesIn - report.duplicateVerticesMerged,
                     report.duplicateVerticesMerged);
-        std::printf("  shells             %zu\n  open edges         %zu\n  non-manifold edges %zu\n", report.shells,
-                    report.openEdges, report.nonManifoldEdges);
-        std::printf("  volume             %.6g mm^3\n  area               %.6g mm^2\n", report.volume, report.area);
+        std::printf(
+            "  shells             %zu\n  open edges         %zu\n  non-manifold edges %zu\n",
+            report.shells, report.openEdges, report.nonManifoldEdges);
+        std::printf("  volume             %.6g mm^3\n  area               %.6g mm^2\n",
+                    report.volume, report.area);
         if (!report.bounds.empty()) {
             const Bounds& b = report.bounds;
-            std::printf("  bounds             (%g, %g, %g) .. (%g, %g, %g) mm\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x,
-                        b.hi.y, b.hi.z);
+            std::printf("  bounds             (%g, %g, %g) .. (%g, %g, %g) mm\n", b.lo.x, b.lo.y,
+                        b.lo.z, b.hi.x, b.hi.y, b.hi.z);
         }
         for (const auto& r : report.repairs) std::printf("  repaired: %s\n", r.c_str());
         for (const auto& p : report.problems) std::printf("  PROBLEM: %s\n", p.c_str());
@@ -110,62 +119,80 @@ void runLevelSet(const LevelSetCliOptions& o) {
     options.halfWidthVoxels = o.halfWidth;
     const LevelSet levelSet = LevelSet::fromMesh(mesh, options);
     levelSet.save(o.out);
-    nlohmann::json out{{"file", o.out}, {"voxel_mm", levelSet.voxelSize()}, {"half_width_mm", levelSet.halfWidth()},
-                       {"active_voxels", levelSet.activeVoxelCount()}, {"memory_bytes", levelSet.memoryBytes()},
+    nlohmann::json out{{"file", o.out},
+                       {"voxel_mm", levelSet.voxelSize()},
+                       {"half_width_mm", levelSet.halfWidth()},
+                       {"active_voxels", levelSet.activeVoxelCount()},
+                       {"memory_bytes", levelSet.memoryBytes()},
                        {"bounds_mm", boundsJson(levelSet.activeBounds())}};
     if (o.json) {
         cli::printJson(out);
         return;
     }
-    std::printf("%s -> %s: %zu active voxels of %g um, band +-%g um, %s\n", o.file.c_str(), o.out.c_str(),
-                levelSet.activeVoxelCount(), levelSet.voxelSize() * 1000.0, levelSet.halfWidth() * 1000.0,
-                formatBytes(double(levelSet.memoryBytes())).c_str());
+    std::printf("%s -> %s: %zu active voxels of %g um, band +-%g um, %s\n", o.file.c_str(),
+                o.out.c_str(), levelSet.activeVoxelCount(), levelSet.voxelSize() * 1000.0,
+                levelSet.halfWidth() * 1000.0, formatBytes(double(levelSet.memoryBytes())).c_str());
 }
 
-vpsim::cli::CommandRegistration registerPart{"part", [](CLI::App& app, const vpsim::cli::Globals&) {
-    auto* part = app.add_subcommand("part", "test parts and mesh checks");
-    part->require_subcommand(1);
+vpsim::cli::CommandRegistration registerPart{
+    "part", [](CLI::App& app, const vpsim::cli::Globals&) {
+        auto* part = app.add_subcommand("part", "test parts and mesh checks");
+        part->require_subcommand(1);
 
-    auto* make = part->add_subcommand("make", "write a parametric, watertight test part as STL (mm; footprint "
-                                              "centred on x = y = 0, standing on z = 0)");
-    auto m = std::make_shared<MakeOptions>();
-    std::string names;
-    for (const auto& n : testPartNames()) names += (names.empty() ? "" : ", ") + n;
-    make->add_option("name", m->name, "part: " + names)->required();
-    make->add_option("--out", m->out, "output STL file")->required();
-    make->add_option("--size", m->size, "main horizontal size (mm or with unit): box/l-shape side 10; tapered "
-                                        "bottom side 10; bottom-narrow top side 10; holes x 10; overhangs x 16; "
-                                        "pillars side 1; cylinder diameter 10");
-    make->add_option("--height", m->height, "height: 10 (pillars 2); holes (11) and overhangs (10) are fixed by seed 001");
-    make->add_option("--top-size", m->topSize, "frustums: side of the smaller face (default size/2)");
-    make->add_option("--depth", m->depth, "holes, overhangs: extent along y (default 5 mm)");
-    make->add_option("--spacing", m->spacing, "pillars: centre-to-centre distance (default 3 mm)");
-    make->add_option("--count", m->count, "pillars: number of pillars (default 4)");
-    make->add_option("--segments", m->segments, "cylinder: number of sides (default 64)");
-    make->add_flag("--ascii", m->ascii, "write ASCII STL instead of binary");
-    make->add_flag("--json", m->json, "print a JSON summary");
-    make->callback([m] { runMake(*m); });
+        auto* make =
+            part->add_subcommand("make",
+                                 "write a parametric, watertight test part as STL (mm; footprint "
+                                 "centred on x = y = 0, standing on z = 0)");
+        auto m = std::make_shared<MakeOptions>();
+        std::string names;
+        for (const auto& n : testPartNames()) names += (names.empty() ? "" : ", ") + n;
+        make->add_option("name", m->name, "part: " + names)->required();
+        make->add_option("--out", m->out, "output STL file")->required();
+        make->add_option("--size", m->size,
+                         "main horizontal size (mm or with unit): box/l-shape side 10; tapered "
+                         "bottom side 10; bottom-narrow top side 10; holes x 10; overhangs x 16; "
+                         "pillars side 1; cylinder diameter 10");
+        make->add_option(
+            "--height", m->height,
+            "height: 10 (pillars 2); holes (11) and overhangs (10) are fixed by seed 001");
+        make->add_option("--top-size", m->topSize,
+                         "frustums: side of the smaller face (default size/2)");
+        make->add_option("--depth", m->depth, "holes, overhangs: extent along y (default 5 mm)");
+        make->add_option("--spacing", m->spacing,
+                         "pillars: centre-to-centre distance (default 3 mm)");
+        make->add_option("--count", m->count, "pillars: number of pillars (default 4)");
+        make->add_option("--segments", m->segments, "cylinder: number of sides (default 64)");
+        make->add_flag("--ascii", m->ascii, "write ASCII STL instead of binary");
+        make->add_flag("--json", m->json, "print a JSON summary");
+        make->callback([m] { runMake(*m); });
 
-    auto* check = part->add_subcommand("check", "check an STL: truncation, NaN, degenerate triangles, open and "
-                                                "non-manifold edges, orientation; report the safe repairs");
-    auto c = std::make_shared<CheckOptions>();
-    check->add_option("file", c->file, "STL file (binary or ASCII, detected from content)")->required();
-    check->add_option("--scale", c->scale, "multiply coordinates (25.4 for inches)");
-    check->add_flag("--no-repair", c->noRepair, "report repairable defects as problems instead of repairing");
-    check->add_option("--out", c->out, "write the repaired mesh as binary STL");
-    check->add_flag("--json", c->json, "print the report as JSON");
-    check->callback([c] { runCheck(*c); });
+        auto* check =
+            part->add_subcommand("check",
+                                 "check an STL: truncation, NaN, degenerate triangles, open and "
+                                 "non-manifold edges, orientation; report the safe repairs");
+        auto c = std::make_shared<CheckOptions>();
+        check->add_option("file", c->file, "STL file (binary or ASCII, detected from content)")
+            ->required();
+        check->add_option("--scale", c->scale, "multiply coordinates (25.4 for inches)");
+        check->add_flag("--no-repair", c->noRepair,
+                        "report repairable defects as problems instead of repairing");
+        check->add_option("--out", c->out, "write the repaired mesh as binary STL");
+        check->add_flag("--json", c->json, "print the report as JSON");
+        check->callback([c] { runCheck(*c); });
 
-    auto* levelSet = part->add_subcommand("levelset", "write the part's reference signed distance field as .vdb "
-                                                      "(OpenVDB narrow band; negative inside, mm)");
-    auto l = std::make_shared<LevelSetCliOptions>();
-    levelSet->add_option("file", l->file, "STL file")->required();
-    levelSet->add_option("--out", l->out, "output .vdb file")->required();
-    levelSet->add_option("--voxel", l->voxel, "voxel size (default 20um)");
-    levelSet->add_option("--half-width", l->halfWidth, "narrow-band half-width in voxels (default 3)");
-    levelSet->add_option("--scale", l->scale, "multiply STL coordinates (25.4 for inches)");
-    levelSet->add_flag("--json", l->json, "print a JSON summary");
-    levelSet->callback([l] { runLevelSet(*l); });
-}};
+        auto* levelSet =
+            part->add_subcommand("levelset",
+                                 "write the part's reference signed distance field as .vdb "
+                                 "(OpenVDB narrow band; negative inside, mm)");
+        auto l = std::make_shared<LevelSetCliOptions>();
+        levelSet->add_option("file", l->file, "STL file")->required();
+        levelSet->add_option("--out", l->out, "output .vdb file")->required();
+        levelSet->add_option("--voxel", l->voxel, "voxel size (default 20um)");
+        levelSet->add_option("--half-width", l->halfWidth,
+                             "narrow-band half-width in voxels (default 3)");
+        levelSet->add_option("--scale", l->scale, "multiply STL coordinates (25.4 for inches)");
+        levelSet->add_flag("--json", l->json, "print a JSON summary");
+        levelSet->callback([l] { runLevelSet(*l); });
+    }};
 
-} // namespace
+}  // namespace

@@ -17,7 +17,8 @@ struct RunOptions {
 void runCommand(const RunOptions& options, const vpsim::cli::Globals& globals) {
     vpsim::report::Job job = vpsim::report::loadJob(options.job, globals.overrides);
     // --backend vulkan also puts the exposure on a CPU driver (lavapipe), where it is slower.
-    nlohmann::json report = vpsim::report::runJob(job, options.out, globals.gpu(), globals.backend == "vulkan");
+    nlohmann::json report =
+        vpsim::report::runJob(job, options.out, globals.gpu(), globals.backend == "vulkan");
     if (options.json) {
         vpsim::cli::printJson(report);
         return;
@@ -28,17 +29,21 @@ void runCommand(const RunOptions& options, const vpsim::cli::Globals& globals) {
               << "  surface deviation (mm)         mean " << dev["mean"].get<double>() << ", rms "
               << dev["rms"].get<double>() << ", p95 " << dev["p95"].get<double>() << ", max "
               << dev["max"].get<double>() << "\n"
-              << "  over-cure below down-facing    " << report["overcure_below_downfacing_mm"].get<double>()
-              << " mm\n";
+              << "  over-cure below down-facing    "
+              << report["overcure_below_downfacing_mm"].get<double>() << " mm\n";
 }
 
-vpsim::cli::CommandRegistration registerRun{"run", [](CLI::App& app, const vpsim::cli::Globals& globals) {
-    auto* command = app.add_subcommand("run", "simulate a print and compare the cured part with the model");
-    auto options = std::make_shared<RunOptions>();
-    command->add_option("job", options->job, "job file (JSON), e.g. examples/default.json")->required();
-    command->add_option("--out", options->out, "output directory (report.json, index.html, .vdb, pictures)");
-    command->add_flag("--json", options->json, "print the report as JSON");
-    command->callback([options, &globals] { runCommand(*options, globals); });
-}};
+vpsim::cli::CommandRegistration registerRun{
+    "run", [](CLI::App& app, const vpsim::cli::Globals& globals) {
+        auto* command =
+            app.add_subcommand("run", "simulate a print and compare the cured part with the model");
+        auto options = std::make_shared<RunOptions>();
+        command->add_option("job", options->job, "job file (JSON), e.g. examples/default.json")
+            ->required();
+        command->add_option("--out", options->out,
+                            "output directory (report.json, index.html, .vdb, pictures)");
+        command->add_flag("--json", options->json, "print the report as JSON");
+        command->callback([options, &globals] { runCommand(*options, globals); });
+    }};
 
-} // namespace
+}  // namespace

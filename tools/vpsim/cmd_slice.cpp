@@ -32,8 +32,11 @@ struct SliceCliOptions {
 };
 
 nlohmann::json layerJson(const Layer& layer) {
-    return {{"index", layer.index}, {"z", layer.z}, {"area", layer.region.area()},
-            {"perimeter", layer.region.perimeter()}, {"outer_contours", layer.region.outerCount()},
+    return {{"index", layer.index},
+            {"z", layer.z},
+            {"area", layer.region.area()},
+            {"perimeter", layer.region.perimeter()},
+            {"outer_contours", layer.region.outerCount()},
             {"holes", layer.region.holeCount()}};
 }
 
@@ -41,34 +44,38 @@ nlohmann::json layerJson(const Layer& layer) {
 std::vector<int> pictureLayers(const std::vector<int>& asked, int count) {
     if (!asked.empty()) return asked;
     std::vector<int> chosen;
-    for (int q = 0; q < 5 && count > 0; ++q) chosen.push_back(std::min(count - 1, q * (count - 1) / 4));
+    for (int q = 0; q < 5 && count > 0; ++q)
+        chosen.push_back(std::min(count - 1, q * (count - 1) / 4));
     chosen.erase(std::unique(chosen.begin(), chosen.end()), chosen.end());
     return chosen;
 }
 
-void writePictures(const std::vector<Layer>& layers, const RasterGrid& grid, const std::string& dir) {
+void writePictures(const std::vector<Layer>& layers, const RasterGrid& grid,
+                   const std::string& dir) {
     createDirectories(dir);
     for (const Layer& layer : layers) {
         char stem[64];
         std::snprintf(stem, sizeof stem, "/layer_%05d", layer.index);
         const std::string base = dir + stem;
-        writePolygonSvg(base + ".svg", layer.region, "layer " + std::to_string(layer.index) + " at z = " +
-                                                         std::to_string(layer.z) + " mm");
+        writePolygonSvg(
+            base + ".svg", layer.region,
+            "layer " + std::to_string(layer.index) + " at z = " + std::to_string(layer.z) + " mm");
         writePngGrey(base + "_coverage.png", grid.width, grid.height,
                      toGreyImage(rasterizeCoverage(layer.region, grid), grid));
         std::vector<uint8_t> mask = rasterizeBinary(layer.region, grid);
         for (auto& v : mask) v = v ? 255 : 0;
-        writePngGrey(base + "_mask.png", grid.width, grid.height, flipRows(mask, grid.width, grid.height));
+        writePngGrey(base + "_mask.png", grid.width, grid.height,
+                     flipRows(mask, grid.width, grid.height));
         const double band = 20.0 * grid.pitch;
         const TargetMap target = makeTargetMap(layer.region, grid, band);
         writePng(base + "_distance.png",
-                 heatMap(flipRows(target.signedDistance, grid.width, grid.height), grid.width, grid.height, -band,
-                         band, {0.0}));
+                 heatMap(flipRows(target.signedDistance, grid.width, grid.height), grid.width,
+                         grid.height, -band, band, {0.0}));
     }
-    logInfo("wrote pictures of " + std::to_string(layers.size()) + " layers to " + dir + " (pitch " +
-            std::to_string(grid.pitch * 1000.0) + " um, " + std::to_string(grid.width) + " x " +
-            std::to_string(grid.height) + " pixels, origin (" + std::to_string(grid.origin.x) + ", " +
-            std::to_string(grid.origin.y) + ") mm)");
+    logInfo("wrote pictures of " + std::to_string(layers.size()) + " layers to " + dir +
+            " (pitch " + std::to_string(grid.pitch * 1000.0) + " um, " +
+            std::to_string(grid.width) + " x " + std::to_string(grid.height) + " pixels, origin (" +
+            std::to_string(grid.origin.x) + ", " + std::to_string(grid.origin.y) + ") mm)");
 }
 
 void runSlice(const SliceCliOptions& o) {
@@ -88,8 +95,10 @@ void runSlice(const SliceCliOptions& o) {
     const std::vector<Layer>& layers = stack.layers;
     if (!o.save.empty()) stack.save(o.save);
 
-    nlohmann::json out{{"file", o.file}, {"layer_thickness_mm", options.layerThickness},
-                       {"plane_position", options.planePosition}, {"layer_count", count}};
+    nlohmann::json out{{"file", o.file},
+                       {"layer_thickness_mm", options.layerThickness},
+                       {"plane_position", options.planePosition},
+                       {"layer_count", count}};
     out["layers"] = nlohmann::json::array();
     for (const Layer& layer : layers) out["layers"].push_back(layerJson(layer));
 
@@ -99,7 +108,8 @@ void runSlice(const SliceCliOptions& o) {
         const RasterGrid grid = RasterGrid::covering({b.lo.x, b.lo.y}, {b.hi.x, b.hi.y}, pitch, 2);
         std::vector<Layer> chosen;
         for (int k : pictureLayers(o.layers, count)) {
-            auto it = std::find_if(layers.begin(), layers.end(), [k](const Layer& l) { return l.index == k; });
+            auto it = std::find_if(layers.begin(), layers.end(),
+                                   [k](const Layer& l) { return l.index == k; });
             if (it != layers.end()) chosen.push_back(*it);
         }
         writePictures(chosen, grid, o.outDir);
@@ -116,27 +126,35 @@ void runSlice(const SliceCliOptions& o) {
     for (size_t i = 0; i < layers.size(); ++i) {
         if (all && i % (layers.size() / 10) != 0 && i + 1 != layers.size()) continue;  // a sample
         const Layer& l = layers[i];
-        std::printf("  %6d %10.4f %12.6g %8zu %6zu\n", l.index, l.z, l.region.area(), l.region.outerCount(),
-                    l.region.holeCount());
+        std::printf("  %6d %10.4f %12.6g %8zu %6zu\n", l.index, l.z, l.region.area(),
+                    l.region.outerCount(), l.region.holeCount());
     }
 }
 
-vpsim::cli::CommandRegistration registerSlice{"slice", [](CLI::App& app, const vpsim::cli::Globals&) {
-    auto* cmd = app.add_subcommand("slice", "slice an STL part into layers (areas, contours, pictures)");
-    auto o = std::make_shared<SliceCliOptions>();
-    cmd->add_option("file", o->file, "STL file (binary or ASCII; mm)")->required();
-    cmd->add_option("--layer", o->layer, "layer thickness, e.g. 25um (default 50um)");
-    cmd->add_option("--plane", o->plane, "where the slicing plane lies in each layer, 0 = bottom, 0.5 = middle "
-                                         "(default), 1 = top");
-    cmd->add_option("--z-start", o->zStart, "z of the bottom of layer 0 (default: the part's lowest z)");
-    cmd->add_option("--scale", o->scale, "multiply STL coordinates (25.4 for inches)");
-    cmd->add_option("--layers", o->layers, "only these layer indices, e.g. 0,10,20")->delimiter(',');
-    cmd->add_option("--out", o->outDir, "write pictures of the chosen layers (--layers, else 5 spread) here");
-    cmd->add_option("--save", o->save, "save the layers' polygons as a layer stack JSON (geometry/layer_stack.h)");
-    cmd->add_option("--pitch", o->pitch, "pixel pitch of the raster pictures (default 10um)");
-    cmd->add_flag("--json", o->json, "print {\"layers\": [{\"z\" (mm), \"area\" (mm^2), \"outer_contours\", "
-                                     "\"holes\"}, ...]}");
-    cmd->callback([o] { runSlice(*o); });
-}};
+vpsim::cli::CommandRegistration registerSlice{
+    "slice", [](CLI::App& app, const vpsim::cli::Globals&) {
+        auto* cmd = app.add_subcommand("slice",
+                                       "slice an STL part into layers (areas, contours, pictures)");
+        auto o = std::make_shared<SliceCliOptions>();
+        cmd->add_option("file", o->file, "STL file (binary or ASCII; mm)")->required();
+        cmd->add_option("--layer", o->layer, "layer thickness, e.g. 25um (default 50um)");
+        cmd->add_option("--plane", o->plane,
+                        "where the slicing plane lies in each layer, 0 = bottom, 0.5 = middle "
+                        "(default), 1 = top");
+        cmd->add_option("--z-start", o->zStart,
+                        "z of the bottom of layer 0 (default: the part's lowest z)");
+        cmd->add_option("--scale", o->scale, "multiply STL coordinates (25.4 for inches)");
+        cmd->add_option("--layers", o->layers, "only these layer indices, e.g. 0,10,20")
+            ->delimiter(',');
+        cmd->add_option("--out", o->outDir,
+                        "write pictures of the chosen layers (--layers, else 5 spread) here");
+        cmd->add_option("--save", o->save,
+                        "save the layers' polygons as a layer stack JSON (geometry/layer_stack.h)");
+        cmd->add_option("--pitch", o->pitch, "pixel pitch of the raster pictures (default 10um)");
+        cmd->add_flag("--json", o->json,
+                      "print {\"layers\": [{\"z\" (mm), \"area\" (mm^2), \"outer_contours\", "
+                      "\"holes\"}, ...]}");
+        cmd->callback([o] { runSlice(*o); });
+    }};
 
-} // namespace
+}  // namespace

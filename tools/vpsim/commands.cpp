@@ -39,10 +39,13 @@ uint64_t parseCount(const std::string& text, uint64_t max, const std::string& op
         used = 0;
     }
     if (used != text.size() || !(n >= 1) || n > double(max) || n != std::floor(n))
-        throw InputError(option + ": expected a whole number from 1 to " + std::to_string(max) + ", got '" + text + "'");
+        throw InputError(option + ": expected a whole number from 1 to " + std::to_string(max) +
+                         ", got '" + text + "'");
     return uint64_t(n);
 }
 
-void printJson(const nlohmann::json& value) { std::cout << value.dump(2) << std::endl; }
+void printJson(const nlohmann::json& value) {
+    std::cout << value.dump(2) << std::endl;
+}
 
-} // namespace vpsim::cli
+}  // namespace vpsim::cli

@@ -27,10 +27,10 @@ namespace vpsim::cli {
 
 /// Options shared by every subcommand (parsed before the callbacks run).
 struct Globals {
-    std::string backend = "auto";          ///< auto | vulkan | cpu
-    std::string device;                    ///< Vulkan device index or name part
-    bool validation = false;               ///< run under VK_LAYER_KHRONOS_validation
-    std::vector<std::string> overrides;    ///< --set key.path=value for config files
+    std::string backend = "auto";        ///< auto | vulkan | cpu
+    std::string device;                  ///< Vulkan device index or name part
+    bool validation = false;             ///< run under VK_LAYER_KHRONOS_validation
+    std::vector<std::string> overrides;  ///< --set key.path=value for config files
     bool quiet = false;
 
     /// The Vulkan context for --backend/--device, or nullptr for the CPU path (see
@@ -58,4 +58,4 @@ uint64_t parseCount(const std::string& text, uint64_t max, const std::string& op
 /// Prints JSON to stdout with 2-space indentation.
 void printJson(const nlohmann::json& value);
 
-} // namespace vpsim::cli
+}  // namespace vpsim::cli

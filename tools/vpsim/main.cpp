@@ -10,29 +10,38 @@
 
 int main(int argc, char** argv) {
     using namespace vpsim;
-    CLI::App app{"vpsim: exposure simulator and process planner for vat photopolymerization "
-                 "(laser SLA of ceramic slurries and DLP mask projection)"};
+    CLI::App app{
+        "vpsim: exposure simulator and process planner for vat photopolymerization "
+        "(laser SLA of ceramic slurries and DLP mask projection)"};
     app.set_version_flag("--version", std::string("vpsim ") + VPSIM_VERSION);
     app.require_subcommand(1);
     app.fallthrough();
 
     cli::Globals globals;
     if (const char* backend = std::getenv("VPSIM_BACKEND")) globals.backend = backend;
-    app.add_option("--backend", globals.backend, "where the physics runs: auto (Vulkan if a device exists, "
-                                                 "else CPU), vulkan, cpu [env VPSIM_BACKEND]")
+    app.add_option("--backend", globals.backend,
+                   "where the physics runs: auto (Vulkan if a device exists, "
+                   "else CPU), vulkan, cpu [env VPSIM_BACKEND]")
         ->check(CLI::IsMember({"auto", "vulkan", "cpu"}));
-    app.add_option("--device", globals.device, "Vulkan device index or part of its name "
-                                               "(default: a hardware GPU, else lavapipe) [env VPSIM_DEVICE]");
-    app.add_flag("--validate", globals.validation, "run under VK_LAYER_KHRONOS_validation [env VPSIM_VALIDATION=1]");
-    app.add_option("--set", globals.overrides, "override a config value, e.g. --set particles.radius=\"2 um\"")
+    app.add_option("--device", globals.device,
+                   "Vulkan device index or part of its name "
+                   "(default: a hardware GPU, else lavapipe) [env VPSIM_DEVICE]");
+    app.add_flag("--validate", globals.validation,
+                 "run under VK_LAYER_KHRONOS_validation [env VPSIM_VALIDATION=1]");
+    app.add_option("--set", globals.overrides,
+                   "override a config value, e.g. --set particles.radius=\"2 um\"")
         ->take_all();
     // Flag callbacks run while parsing, before any subcommand callback.
-    app.add_flag_callback("-q,--quiet", [&globals] {
-        globals.quiet = true;
-        setLogLevel(LogLevel::Warn);
-        Progress::setEnabled(false);
-    }, "no progress display or info messages");
-    app.add_flag_callback("-v,--verbose", [] { setLogLevel(LogLevel::Debug); }, "debug messages");
+    app.add_flag_callback(
+        "-q,--quiet",
+        [&globals] {
+            globals.quiet = true;
+            setLogLevel(LogLevel::Warn);
+            Progress::setEnabled(false);
+        },
+        "no progress display or info messages");
+    app.add_flag_callback(
+        "-v,--verbose", [] { setLogLevel(LogLevel::Debug); }, "debug messages");
 
     for (auto& [name, setup] : cli::commandRegistry()) setup(app, globals);
 

@@ -16,7 +16,8 @@
 
 namespace vpsim {
 
-/// Reads a JSON file. @throw InputError naming the file and line on a missing file or a syntax error.
+/// Reads a JSON file. @throw InputError naming the file and line on a missing file or a syntax
+/// error.
 nlohmann::json loadJsonFile(const std::string& path);
 
 /// Applies "a.b.c=value" to a document: the value is parsed as JSON when it is valid JSON
@@ -41,9 +42,11 @@ public:
     double number(const std::string& key, double fallback) const;
     double numberInRange(const std::string& key, double lo, double hi,
                          std::optional<double> fallback = std::nullopt) const;
-    long long integer(const std::string& key, std::optional<long long> fallback = std::nullopt) const;
+    long long integer(const std::string& key,
+                      std::optional<long long> fallback = std::nullopt) const;
     bool boolean(const std::string& key, std::optional<bool> fallback = std::nullopt) const;
-    std::string string(const std::string& key, std::optional<std::string> fallback = std::nullopt) const;
+    std::string string(const std::string& key,
+                       std::optional<std::string> fallback = std::nullopt) const;
     /// A string that must be one of `choices`. @throw InputError listing the choices otherwise.
     std::string choice(const std::string& key, const std::vector<std::string>& choices,
                        std::optional<std::string> fallback = std::nullopt) const;
@@ -82,4 +85,4 @@ private:
     std::string mPath;
 };
 
-} // namespace vpsim
+}  // namespace vpsim

@@ -55,4 +55,4 @@ public:
 /// Formats a byte count for messages ("1.50 GiB").
 std::string formatBytes(double bytes);
 
-} // namespace vpsim
+}  // namespace vpsim

@@ -31,4 +31,4 @@
 namespace vpsim::glsl {
 using namespace glm;
 using uint = glm::uint;
-} // namespace vpsim::glsl
+}  // namespace vpsim::glsl

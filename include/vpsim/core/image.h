@@ -14,7 +14,8 @@ struct RgbImage {
     int width = 0, height = 0;
     std::vector<uint8_t> pixels;  ///< width*height*3
     RgbImage() = default;
-    RgbImage(int w, int h, uint8_t grey = 255) : width(w), height(h), pixels(size_t(w) * h * 3, grey) {}
+    RgbImage(int w, int h, uint8_t grey = 255)
+        : width(w), height(h), pixels(size_t(w) * h * 3, grey) {}
     void set(int x, int y, uint8_t r, uint8_t g, uint8_t b);
     /// Draws a 1-pixel line (clipped to the image).
     void line(double x0, double y0, double x1, double y1, uint8_t r, uint8_t g, uint8_t b);
@@ -44,4 +45,4 @@ struct PlotSeries {
 void writeSvgLinePlot(const std::string& path, const std::string& title, const std::string& xLabel,
                       const std::string& yLabel, const std::vector<PlotSeries>& series);
 
-} // namespace vpsim
+}  // namespace vpsim

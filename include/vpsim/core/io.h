@@ -22,4 +22,4 @@ std::string readFile(const std::string& path);
 /// Creates a directory and its parents. @throw InputError when that fails.
 void createDirectories(const std::string& path);
 
-} // namespace vpsim
+}  // namespace vpsim

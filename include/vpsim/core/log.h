@@ -16,4 +16,4 @@ void logWarn(const std::string& message);
 void logInfo(const std::string& message);
 void logDebug(const std::string& message);
 
-} // namespace vpsim
+}  // namespace vpsim

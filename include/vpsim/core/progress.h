@@ -40,4 +40,4 @@ private:
     bool mFinished = false;
 };
 
-} // namespace vpsim
+}  // namespace vpsim

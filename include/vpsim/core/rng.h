@@ -21,9 +21,10 @@ private:
     uint32_t mState[4];
 };
 
-/// Outputs of streams [firstStream, firstStream + streamCount), `valuesPerStream` each, stream-major:
-/// mode 0 raw words, mode 1 the bits of uniform(). The CPU reference for shaders/rng_stream.comp.
+/// Outputs of streams [firstStream, firstStream + streamCount), `valuesPerStream` each,
+/// stream-major: mode 0 raw words, mode 1 the bits of uniform(). The CPU reference for
+/// shaders/rng_stream.comp.
 std::vector<uint32_t> rngStreamsCpu(uint32_t seed, uint32_t firstStream, uint32_t streamCount,
                                     uint32_t valuesPerStream, uint32_t mode);
 
-} // namespace vpsim
+}  // namespace vpsim

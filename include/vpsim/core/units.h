@@ -31,14 +31,14 @@ constexpr Dimension AREA{2, 0, 0, 0};
 constexpr Dimension TIME{0, 1, 0, 0};
 constexpr Dimension ENERGY{0, 0, 1, 0};
 constexpr Dimension POWER{0, -1, 1, 0};
-constexpr Dimension DOSE{-2, 0, 1, 0};          ///< mJ/mm^2
-constexpr Dimension INVERSE_DOSE{2, 0, -1, 0};  ///< mm^2/mJ (the FPP rate constant K)
-constexpr Dimension IRRADIANCE{-2, -1, 1, 0};   ///< mW/mm^2
-constexpr Dimension INVERSE_LENGTH{-1, 0, 0, 0};///< 1/mm (attenuation coefficients)
-constexpr Dimension SPEED{1, -1, 0, 0};         ///< mm/s
-constexpr Dimension ACCELERATION{1, -2, 0, 0};  ///< mm/s^2
-constexpr Dimension ANGLE{0, 0, 0, 1};          ///< rad
-} // namespace dim
+constexpr Dimension DOSE{-2, 0, 1, 0};            ///< mJ/mm^2
+constexpr Dimension INVERSE_DOSE{2, 0, -1, 0};    ///< mm^2/mJ (the FPP rate constant K)
+constexpr Dimension IRRADIANCE{-2, -1, 1, 0};     ///< mW/mm^2
+constexpr Dimension INVERSE_LENGTH{-1, 0, 0, 0};  ///< 1/mm (attenuation coefficients)
+constexpr Dimension SPEED{1, -1, 0, 0};           ///< mm/s
+constexpr Dimension ACCELERATION{1, -2, 0, 0};    ///< mm/s^2
+constexpr Dimension ANGLE{0, 0, 0, 1};            ///< rad
+}  // namespace dim
 
 /// A parsed value in base units with its dimension.
 struct Quantity {
@@ -59,7 +59,7 @@ double parseQuantity(const std::string& text, Dimension expected, const std::str
 
 /// Same for a JSON value, which may be a number (base units) or a string with units.
 /// @throw InputError when the value is neither, or the dimension is wrong
-double quantityFromJson(const nlohmann::json& value, Dimension expected, const std::string& key = "",
-                        const std::string& file = "");
+double quantityFromJson(const nlohmann::json& value, Dimension expected,
+                        const std::string& key = "", const std::string& file = "");
 
-} // namespace vpsim
+}  // namespace vpsim

@@ -15,10 +15,10 @@ namespace vpsim::cure {
 
 /// Working-curve measurements in base units.
 struct WorkingCurveData {
-    std::vector<double> dose;       ///< surface dose E0, mJ/mm^2 (> 0)
-    std::vector<double> cureDepth;  ///< measured cured thickness Cd, mm (> 0)
-    std::vector<int> line;          ///< 1-based line of each point in the source file
-    std::string file;               ///< source file ("" when built in code)
+    std::vector<double> dose;             ///< surface dose E0, mJ/mm^2 (> 0)
+    std::vector<double> cureDepth;        ///< measured cured thickness Cd, mm (> 0)
+    std::vector<int> line;                ///< 1-based line of each point in the source file
+    std::string file;                     ///< source file ("" when built in code)
     std::string doseColumn, depthColumn;  ///< header names of the columns used
 };
 
@@ -39,18 +39,18 @@ WorkingCurveData loadWorkingCurveCsv(const std::string& path);
 
 /// Least-squares fit of Cd = slope ln(E0 / (1 mJ/mm^2)) + intercept.
 struct WorkingCurveFit {
-    size_t count = 0;                  ///< number of points
-    double penetrationDepth = 0;       ///< Dp = slope, mm
-    double penetrationDepthStderr = 0; ///< standard error of Dp, mm
-    double intercept = 0;              ///< -Dp ln(Ec / (1 mJ/mm^2)), mm
-    double interceptStderr = 0;        ///< mm
+    size_t count = 0;                     ///< number of points
+    double penetrationDepth = 0;          ///< Dp = slope, mm
+    double penetrationDepthStderr = 0;    ///< standard error of Dp, mm
+    double intercept = 0;                 ///< -Dp ln(Ec / (1 mJ/mm^2)), mm
+    double interceptStderr = 0;           ///< mm
     double slopeInterceptCovariance = 0;  ///< mm^2
-    double criticalDose = 0;           ///< Ec = exp(-intercept/slope), mJ/mm^2
-    double lnCriticalDoseStderr = 0;   ///< standard error of ln Ec (relative error of Ec)
-    double criticalDoseStderr = 0;     ///< Ec * lnCriticalDoseStderr, mJ/mm^2 (delta method)
-    double rSquared = 0;               ///< coefficient of determination
-    double residualStd = 0;            ///< sqrt(SSR / (n - 2)), mm
-    std::vector<double> residuals;     ///< measured - fitted Cd per point, mm
+    double criticalDose = 0;              ///< Ec = exp(-intercept/slope), mJ/mm^2
+    double lnCriticalDoseStderr = 0;      ///< standard error of ln Ec (relative error of Ec)
+    double criticalDoseStderr = 0;        ///< Ec * lnCriticalDoseStderr, mJ/mm^2 (delta method)
+    double rSquared = 0;                  ///< coefficient of determination
+    double residualStd = 0;               ///< sqrt(SSR / (n - 2)), mm
+    std::vector<double> residuals;        ///< measured - fitted Cd per point, mm
 
     /// Fitted cure depth (mm) for a surface dose (mJ/mm^2); may be negative below Ec.
     double predictDepth(double dose) const;
@@ -59,7 +59,8 @@ struct WorkingCurveFit {
 /// Fits the working curve. @param dose E0 (mJ/mm^2) @param cureDepth Cd (mm), same length
 /// @throw InputError when fewer than 3 points, lengths differ, a dose is not positive, all doses
 ///        are equal, or the fitted slope Dp is not positive
-WorkingCurveFit fitWorkingCurve(const std::vector<double>& dose, const std::vector<double>& cureDepth);
+WorkingCurveFit fitWorkingCurve(const std::vector<double>& dose,
+                                const std::vector<double>& cureDepth);
 
 /// FPP parameters derived from a working-curve fit and the gel point.
 struct FppCalibration {
@@ -73,4 +74,4 @@ struct FppCalibration {
 /// @param gelPoint Phi_c in (0, 1) @throw InputError when out of range
 FppCalibration fppFromWorkingCurve(const WorkingCurveFit& fit, double gelPoint);
 
-} // namespace vpsim::cure
+}  // namespace vpsim::cure

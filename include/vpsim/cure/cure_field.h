@@ -26,4 +26,4 @@ std::vector<float> conversionField(const CureModel& model, const std::vector<flo
 /// Number of cured voxels (dose >= criticalDose) without building a mask.
 size_t countCured(const CureModel& model, const float* dose, size_t count);
 
-} // namespace vpsim::cure
+}  // namespace vpsim::cure

@@ -43,7 +43,8 @@ double fppConversion(double localDose, double rateConstant);
 
 /// Seed 001 Eq. 1: Phi(z, d) = 1 - exp(-K d exp(-mu z)) at depth z (mm) below the surface that
 /// received surface dose d (mJ/mm^2), attenuation mu (1/mm).
-double fppConversionAtDepth(double surfaceDose, double depth, double rateConstant, double attenuation);
+double fppConversionAtDepth(double surfaceDose, double depth, double rateConstant,
+                            double attenuation);
 
 /// Dose (mJ/mm^2) at which the FPP conversion reaches the gel point: Ec = ln(1/(1-Phi_c)) / K.
 /// @param gelPoint Phi_c in (0, 1)
@@ -130,4 +131,4 @@ CureModel cureModelFromConfig(const ConfigNode& parent, const std::string& key);
 CureModel cureModelFromJson(const nlohmann::json& section, const std::string& file = "",
                             const std::string& keyPrefix = "");
 
-} // namespace vpsim::cure
+}  // namespace vpsim::cure

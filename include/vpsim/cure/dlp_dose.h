@@ -77,8 +77,8 @@ std::vector<double> applyTransmissionTransposed(const std::vector<double>& v, do
                                                 double rateConstant, double attenuation);
 
 /// Eq. 11-12: phi_obj per layer, ln(1 - targetConversion) where solid[k] != 0, else penalty.
-std::vector<double> objectivePhotopolymerisation(const std::vector<uint8_t>& solid, double targetConversion,
-                                                 double penalty);
+std::vector<double> objectivePhotopolymerisation(const std::vector<uint8_t>& solid,
+                                                 double targetConversion, double penalty);
 
 /// Bounds of each layer's dose for an exposure pattern (exposed[k] != 0: layer k gets a non-null
 /// dose; only solid layers may be exposed). An exposed layer must bond (Eq. 10) through the n_z
@@ -87,13 +87,16 @@ std::vector<double> objectivePhotopolymerisation(const std::vector<uint8_t>& sol
 /// @return false when some lower bound exceeds d_max (the pattern cannot be printed)
 /// @throw InputError on bad parameters, a length mismatch or an exposed void layer
 bool exposureBounds(const std::vector<uint8_t>& exposed, const std::vector<uint8_t>& solid,
-                    const DlpColumnProblem& problem, std::vector<double>& lower, std::vector<double>& upper);
+                    const DlpColumnProblem& problem, std::vector<double>& lower,
+                    std::vector<double>& upper);
 
 /// Minimises Eq. 8 for a fixed exposure pattern by projected gradient descent (Eq. 9) inside
 /// the bounds of exposureBounds: a convex problem, so the result is its global minimum.
 /// @throw InputError as exposureBounds, or when the pattern is infeasible
-DlpColumnResult optimiseColumnDosesForPattern(const std::vector<uint8_t>& solid, const std::vector<uint8_t>& exposed,
-                                              const DlpColumnProblem& problem, const DlpOptimiserOptions& options = {});
+DlpColumnResult optimiseColumnDosesForPattern(const std::vector<uint8_t>& solid,
+                                              const std::vector<uint8_t>& exposed,
+                                              const DlpColumnProblem& problem,
+                                              const DlpOptimiserOptions& options = {});
 
 /// Optimises the per-layer doses of one pixel column (solid[k] != 0: layer k belongs to the
 /// part). Constraint (iii) makes the feasible set non-convex (a dose is 0 or at least its bonding
@@ -103,7 +106,8 @@ DlpColumnResult optimiseColumnDosesForPattern(const std::vector<uint8_t>& solid,
 /// each candidate solved by optimiseColumnDosesForPattern. The search is a heuristic: the best
 /// pattern found, not a proven global optimum. Cost: O(layers^2 x iterations) per column.
 /// @throw InputError on bad parameters or when d_max is below the bonding dose d_min
-DlpColumnResult optimiseColumnDoses(const std::vector<uint8_t>& solid, const DlpColumnProblem& problem,
+DlpColumnResult optimiseColumnDoses(const std::vector<uint8_t>& solid,
+                                    const DlpColumnProblem& problem,
                                     const DlpOptimiserOptions& options = {});
 
-} // namespace vpsim::cure
+}  // namespace vpsim::cure

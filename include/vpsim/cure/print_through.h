@@ -26,8 +26,8 @@ double printThroughDose(double surfaceDose, double distance, double penetrationD
 /// @param layerThickness Le, mm (> 0) @param penetrationDepth Dp, mm (> 0)
 /// @return D_i, mJ/mm^2, one per layer
 /// @throw InputError on a negative or non-finite dose or a non-positive length
-std::vector<double> accumulatedLayerDoses(const std::vector<double>& layerDoses, double layerThickness,
-                                          double penetrationDepth);
+std::vector<double> accumulatedLayerDoses(const std::vector<double>& layerDoses,
+                                          double layerThickness, double penetrationDepth);
 
 /// Accumulated dose at height h (mm) by the direct sum over the layers whose top is at or above
 /// h (the reference for the recursion, and doses inside layers). Heights below 0 are allowed
@@ -38,7 +38,7 @@ double accumulatedDoseAtHeight(const std::vector<double>& layerDoses, double lay
 
 /// Accumulated dose at the bottom surface of layer i, i.e. exp(-Le/Dp) D_i: the least-exposed
 /// point of layer i, and the dose a down-facing surface under layer i sees.
-std::vector<double> accumulatedBottomDoses(const std::vector<double>& layerDoses, double layerThickness,
-                                           double penetrationDepth);
+std::vector<double> accumulatedBottomDoses(const std::vector<double>& layerDoses,
+                                           double layerThickness, double penetrationDepth);
 
-} // namespace vpsim::cure
+}  // namespace vpsim::cure

@@ -17,4 +17,4 @@ namespace vpsim::exposure {
 /// exact area overlap of mask pixels with cells.
 void depositLayer(const plan::LayerPlan& layer, SurfaceGrid& grid);
 
-} // namespace vpsim::exposure
+}  // namespace vpsim::exposure

@@ -11,7 +11,8 @@
 namespace vpsim::exposure {
 
 /// Collects exposure slices as an OpenVDB float grid with voxel size (pitch, pitch, h/slices).
-/// Values below `threshold` (mJ/mm^2) are left as background 0, so storage follows the exposed region.
+/// Values below `threshold` (mJ/mm^2) are left as background 0, so storage follows the exposed
+/// region.
 class DoseVolume {
 public:
     /// @param name grid name in the .vdb ("exposure")
@@ -43,4 +44,4 @@ private:
     std::unique_ptr<Impl> mImpl;
 };
 
-} // namespace vpsim::exposure
+}  // namespace vpsim::exposure

@@ -12,7 +12,8 @@
 /// slice goes to a sink (statistics, an OpenVDB grid, pictures) and is not kept.
 ///
 /// The blur and the recursion run in compute shaders (shaders/exposure_blur.comp,
-/// shaders/exposure_recursion.comp) or on the CPU from the same GLSL (shaders/include/exposure.glsl).
+/// shaders/exposure_recursion.comp) or on the CPU from the same GLSL
+/// (shaders/include/exposure.glsl).
 
 #include <functional>
 #include <memory>
@@ -43,8 +44,8 @@ struct ExposureGrid {
     double pitch = 0.01;              ///< mm, cell size in x and y
     int slicesPerLayer = 1;           ///< voxel slices per layer thickness (voxel z size h / n)
     /// Cells needed to cover [xmin, xmax] x [ymin, ymax] plus `margin` (mm) on every side.
-    static ExposureGrid covering(double xmin, double ymin, double xmax, double ymax, double margin, double pitch,
-                                 int slicesPerLayer);
+    static ExposureGrid covering(double xmin, double ymin, double xmax, double ymax, double margin,
+                                 double pitch, int slicesPerLayer);
 };
 
 /// One finished voxel slice: layer index, slice index within the layer (0 = top), the height of
@@ -82,11 +83,12 @@ public:
 
 private:
     struct GpuState;
-    void blurAndAccumulate(SurfaceGrid& deposit, SurfaceGrid& running, float decay, double& seconds);
+    void blurAndAccumulate(SurfaceGrid& deposit, SurfaceGrid& running, float decay,
+                           double& seconds);
     ExposureGrid mGrid;
     SeparableBeam mBeam;
     double mLayerThickness;
     std::unique_ptr<GpuState> mGpu;
 };
 
-} // namespace vpsim::exposure
+}  // namespace vpsim::exposure

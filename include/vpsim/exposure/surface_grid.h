@@ -16,7 +16,12 @@ struct SurfaceGrid {
 
     SurfaceGrid() = default;
     SurfaceGrid(int nx_, int ny_, double originX_, double originY_, double pitch_)
-        : nx(nx_), ny(ny_), originX(originX_), originY(originY_), pitch(pitch_), values(size_t(nx_) * ny_, 0.0f) {}
+        : nx(nx_),
+          ny(ny_),
+          originX(originX_),
+          originY(originY_),
+          pitch(pitch_),
+          values(size_t(nx_) * ny_, 0.0f) {}
     double centreX(int i) const { return originX + (i + 0.5) * pitch; }
     double centreY(int j) const { return originY + (j + 0.5) * pitch; }
     float& at(int i, int j) { return values[size_t(j) * nx + i]; }
@@ -25,4 +30,4 @@ struct SurfaceGrid {
     double totalEnergy() const;
 };
 
-} // namespace vpsim::exposure
+}  // namespace vpsim::exposure

@@ -37,9 +37,9 @@ constexpr double TABULATED_ENGINE_MAX_BYTES = 4.0 * (1ull << 30);
 /// (2 halfWidth + 1)^2 cell offsets, row-major, and per stencil row the largest |di| with a
 /// non-zero weight (-1 for an empty row) so the circular support is not swept as a square.
 struct DepthStencil {
-    double depth = 0;        ///< mm below the source layer's top surface
-    double radius = 0;       ///< mm, effective radius Reff at this depth
-    int halfWidth = 0;       ///< cells
+    double depth = 0;   ///< mm below the source layer's top surface
+    double radius = 0;  ///< mm, effective radius Reff at this depth
+    int halfWidth = 0;  ///< cells
     std::vector<float> weights;
     std::vector<int> rowHalfWidth;
     float at(int di, int dj) const {
@@ -49,16 +49,18 @@ struct DepthStencil {
 
 class TabulatedExposureEngine {
 public:
-    /// Builds the depth stencils from `kernel` (copied as needed; the kernel need not outlive the engine).
+    /// Builds the depth stencils from `kernel` (copied as needed; the kernel need not outlive the
+    /// engine).
     /// @param grid the build-plane grid and voxel slices per layer
     /// @param kernel tabulated intensity I(r, z) in mW/mm^2 for incident power kernel.power (mW)
     /// @param layerThickness h, mm
     /// @throw InputError for an empty grid, a non-positive pitch, slice count, layer thickness or
     ///        power, or a kernel table that is empty, inconsistent in size, non-finite or all zero
-    /// @throw ResourceError when the accumulators and stencils would exceed TABULATED_ENGINE_MAX_BYTES
+    /// @throw ResourceError when the accumulators and stencils would exceed
+    /// TABULATED_ENGINE_MAX_BYTES
     /// @param context a Vulkan context for the shader path, or nullptr for the CPU
-    TabulatedExposureEngine(const ExposureGrid& grid, const kernel::BeamKernel& kernel, double layerThickness,
-                            std::shared_ptr<gpu::Context> context = nullptr);
+    TabulatedExposureEngine(const ExposureGrid& grid, const kernel::BeamKernel& kernel,
+                            double layerThickness, std::shared_ptr<gpu::Context> context = nullptr);
     ~TabulatedExposureEngine();
     bool usesGpu() const { return mGpu != nullptr; }
 
@@ -87,4 +89,4 @@ private:
     double mWorkingBytes = 0;
 };
 
-} // namespace vpsim::exposure
+}  // namespace vpsim::exposure

@@ -41,4 +41,4 @@ struct LayerStack {
 LayerStack sliceToStack(const Mesh& mesh, const SliceOptions& options, const std::string& source,
                         const std::vector<int>& onlyLayers = {});
 
-} // namespace vpsim::geometry
+}  // namespace vpsim::geometry

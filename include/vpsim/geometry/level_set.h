@@ -18,9 +18,9 @@ namespace vpsim::geometry {
 
 /// Options of LevelSet::fromMesh().
 struct LevelSetOptions {
-    double voxelSize = 0.02;        ///< mm (voxel centres at integer multiples of it)
-    double halfWidthVoxels = 3.0;   ///< narrow band half-width in voxels (>= 1)
-    double maxBytes = 8.0 * (1ull << 30); ///< refuse grids whose estimated memory exceeds this
+    double voxelSize = 0.02;               ///< mm (voxel centres at integer multiples of it)
+    double halfWidthVoxels = 3.0;          ///< narrow band half-width in voxels (>= 1)
+    double maxBytes = 8.0 * (1ull << 30);  ///< refuse grids whose estimated memory exceeds this
 };
 
 /// A narrow-band signed distance grid of a closed mesh.
@@ -44,8 +44,8 @@ public:
     /// Samples many points at once (mm) into `out` (same length), in parallel; use this rather
     /// than signedDistance() in loops.
     void sample(const std::vector<glm::dvec3>& points, std::vector<float>& out) const;
-    double voxelSize() const;        ///< mm
-    double halfWidth() const;        ///< band half-width (mm), also the background value
+    double voxelSize() const;  ///< mm
+    double halfWidth() const;  ///< band half-width (mm), also the background value
     size_t activeVoxelCount() const;
     size_t memoryBytes() const;
     /// Bounding box of the active voxels (mm).
@@ -60,4 +60,4 @@ private:
     std::unique_ptr<Impl> mImpl;
 };
 
-} // namespace vpsim::geometry
+}  // namespace vpsim::geometry

@@ -23,8 +23,8 @@ struct Bounds {
 /// Indexed triangle mesh. Triangles list vertex indices counter-clockwise seen from outside
 /// (outward normals by the right-hand rule), which readStl() guarantees for accepted files.
 struct Mesh {
-    std::vector<glm::dvec3> vertices;                 ///< positions (mm)
-    std::vector<std::array<uint32_t, 3>> triangles;   ///< vertex indices per triangle
+    std::vector<glm::dvec3> vertices;                ///< positions (mm)
+    std::vector<std::array<uint32_t, 3>> triangles;  ///< vertex indices per triangle
 
     Bounds bounds() const;
     /// Signed enclosed volume (mm^3) by the divergence theorem; positive for a closed mesh with
@@ -40,4 +40,4 @@ struct Mesh {
     void append(const Mesh& other);
 };
 
-} // namespace vpsim::geometry
+}  // namespace vpsim::geometry

@@ -29,22 +29,22 @@ namespace vpsim::geometry {
 
 /// What checkMesh() found and did.
 struct MeshReport {
-    std::string file;                     ///< name used in messages
-    size_t trianglesIn = 0;               ///< triangles before repair
-    size_t verticesIn = 0;                ///< vertices before merging (3 per STL triangle)
+    std::string file;        ///< name used in messages
+    size_t trianglesIn = 0;  ///< triangles before repair
+    size_t verticesIn = 0;   ///< vertices before merging (3 per STL triangle)
     size_t duplicateVerticesMerged = 0;
-    size_t degenerateTrianglesDropped = 0;///< triangles repeating a vertex
-    size_t sliverTrianglesKept = 0;       ///< zero-area triangles with distinct vertices
-    size_t trianglesReoriented = 0;       ///< flipped to agree with their neighbours
-    size_t shellsFlipped = 0;             ///< inside-out shells turned around
+    size_t degenerateTrianglesDropped = 0;  ///< triangles repeating a vertex
+    size_t sliverTrianglesKept = 0;         ///< zero-area triangles with distinct vertices
+    size_t trianglesReoriented = 0;         ///< flipped to agree with their neighbours
+    size_t shellsFlipped = 0;               ///< inside-out shells turned around
     size_t openEdges = 0;
     size_t nonManifoldEdges = 0;
-    size_t shells = 0;                    ///< connected components
-    double volume = 0.0;                  ///< mm^3 after repair
-    double area = 0.0;                    ///< mm^2
+    size_t shells = 0;    ///< connected components
+    double volume = 0.0;  ///< mm^3 after repair
+    double area = 0.0;    ///< mm^2
     Bounds bounds;
-    std::vector<std::string> repairs;     ///< one human line per repair done
-    std::vector<std::string> problems;    ///< unrepairable defects (empty for an accepted mesh)
+    std::vector<std::string> repairs;   ///< one human line per repair done
+    std::vector<std::string> problems;  ///< unrepairable defects (empty for an accepted mesh)
 
     bool ok() const { return problems.empty(); }
     nlohmann::json toJson() const;
@@ -52,7 +52,7 @@ struct MeshReport {
 
 /// Options of checkMesh().
 struct MeshCheckOptions {
-    bool repair = true;          ///< apply the safe repairs (otherwise they are reported as problems)
+    bool repair = true;  ///< apply the safe repairs (otherwise they are reported as problems)
     bool throwOnProblem = true;  ///< throw InputError for the first unrepairable problem
 };
 
@@ -66,4 +66,4 @@ size_t mergeDuplicateVertices(Mesh& mesh);
 ///        an unrepairable defect when options.throwOnProblem
 MeshReport checkMesh(Mesh& mesh, const std::string& name, const MeshCheckOptions& options = {});
 
-} // namespace vpsim::geometry
+}  // namespace vpsim::geometry

@@ -47,7 +47,8 @@ public:
     /// Builds a clean set from arbitrary closed contours (any orientation, overlaps resolved by
     /// `rule`). Positive keeps regions wound counter-clockwise at least once: the union of
     /// consistently oriented solids, which is what slicing produces.
-    static PolygonSet fromContours(const std::vector<Contour>& contours, FillRule rule = FillRule::NonZero);
+    static PolygonSet fromContours(const std::vector<Contour>& contours,
+                                   FillRule rule = FillRule::NonZero);
     /// Axis-aligned rectangle [lo, hi] (mm).
     static PolygonSet rectangle(const glm::dvec2& lo, const glm::dvec2& hi);
 
@@ -91,4 +92,4 @@ private:
 /// @throw InputError when the file cannot be written
 void writePolygonSvg(const std::string& path, const PolygonSet& region, const std::string& title);
 
-} // namespace vpsim::geometry
+}  // namespace vpsim::geometry

@@ -24,11 +24,14 @@ struct RasterGrid {
     int width = 0, height = 0;    ///< pixels along x and y
 
     size_t pixelCount() const { return size_t(width) * size_t(height); }
-    glm::dvec2 pixelCentre(int i, int j) const { return origin + pitch * glm::dvec2(i + 0.5, j + 0.5); }
+    glm::dvec2 pixelCentre(int i, int j) const {
+        return origin + pitch * glm::dvec2(i + 0.5, j + 0.5);
+    }
     /// The grid of the given pitch covering [lo, hi] plus `marginPixels` on each side, with its
     /// origin on a multiple of the pitch (so grids of different layers line up).
     /// @throw InputError on a non-positive pitch; ResourceError beyond 2^31 pixels
-    static RasterGrid covering(const glm::dvec2& lo, const glm::dvec2& hi, double pitch, int marginPixels = 2);
+    static RasterGrid covering(const glm::dvec2& lo, const glm::dvec2& hi, double pitch,
+                               int marginPixels = 2);
 };
 
 /// 1 where the pixel centre is inside the region (a centre exactly on an edge is resolved by a
@@ -67,4 +70,4 @@ std::vector<T> flipRows(const std::vector<T>& values, int width, int height) {
     return out;
 }
 
-} // namespace vpsim::geometry
+}  // namespace vpsim::geometry

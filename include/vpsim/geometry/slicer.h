@@ -29,17 +29,17 @@ namespace vpsim::geometry {
 
 /// Options of sliceMesh().
 struct SliceOptions {
-    double layerThickness = 0.05;        ///< t (mm), > 0
-    double planePosition = 0.5;          ///< where the slicing plane lies in the layer, in [0, 1]
-    std::optional<double> zStart;        ///< z0 (mm); default: the mesh's lowest z
+    double layerThickness = 0.05;  ///< t (mm), > 0
+    double planePosition = 0.5;    ///< where the slicing plane lies in the layer, in [0, 1]
+    std::optional<double> zStart;  ///< z0 (mm); default: the mesh's lowest z
 };
 
 /// One sliced layer.
 struct Layer {
-    int index = 0;        ///< k
-    double zBottom = 0.0; ///< z0 + k t (mm)
-    double z = 0.0;       ///< slicing plane z_k (mm)
-    PolygonSet region;    ///< cross-section (outer CCW, holes CW)
+    int index = 0;         ///< k
+    double zBottom = 0.0;  ///< z0 + k t (mm)
+    double z = 0.0;        ///< slicing plane z_k (mm)
+    PolygonSet region;     ///< cross-section (outer CCW, holes CW)
 };
 
 /// Number of layers covering the mesh: ceil((zmax - z0) / t), ignoring a last sliver thinner than
@@ -51,10 +51,11 @@ int layerCount(const Mesh& mesh, const SliceOptions& options);
 /// error. Layers run in parallel (TBB).
 /// @throw InputError when a contour does not close (the mesh is open or inconsistently
 ///        oriented: read it with readStl(), which checks and repairs)
-std::vector<Layer> sliceMesh(const Mesh& mesh, const SliceOptions& options, const std::vector<int>& onlyLayers = {});
+std::vector<Layer> sliceMesh(const Mesh& mesh, const SliceOptions& options,
+                             const std::vector<int>& onlyLayers = {});
 
 /// Cross-section on the single plane z (mm), perturbed upward (perturbUp) or downward.
 /// @throw InputError as sliceMesh()
 PolygonSet sliceAt(const Mesh& mesh, double z, bool perturbUp = true);
 
-} // namespace vpsim::geometry
+}  // namespace vpsim::geometry

@@ -13,8 +13,8 @@ namespace vpsim::geometry {
 
 /// Options of readStl().
 struct StlReadOptions {
-    double scale = 1.0;          ///< multiplies coordinates; 1 for files in mm, 25.4 for inches
-    MeshCheckOptions check;      ///< checks and repairs applied after reading
+    double scale = 1.0;      ///< multiplies coordinates; 1 for files in mm, 25.4 for inches
+    MeshCheckOptions check;  ///< checks and repairs applied after reading
 };
 
 /// Triangle soup as stored in the file (3 vertices per triangle, no sharing), scaled to mm.
@@ -26,7 +26,8 @@ Mesh readStlSoup(const std::string& path, double scale = 1.0);
 /// Reads an STL file, merges vertices and checks/repairs the mesh (see mesh_check.h).
 /// Repairs are logged with logWarn and returned in `report` when given.
 /// @throw InputError naming the file and the reason for anything not safely repairable
-Mesh readStl(const std::string& path, const StlReadOptions& options = {}, MeshReport* report = nullptr);
+Mesh readStl(const std::string& path, const StlReadOptions& options = {},
+             MeshReport* report = nullptr);
 
 /// Writes a binary STL (atomically: temp file then rename), with facet normals.
 /// @param solidName written into the 80-byte header (never starting with "solid")
@@ -34,6 +35,7 @@ Mesh readStl(const std::string& path, const StlReadOptions& options = {}, MeshRe
 void writeStl(const std::string& path, const Mesh& mesh, const std::string& solidName = "vpsim");
 
 /// Writes an ASCII STL (atomically); meant for tests and hand inspection.
-void writeStlAscii(const std::string& path, const Mesh& mesh, const std::string& solidName = "vpsim");
+void writeStlAscii(const std::string& path, const Mesh& mesh,
+                   const std::string& solidName = "vpsim");
 
-} // namespace vpsim::geometry
+}  // namespace vpsim::geometry

@@ -15,11 +15,11 @@ namespace vpsim::gpu {
 
 /// What a compute device offers, with the limits vpsim must respect.
 struct DeviceInfo {
-    uint32_t index = 0;             ///< position in the Vulkan enumeration
-    std::string name;               ///< e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
-    std::string type;               ///< "discrete", "integrated", "virtual", "cpu" or "other"
-    std::string driver;             ///< driver name and info
-    std::string apiVersion;         ///< "1.3.230"
+    uint32_t index = 0;                  ///< position in the Vulkan enumeration
+    std::string name;                    ///< e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
+    std::string type;                    ///< "discrete", "integrated", "virtual", "cpu" or "other"
+    std::string driver;                  ///< driver name and info
+    std::string apiVersion;              ///< "1.3.230"
     uint64_t maxStorageBufferRange = 0;  ///< bytes one storage binding may span
     std::array<uint32_t, 3> maxWorkgroupCount{};
     std::array<uint32_t, 3> maxWorkgroupSize{};
@@ -27,11 +27,11 @@ struct DeviceInfo {
     uint32_t maxPushConstantBytes = 0;
     uint32_t maxSharedMemoryBytes = 0;
     uint32_t subgroupSize = 0;
-    uint64_t deviceLocalBytes = 0;  ///< size of the largest device-local heap
-    bool float32AtomicAdd = false;  ///< VK_EXT_shader_atomic_float buffer add
-    bool int64 = false;             ///< shaderInt64
-    bool int64Atomics = false;      ///< shaderBufferInt64Atomics
-    double timestampPeriodNs = 0.0; ///< 0 when the compute queue has no timestamps
+    uint64_t deviceLocalBytes = 0;   ///< size of the largest device-local heap
+    bool float32AtomicAdd = false;   ///< VK_EXT_shader_atomic_float buffer add
+    bool int64 = false;              ///< shaderInt64
+    bool int64Atomics = false;       ///< shaderBufferInt64Atomics
+    double timestampPeriodNs = 0.0;  ///< 0 when the compute queue has no timestamps
     bool isHardware() const { return type == "discrete" || type == "integrated"; }
     nlohmann::json toJson() const;
 };
@@ -75,7 +75,8 @@ public:
 
     /// Records work with `record`, submits it, waits, and returns the GPU time in milliseconds
     /// measured with timestamps (wall time on the host when the queue has no timestamps).
-    template <class F> double submit(F&& record);
+    template <class F>
+    double submit(F&& record);
 
     struct Impl;
     Impl& impl() const { return *mImpl; }
@@ -109,10 +110,12 @@ public:
     /// Fills the whole buffer with a repeated 32-bit word.
     void fill(uint32_t word);
 
-    template <class T> void upload(const std::vector<T>& values, uint64_t offset = 0) {
+    template <class T>
+    void upload(const std::vector<T>& values, uint64_t offset = 0) {
         upload(values.data(), values.size() * sizeof(T), offset);
     }
-    template <class T> std::vector<T> download(size_t count, uint64_t offset = 0) const {
+    template <class T>
+    std::vector<T> download(size_t count, uint64_t offset = 0) const {
         std::vector<T> values(count);
         download(values.data(), count * sizeof(T), offset);
         return values;
@@ -164,8 +167,8 @@ public:
     /// @param buffers one buffer per binding, in binding order
     /// @param push push-constant bytes (must equal the kernel's pushConstantBytes)
     /// @throw ResourceError when a count exceeds maxWorkgroupCount
-    void dispatch(const Kernel& kernel, const std::vector<const Buffer*>& buffers,
-                  const void* push, uint32_t groupsX, uint32_t groupsY = 1, uint32_t groupsZ = 1);
+    void dispatch(const Kernel& kernel, const std::vector<const Buffer*>& buffers, const void* push,
+                  uint32_t groupsX, uint32_t groupsY = 1, uint32_t groupsZ = 1);
     /// Dispatches ceil(invocations / localSizeX) groups, folded into Y when X would exceed the
     /// device's workgroup-count limit (65535 on lavapipe). The shader's flat index is
     /// gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x
@@ -186,10 +189,11 @@ private:
     std::shared_ptr<Impl> mImpl;
 };
 
-template <class F> double Context::submit(F&& record) {
+template <class F>
+double Context::submit(F&& record) {
     Recorder recorder = beginRecording();
     record(recorder);
     return submitRecorded(recorder);
 }
 
-} // namespace vpsim::gpu
+}  // namespace vpsim::gpu

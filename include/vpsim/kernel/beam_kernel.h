@@ -44,7 +44,7 @@ struct BeamKernel {
     /// Per depth slice iz, the Gaussian fitted across r: Ie(0, z) in mW/mm^2 and We(z) in mm
     /// (seed 000 Fig. 12); 0 where a slice has too little signal.
     std::vector<double> depthAmplitude, depthRadius;
-    double zmax = 0.0;                 ///< depth of the largest Ie(0, z), mm
+    double zmax = 0.0;  ///< depth of the largest Ie(0, z), mm
     KernelFit fit;
 
     /// Table value at (r, z), bilinear between bin centres (nearest at the edges), 0 outside.
@@ -67,7 +67,8 @@ struct BeamKernel {
 /// medium (a slab of `thickness` mm, or semi-infinite when 0), tallied on 80 x 80 bins 4 w0 wide
 /// (the Gaussian is 1e-14 there) and 3 absorption lengths deep (or the slab's thickness). The
 /// caller sets photons and seed and may override the bins.
-transport::McSetup kernelSetup(const optics::MediumOptics& optics, double w0, double thickness = 0.0);
+transport::McSetup kernelSetup(const optics::MediumOptics& optics, double w0,
+                               double thickness = 0.0);
 
 /// Eq. 11: absorbed power per bin volume divided by mua is the local intensity (fluence rate).
 /// This equals the seed's ratio Ii(0,0,0)/rho_ns(0,0,0), which for the unscattered beam is 1/mua.
@@ -92,4 +93,4 @@ void writeKernelVdb(const std::string& path, const BeamKernel& kernel);
 /// same scale and contour levels) and amplitude_vs_depth.svg, radius_vs_depth.svg.
 void writeKernelFigures(const std::string& directory, const BeamKernel& kernel);
 
-} // namespace vpsim::kernel
+}  // namespace vpsim::kernel

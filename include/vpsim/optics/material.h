@@ -13,7 +13,8 @@
 /// @endcode
 /// plain form (bulk coefficients given directly):
 /// @code
-/// {"optics": {"mua": "10 /cm", "mus": "90 /cm", "g": 0.75, "phase": "hg", "refractive_index": 1.0}}
+/// {"optics": {"mua": "10 /cm", "mus": "90 /cm", "g": 0.75, "phase": "hg",
+/// "refractive_index": 1.0}}
 /// @endcode
 
 #include <string>
@@ -42,6 +43,7 @@ struct MediumOptics {
 /// @param overrides "key.path=value" overrides applied on top of the file (as ConfigNode::load)
 /// @return the bulk optics; for the slurry form phase == Tabulated with the Mie inverse CDF
 /// @throw InputError naming the file and key for any problem (unknown keys, units, ranges).
-MediumOptics loadMediumOptics(const std::string& path, const std::vector<std::string>& overrides = {});
+MediumOptics loadMediumOptics(const std::string& path,
+                              const std::vector<std::string>& overrides = {});
 
-} // namespace vpsim::optics
+}  // namespace vpsim::optics

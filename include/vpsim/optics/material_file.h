@@ -32,8 +32,8 @@ struct MaterialDefinition {
     std::string file;
     std::string name;
     bool isSlurry = false;
-    SlurrySpec slurry;     ///< valid when isSlurry
-    MediumOptics optics;   ///< valid when !isSlurry (bulk coefficients given directly)
+    SlurrySpec slurry;    ///< valid when isSlurry
+    MediumOptics optics;  ///< valid when !isSlurry (bulk coefficients given directly)
 };
 
 /// Reads and checks a material file. @throw InputError naming the file and key for malformed JSON,
@@ -45,4 +45,4 @@ MaterialDefinition loadMaterialDefinition(const std::string& path,
 /// computation refuses the inputs, or when the definition is not a slurry.
 SlurryOptics computeSlurryOptics(const MaterialDefinition& material);
 
-} // namespace vpsim::optics
+}  // namespace vpsim::optics

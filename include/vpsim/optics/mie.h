@@ -9,7 +9,8 @@
 /// returned a_n, b_n, S1, S2 are in that same convention; they are the complex conjugates of the
 /// Bohren & Huffman (exp(-i w t), m = n + i k) values. Efficiencies and |S|^2 do not depend on the
 /// convention. A positive imaginary part would describe a gain medium and is refused by
-/// parseRefractiveIndex and checkMieInput; to use a Bohren & Huffman index "1.5+0.1i", write "1.5-0.1i".
+/// parseRefractiveIndex and checkMieInput; to use a Bohren & Huffman index "1.5+0.1i", write
+/// "1.5-0.1i".
 ///
 /// Qback is Bohren & Huffman's backscattering (radar) efficiency, as in their BHMIE program:
 ///   Qback = |sum (2n+1)(-1)^n (a_n - b_n)|^2 / x^2 = 4 |S1(180 deg)|^2 / x^2,
@@ -82,4 +83,4 @@ Complex parseRefractiveIndex(const std::string& text, const std::string& what = 
 /// Formats m as "1.5-0.1i".
 std::string formatRefractiveIndex(Complex m);
 
-} // namespace vpsim::optics
+}  // namespace vpsim::optics

@@ -19,7 +19,7 @@ constexpr int DEFAULT_PHASE_TABLE_SIZE = 4096;
 
 /// Panels in theta on [0, pi] with Gauss-Legendre nodes inside each.
 struct ThetaQuadrature {
-    std::vector<double> edges;       ///< panel edges, rad, edges[0] = 0, back() = pi
+    std::vector<double> edges;  ///< panel edges, rad, edges[0] = 0, back() = pi
     int nodesPerPanel = 4;
     std::vector<double> nodeMu;      ///< cos(theta) at the nodes, panel by panel
     std::vector<double> nodeWeight;  ///< solid-angle weight 2 pi sin(theta) dtheta of each node, sr
@@ -58,9 +58,10 @@ PhaseTable buildPhaseTable(const ThetaQuadrature& quadrature, const std::vector<
                            int tableSize = DEFAULT_PHASE_TABLE_SIZE);
 
 /// K = (|S1|^2+|S2|^2)/2 of one sphere at the quadrature nodes.
-std::vector<double> phaseIntensityAtNodes(const MieCoefficients& c, const ThetaQuadrature& quadrature);
+std::vector<double> phaseIntensityAtNodes(const MieCoefficients& c,
+                                          const ThetaQuadrature& quadrature);
 
 /// Phase table of one sphere on panels of phasePanelWidth(c.terms()).
 PhaseTable miePhaseTable(const MieCoefficients& c, int tableSize = DEFAULT_PHASE_TABLE_SIZE);
 
-} // namespace vpsim::optics
+}  // namespace vpsim::optics

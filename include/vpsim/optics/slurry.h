@@ -70,4 +70,4 @@ void validateSlurrySpec(const SlurrySpec& spec);
 /// Computes the slurry optics and its phase table. @throw InputError via validateSlurrySpec
 SlurryOptics computeSlurryOptics(const SlurrySpec& spec);
 
-} // namespace vpsim::optics
+}  // namespace vpsim::optics

@@ -51,7 +51,8 @@ struct AcesDesign {
 };
 
 /// Etar = Ec / exp(-(lt - zmax)/De3D) (Eq. 14): the bottom of the layer still reaches Ec.
-double acesTargetDose(double criticalDose, double layerThickness, double depthOfMaximum, double attenuationLength);
+double acesTargetDose(double criticalDose, double layerThickness, double depthOfMaximum,
+                      double attenuationLength);
 /// Relative standard deviation of the infinite-field exposure for hatch ratio rh = hs/W.
 double acesRipple(double hatchRatio);
 /// Largest hatch ratio whose ripple is at most `homogeneity`. @throw InputError if homogeneity <= 0
@@ -67,10 +68,11 @@ AcesDesign designAces(const AcesParameters& parameters, const geometry::PolygonS
 
 /// Parallel scan vectors at `spacing` along `direction`, clipped to the region (scan-line
 /// intersection with the contours, even-odd), alternating in direction line by line.
-std::vector<LaserVector> hatchRegion(const geometry::PolygonSet& region, double spacing, double direction,
-                                     double power, double speed);
+std::vector<LaserVector> hatchRegion(const geometry::PolygonSet& region, double spacing,
+                                     double direction, double power, double speed);
 
 /// The ACES plan of one layer: the region offset inward by design.edgeOffset, hatched.
-LayerPlan planAcesLayer(const geometry::PolygonSet& region, const AcesDesign& design, double laserPower, double z);
+LayerPlan planAcesLayer(const geometry::PolygonSet& region, const AcesDesign& design,
+                        double laserPower, double z);
 
-} // namespace vpsim::plan
+}  // namespace vpsim::plan

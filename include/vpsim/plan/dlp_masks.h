@@ -16,7 +16,7 @@ enum class MaskRasterMode {
 
 /// The mask projecting `dose` (mJ/mm^2) over `region` on the projector's pixel grid.
 /// @throw InputError for a negative dose
-MaskImage uniformMask(const geometry::PolygonSet& region, const geometry::RasterGrid& grid, double dose,
-                      MaskRasterMode mode = MaskRasterMode::Binary);
+MaskImage uniformMask(const geometry::PolygonSet& region, const geometry::RasterGrid& grid,
+                      double dose, MaskRasterMode mode = MaskRasterMode::Binary);
 
-} // namespace vpsim::plan
+}  // namespace vpsim::plan

@@ -20,11 +20,12 @@ struct LaserPoint {
 /// A laser vector scanned at constant speed (the build-time model adds accelerations and delays).
 struct LaserVector {
     double x0 = 0, y0 = 0, x1 = 0, y1 = 0;  ///< mm
-    double power = 0;                        ///< mW
-    double speed = 0;                        ///< mm/s; energy per length is power / speed (mJ/mm)
+    double power = 0;                       ///< mW
+    double speed = 0;                       ///< mm/s; energy per length is power / speed (mJ/mm)
 };
 
-/// A projected greyscale mask: dose per pixel at the resin surface, row-major, row 0 at y = originY.
+/// A projected greyscale mask: dose per pixel at the resin surface, row-major, row 0 at y =
+/// originY.
 struct MaskImage {
     int width = 0, height = 0;
     double originX = 0, originY = 0;  ///< mm, corner of pixel (0, 0)
@@ -64,4 +65,4 @@ void saveScanPlan(const ScanPlan& plan, const std::string& path);
 /// @throw InputError naming the file and the problem
 ScanPlan loadScanPlan(const std::string& path);
 
-} // namespace vpsim::plan
+}  // namespace vpsim::plan

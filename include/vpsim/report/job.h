@@ -19,15 +19,15 @@ enum class KernelSource { MonteCarlo, Given };
 enum class PlanStrategy { Aces, UniformMask };
 
 struct Job {
-    std::string file;              ///< the job file itself
+    std::string file;  ///< the job file itself
     std::string name;
 
-    std::string materialFile;      ///< optics material (resolved path); "" when the kernel is given
+    std::string materialFile;  ///< optics material (resolved path); "" when the kernel is given
     cure::CureModel cure = cure::CureModel::threshold(0.1);
 
-    std::string partStl;           ///< resolved STL path, or "" for a test part
+    std::string partStl;  ///< resolved STL path, or "" for a test part
     double partScale = 1.0;
-    std::string testPart;          ///< test part name when partStl is ""
+    std::string testPart;  ///< test part name when partStl is ""
     geometry::TestPartOptions testPartOptions;
 
     Process process = Process::Laser;
@@ -43,14 +43,14 @@ struct Job {
     double givenWe3d = 0.05, givenDe3d = 0.1, givenZmax = 0.0, givenEfficiency = 1.0;  ///< mm, -
 
     PlanStrategy strategy = PlanStrategy::Aces;
-    double homogeneity = 0.01;     ///< ACES Srlt
-    bool edgeFivePercent = true;   ///< ACES edge rule (seed App. A) or cure-at-contour
-    double maskDose = 0.78;        ///< mJ/mm^2 per layer (uniform masks)
+    double homogeneity = 0.01;    ///< ACES Srlt
+    bool edgeFivePercent = true;  ///< ACES edge rule (seed App. A) or cure-at-contour
+    double maskDose = 0.78;       ///< mJ/mm^2 per layer (uniform masks)
     bool greyscaleMask = false;
 
-    double voxel = 0.01;           ///< mm, x-y cell size of the simulation
+    double voxel = 0.01;  ///< mm, x-y cell size of the simulation
     int slicesPerLayer = 5;
-    double margin = -1;            ///< mm around the part; < 0: 3 beam radii
+    double margin = -1;  ///< mm around the part; < 0: 3 beam radii
     bool writeVdb = true;
 
     std::vector<validate::FeatureProbe> features;  ///< Z dimensions to measure (seed 001 Table 2)
@@ -60,4 +60,4 @@ struct Job {
 /// @throw InputError naming the file and key
 Job loadJob(const std::string& path, const std::vector<std::string>& overrides = {});
 
-} // namespace vpsim::report
+}  // namespace vpsim::report

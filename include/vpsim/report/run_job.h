@@ -23,11 +23,12 @@ namespace vpsim::report {
 /// a CPU driver such as lavapipe only when `exposureShadersOnCpuDevices` (there the TBB loops are
 /// measured faster: bench_exposure).
 /// @throw InputError, ResourceError, GpuError with one clear message
-nlohmann::json runJob(const Job& job, const std::string& outDir, const std::shared_ptr<gpu::Context>& context,
+nlohmann::json runJob(const Job& job, const std::string& outDir,
+                      const std::shared_ptr<gpu::Context>& context,
                       bool exposureShadersOnCpuDevices = false);
 
 /// Directory where beam kernels are cached: $VPSIM_CACHE_DIR, else $XDG_CACHE_HOME/vpsim, else
 /// ~/.cache/vpsim.
 std::string kernelCacheDirectory();
 
-} // namespace vpsim::report
+}  // namespace vpsim::report

@@ -30,7 +30,8 @@ class Context;
 
 namespace vpsim::transport {
 
-/// Beam at normal incidence: a pencil on the axis, or Gaussian of 1/e^2 intensity radius W0 (Eq. 6).
+/// Beam at normal incidence: a pencil on the axis, or Gaussian of 1/e^2 intensity radius W0 (Eq.
+/// 6).
 enum class BeamShape { Pencil, Gaussian };
 
 /// Cylindrical (r, z) bins for the absorbed weight: rBins x zBins bins of rMax/rBins by
@@ -53,18 +54,18 @@ struct CartesianGrid {
 
 /// One Monte Carlo run.
 struct McSetup {
-    optics::MediumOptics optics;   ///< medium (mua, mus in 1/mm, g, refractive index, phase)
-    double thickness = 0.0;        ///< slab thickness, mm; 0 = semi-infinite
-    double nAbove = 1.0;           ///< refractive index above the top surface
-    double nBelow = 1.0;           ///< refractive index below the slab (unused when semi-infinite)
+    optics::MediumOptics optics;  ///< medium (mua, mus in 1/mm, g, refractive index, phase)
+    double thickness = 0.0;       ///< slab thickness, mm; 0 = semi-infinite
+    double nAbove = 1.0;          ///< refractive index above the top surface
+    double nBelow = 1.0;          ///< refractive index below the slab (unused when semi-infinite)
     BeamShape beam = BeamShape::Pencil;
-    double w0 = 0.05;              ///< Gaussian beam 1/e^2 intensity radius W0 (Eq. 6), mm
-    double lateralRadius = 0.0;    ///< photons interacting beyond this radius escape; 0 = unbounded
-    uint64_t photons = 100000;     ///< photons launched (at most MAX_PHOTONS)
+    double w0 = 0.05;            ///< Gaussian beam 1/e^2 intensity radius W0 (Eq. 6), mm
+    double lateralRadius = 0.0;  ///< photons interacting beyond this radius escape; 0 = unbounded
+    uint64_t photons = 100000;   ///< photons launched (at most MAX_PHOTONS)
     uint32_t seed = 1;
     CylindricalGrid bins;
     CartesianGrid grid;
-    std::vector<double> depths;    ///< up to 4 depths (mm) for McResult::absorbedWithin
+    std::vector<double> depths;  ///< up to 4 depths (mm) for McResult::absorbedWithin
 };
 
 /// Most photons one run may launch (photon indices are 32-bit).
@@ -99,13 +100,13 @@ struct BatchTally {
 
 /// Tallies of a run and the fractions derived from them (all fractions are of the launched weight).
 struct McResult {
-    McSetup setup;                            ///< the setup that produced it
-    uint64_t launchWeight = 0;                ///< quanta per launched photon
+    McSetup setup;              ///< the setup that produced it
+    uint64_t launchWeight = 0;  ///< quanta per launched photon
     std::array<BatchTally, MC_BATCHES> batches;
-    std::vector<uint64_t> absorbedRZ;         ///< quanta per cylindrical bin, [iz * rBins + ir]
-    std::vector<uint64_t> absorbedGrid;       ///< quanta per Cartesian voxel, [(iz*nxy+iy)*nxy+ix]
-    double seconds = 0.0;                     ///< wall time of the run
-    std::string backend;                      ///< "cpu (N threads)" or the Vulkan device name
+    std::vector<uint64_t> absorbedRZ;    ///< quanta per cylindrical bin, [iz * rBins + ir]
+    std::vector<uint64_t> absorbedGrid;  ///< quanta per Cartesian voxel, [(iz*nxy+iy)*nxy+ix]
+    double seconds = 0.0;                ///< wall time of the run
+    std::string backend;                 ///< "cpu (N threads)" or the Vulkan device name
 
     /// Sum over the batches.
     BatchTally total() const;
@@ -146,4 +147,4 @@ McResult runPhotonMcGpu(const McSetup& setup, const std::shared_ptr<gpu::Context
 /// @throw InputError when the run had no Cartesian grid or the file cannot be written.
 void writeAbsorptionVdb(const std::string& path, const McResult& result);
 
-} // namespace vpsim::transport
+}  // namespace vpsim::transport

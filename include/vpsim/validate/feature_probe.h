@@ -15,19 +15,19 @@ namespace vpsim::validate {
 
 struct FeatureProbe {
     std::string name;
-    double x = 0, y = 0;          ///< mm, the measuring line
-    double zMin = 0, zMax = 0;    ///< mm, the measured span
-    bool gap = false;             ///< measure uncured (true) or cured (false) length
-    double objective = 0;         ///< mm, the model's value
-    std::vector<double> measured; ///< mm, measurements of printed parts, if any
+    double x = 0, y = 0;           ///< mm, the measuring line
+    double zMin = 0, zMax = 0;     ///< mm, the measured span
+    bool gap = false;              ///< measure uncured (true) or cured (false) length
+    double objective = 0;          ///< mm, the model's value
+    std::vector<double> measured;  ///< mm, measurements of printed parts, if any
 };
 
 /// A SliceSink measuring every probe; slices may come in any order.
 class FeatureProbes {
 public:
     /// @throw InputError when a probe lies outside the grid or has zMax <= zMin
-    FeatureProbes(std::vector<FeatureProbe> probes, const exposure::ExposureGrid& grid, double criticalDose,
-                  double voxelHeight);
+    FeatureProbes(std::vector<FeatureProbe> probes, const exposure::ExposureGrid& grid,
+                  double criticalDose, double voxelHeight);
     void add(const exposure::ExposureSlice& slice);
     /// Simulated length of probe i (mm).
     double simulated(size_t i) const { return mLength[i]; }
@@ -41,4 +41,4 @@ private:
     std::vector<double> mLength;
 };
 
-} // namespace vpsim::validate
+}  // namespace vpsim::validate

@@ -23,19 +23,19 @@ namespace vpsim::validate {
 /// One layer's mid-plane comparison.
 struct LayerComparison {
     int layer = 0;
-    double z = 0;                  ///< mm
-    double referenceArea = 0;      ///< mm^2
-    double curedArea = 0;          ///< mm^2
-    double intersectionArea = 0;   ///< mm^2
-    double referencePerimeter = 0; ///< mm
+    double z = 0;                   ///< mm
+    double referenceArea = 0;       ///< mm^2
+    double curedArea = 0;           ///< mm^2
+    double intersectionArea = 0;    ///< mm^2
+    double referencePerimeter = 0;  ///< mm
     /// (cured XOR reference area) / reference perimeter, mm; 0 when the layer has no reference.
     double xyContourError() const;
 };
 
 struct SliceValidationSummary {
-    double iou = 0;                       ///< |cured AND reference| / |cured OR reference| (volume)
-    double curedVolume = 0;               ///< mm^3
-    double referenceVolume = 0;           ///< mm^3 (of the voxelised reference)
+    double iou = 0;              ///< |cured AND reference| / |cured OR reference| (volume)
+    double curedVolume = 0;      ///< mm^3
+    double referenceVolume = 0;  ///< mm^3 (of the voxelised reference)
     /// Over-cure below down-facing surfaces (mm) over the columns where the reference ends going
     /// down. The median is the robust figure: columns beside a vertical wall carry the wall's
     /// lateral over-cure all the way down and dominate the max.
@@ -53,8 +53,8 @@ class SliceValidator {
 public:
     /// @param criticalDose iso-level of the cure model (mJ/mm^2)
     /// @param voxelHeight  height of one voxel slice (mm)
-    SliceValidator(const geometry::Mesh& part, const exposure::ExposureGrid& grid, double criticalDose,
-                   double voxelHeight);
+    SliceValidator(const geometry::Mesh& part, const exposure::ExposureGrid& grid,
+                   double criticalDose, double voxelHeight);
     ~SliceValidator();
     /// A SliceSink. Slices must arrive from the top down (the engine's order).
     void add(const exposure::ExposureSlice& slice);
@@ -65,4 +65,4 @@ private:
     std::unique_ptr<State> mState;
 };
 
-} // namespace vpsim::validate
+}  // namespace vpsim::validate
