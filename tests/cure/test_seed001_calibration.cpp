@@ -27,9 +27,9 @@ using namespace vpsim::cure;
 namespace {
 
 const std::string TABLE1 =
-    std::string(VPSIM_SHARED_DIR) + "/reference/seed001_table1_working_curve.csv";
+    std::string(VPSIM_SOURCE_DIR) + "/tests/data/reference/seed001_table1_working_curve.csv";
 const std::string TABLE2 =
-    std::string(VPSIM_SHARED_DIR) + "/reference/seed001_table2_z_dimensions.csv";
+    std::string(VPSIM_SOURCE_DIR) + "/tests/data/reference/seed001_table2_z_dimensions.csv";
 constexpr double GEL_POINT = 0.276;
 constexpr double LAYER = 0.05;  // mm, seed 001 Section 4.1 / 5.1
 

@@ -1,4 +1,4 @@
-#include "vpsim/cure/dlp_dose.h"
+#include "vpsim/optimise/dlp_column.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include "vpsim/cure/cure_model.h"
 #include "vpsim/cure/print_through.h"
 
-namespace vpsim::cure {
+namespace vpsim::optimise {
 namespace {
 
 void requirePositive(double value, const char* name) {
@@ -61,7 +61,7 @@ double bondingDose(double rateConstant, double attenuation, double gelPoint, dou
     requirePositive(layerThickness, "layer thickness");
     if (elementsBetween < 1) throw InputError("DLP column: n_z must be at least 1");
     return std::exp(attenuation * layerThickness * elementsBetween) *
-           fppGelDose(rateConstant, gelPoint);
+           cure::fppGelDose(rateConstant, gelPoint);
 }
 
 std::vector<double> transmissionMatrix(size_t layers, double layerThickness, double rateConstant,
@@ -77,7 +77,7 @@ std::vector<double> transmissionMatrix(size_t layers, double layerThickness, dou
 std::vector<double> applyTransmission(const std::vector<double>& dose, double layerThickness,
                                       double rateConstant, double attenuation) {
     // (T d)_p = -K sum_{r >= p} d_r a^(r-p): the accumulated print-through dose times -K.
-    std::vector<double> phi = accumulatedLayerDoses(dose, layerThickness, 1.0 / attenuation);
+    std::vector<double> phi = cure::accumulatedLayerDoses(dose, layerThickness, 1.0 / attenuation);
     for (double& value : phi) value *= -rateConstant;
     return phi;
 }
@@ -111,7 +111,7 @@ bool exposureBounds(const std::vector<uint8_t>& exposed, const std::vector<uint8
         throw InputError("DLP column: exposure pattern and part differ in length");
     lower.assign(solid.size(), 0.0);
     upper.assign(solid.size(), 0.0);
-    const double gelDose = fppGelDose(p.rateConstant, p.gelPoint);
+    const double gelDose = cure::fppGelDose(p.rateConstant, p.gelPoint);
     const double perLayer = std::exp(p.attenuation * p.layerThickness);
     bool feasible = true;
     double bonding = gelDose;  // grows by exp(mu Le) per element since the last exposure (Eq. 10)
@@ -233,4 +233,4 @@ DlpColumnResult optimiseColumnDoses(const std::vector<uint8_t>& solid, const Dlp
     return best;
 }
 
-}  // namespace vpsim::cure
+}  // namespace vpsim::optimise

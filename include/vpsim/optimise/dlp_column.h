@@ -26,7 +26,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace vpsim::cure {
+namespace vpsim::optimise {
 
 /// Parameters of a DLP column optimisation.
 struct DlpColumnProblem {
@@ -110,4 +110,4 @@ DlpColumnResult optimiseColumnDoses(const std::vector<uint8_t>& solid,
                                     const DlpColumnProblem& problem,
                                     const DlpOptimiserOptions& options = {});
 
-}  // namespace vpsim::cure
+}  // namespace vpsim::optimise

@@ -7,11 +7,11 @@
 
 #include "vpsim/core/error.h"
 #include "vpsim/cure/cure_model.h"
-#include "vpsim/cure/dlp_dose.h"
+#include "vpsim/optimise/dlp_column.h"
 #include "vpsim/cure/print_through.h"
 
 using namespace vpsim;
-using namespace vpsim::cure;
+using namespace vpsim::optimise;
 
 namespace {
 
@@ -68,7 +68,7 @@ TEST_CASE("DLP: O(n) products equal the dense transmission matrix", "[cure]") {
     // Eq. 6: Phi = 1 - exp(phi) reproduces Eq. 1 plus print-through for one exposure.
     std::vector<double> single = {0.0, 0.0, 1.7};
     REQUIRE(-std::expm1(applyTransmission(single, le, k, mu)[0]) ==
-            Approx(fppConversionAtDepth(1.7, 2 * le, k, mu)).epsilon(1e-14));
+            Approx(cure::fppConversionAtDepth(1.7, 2 * le, k, mu)).epsilon(1e-14));
 }
 
 TEST_CASE("DLP: targets of Eq. 11-12", "[cure]") {
@@ -174,7 +174,7 @@ TEST_CASE("DLP: optimised overhang grows less than the uniform 78 mJ/cm^2 plan",
     for (int k = 20; k < 40; ++k) solid[k] = 1;
     const double dp = 0.365935872, ec = GEL / 0.528080236;
     auto growth = [&](const std::vector<double>& dose) {
-        return jacobsCureDepth(accumulatedBottomDoses(dose, 0.05, dp)[20], ec, dp);
+        return cure::jacobsCureDepth(cure::accumulatedBottomDoses(dose, 0.05, dp)[20], ec, dp);
     };
     std::vector<double> uniform(60, 0.0);
     for (int k = 20; k < 40; ++k) uniform[k] = 0.78;
