@@ -4,7 +4,9 @@
 // inside the step loop as soon as one ends so that SIMD lanes stay busy. The physics is
 // shaders/include/photon_step.glsl (shared with the CPU path). Tallies are integer weight quanta:
 // per-invocation sums in registers flushed once with 64-bit atomics, absorption bins with one
-// 64-bit atomic per absorbed photon. Float atomics are avoided: they would bias the totals.
+// 64-bit atomic per deposit (per absorbed photon for the analog estimator, per interaction for
+// implicit capture, per bin change for the track-length estimator). Float atomics are avoided:
+// they would bias the totals.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
@@ -27,6 +29,12 @@ layout(std430, set = 0, binding = 2) buffer Grid { uint64_t grid[]; };
 shared float sPhaseTable[PHASE_TABLE_CAPACITY];
 float photonPhaseTable(int i) { return sPhaseTable[i]; }
 
+uint gBinBase = 0u;  // per-batch bins: offset of this invocation's batch
+void photonAddBin(uint batch, uint bin, uint64_t quanta) {
+    atomicAdd(tally[PHOTON_BIN_OFFSET + gBinBase + bin], quanta);
+}
+void photonAddVoxel(uint voxel, uint64_t quanta) { atomicAdd(grid[voxel], quanta); }
+
 #include "photon_step.glsl"
 
 void main() {
@@ -37,59 +45,41 @@ void main() {
 
     uint invocation = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 64u;
     if (invocation >= p.invocationStride) return;
+    // Every photon of this invocation is in the same batch because the stride is a multiple of
+    // PHOTON_BATCHES (and 2^32 is too, so the low word of the index decides).
+    uint batch = (p.photonStart + invocation) % PHOTON_BATCHES;
+    if ((p.estimator & PHOTON_FLAG_BATCH_BINS) != 0u) gBinBase = batch * p.rBins * p.zBins;
     uint specularQuanta = p.launchWeight - p.enteringWeight;
-    uint64_t weight = uint64_t(p.enteringWeight);
 
-    uint64_t specular = 0ul, diffuse = 0ul, transmitted = 0ul, absorbed = 0ul, escaped = 0ul;
-    uint64_t scatterings = 0ul;
-    uint64_t within0 = 0ul, within1 = 0ul, within2 = 0ul, within3 = 0ul;
-
-    uint next = p.photonStart + invocation;
+    PhotonTally t;
+    photonTallyClear(t);
+    uint next = invocation;
     bool alive = false;
     PhotonState s;
     RngState rng;
     for (;;) {
         if (!alive) {
-            if (next >= p.photonEnd) break;
-            photonLaunch(p, next, s, rng);
+            if (next >= p.photonCount) break;
+            uint lo = p.photonStart + next;
+            photonLaunch(p, lo, p.photonStartHi + (lo < p.photonStart ? 1u : 0u), s, rng);
             next += p.invocationStride;
-            specular += uint64_t(specularQuanta);
-            alive = true;
+            t.specular += uint64_t(specularQuanta);
         }
-        int event = photonStep(p, s, rng);
-        if (event == PHOTON_EVENT_MOVED) continue;
-        if (event == PHOTON_EVENT_SCATTERED) {
-            scatterings += 1ul;
-            continue;
-        }
-        alive = false;
-        if (event == PHOTON_EVENT_REFLECTED) diffuse += weight;
-        else if (event == PHOTON_EVENT_TRANSMITTED) transmitted += weight;
-        else if (event == PHOTON_EVENT_ESCAPED) escaped += weight;
-        else {
-            absorbed += weight;
-            if (s.pos.z < p.depth0) within0 += weight;
-            if (s.pos.z < p.depth1) within1 += weight;
-            if (s.pos.z < p.depth2) within2 += weight;
-            if (s.pos.z < p.depth3) within3 += weight;
-            int bin = photonRzBin(p, s.pos);
-            if (bin >= 0) atomicAdd(tally[PHOTON_BIN_OFFSET + uint(bin)], weight);
-            int voxel = photonGridVoxel(p, s.pos);
-            if (voxel >= 0) atomicAdd(grid[uint(voxel)], weight);
-        }
+        alive = photonAdvance(p, s, rng, batch, t);
     }
 
-    // Every photon of this invocation is in the same batch because the stride is a multiple of
-    // PHOTON_BATCHES.
-    uint base = ((p.photonStart + invocation) % PHOTON_BATCHES) * PHOTON_TALLY_STRIDE;
-    atomicAdd(tally[base + PHOTON_TALLY_SPECULAR], specular);
-    atomicAdd(tally[base + PHOTON_TALLY_DIFFUSE], diffuse);
-    atomicAdd(tally[base + PHOTON_TALLY_TRANSMITTED], transmitted);
-    atomicAdd(tally[base + PHOTON_TALLY_ABSORBED], absorbed);
-    atomicAdd(tally[base + PHOTON_TALLY_ESCAPED], escaped);
-    atomicAdd(tally[base + PHOTON_TALLY_SCATTERINGS], scatterings);
-    atomicAdd(tally[base + PHOTON_TALLY_WITHIN + 0u], within0);
-    atomicAdd(tally[base + PHOTON_TALLY_WITHIN + 1u], within1);
-    atomicAdd(tally[base + PHOTON_TALLY_WITHIN + 2u], within2);
-    atomicAdd(tally[base + PHOTON_TALLY_WITHIN + 3u], within3);
+    uint base = batch * PHOTON_TALLY_STRIDE;
+    atomicAdd(tally[base + PHOTON_TALLY_SPECULAR], t.specular);
+    atomicAdd(tally[base + PHOTON_TALLY_DIFFUSE], t.diffuse);
+    atomicAdd(tally[base + PHOTON_TALLY_TRANSMITTED], t.transmitted);
+    atomicAdd(tally[base + PHOTON_TALLY_ABSORBED], t.absorbed);
+    atomicAdd(tally[base + PHOTON_TALLY_ESCAPED], t.escaped);
+    atomicAdd(tally[base + PHOTON_TALLY_SCATTERINGS], t.scatterings);
+    atomicAdd(tally[base + PHOTON_TALLY_WITHIN + 0u], t.within0);
+    atomicAdd(tally[base + PHOTON_TALLY_WITHIN + 1u], t.within1);
+    atomicAdd(tally[base + PHOTON_TALLY_WITHIN + 2u], t.within2);
+    atomicAdd(tally[base + PHOTON_TALLY_WITHIN + 3u], t.within3);
+    atomicAdd(tally[base + PHOTON_TALLY_INTERACTIONS], t.interactions);
+    atomicAdd(tally[base + PHOTON_TALLY_ROULETTE_GAIN], t.rouletteGain);
+    atomicAdd(tally[base + PHOTON_TALLY_ROULETTE_LOSS], t.rouletteLoss);
 }

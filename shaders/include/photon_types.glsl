@@ -20,6 +20,21 @@ const int PHOTON_EVENT_REFLECTED = 3;    // left through the top surface z = 0 (
 const int PHOTON_EVENT_TRANSMITTED = 4;  // left through the bottom surface z = thickness
 const int PHOTON_EVENT_ESCAPED = 5;      // interacted outside the lateral radius (left sideways)
 
+// Estimators (low byte of PhotonParams.estimator). ANALOG: a photon is absorbed whole at an
+// interaction with probability mua/mut, and the (r,z) bins count absorption points. IMPLICIT:
+// implicit capture (at every interaction the fraction mua/mut of the weight is deposited and the
+// photon always scatters) with Russian roulette below PhotonParams.rouletteWeight; the bins count
+// the deposits (collision estimator). TRACK: the same transport, but the bins are tallied by the
+// track-length estimator (mua x weight x path length inside each bin).
+const uint PHOTON_ESTIMATOR_ANALOG = 0u;
+const uint PHOTON_ESTIMATOR_IMPLICIT = 1u;
+const uint PHOTON_ESTIMATOR_TRACK = 2u;
+// PhotonParams.estimator flag: the (r,z) bins are kept per batch (PHOTON_BATCHES copies).
+const uint PHOTON_FLAG_BATCH_BINS = 256u;
+// Russian roulette: a photon below the threshold survives with probability 1/PHOTON_ROULETTE_GAIN
+// and then carries PHOTON_ROULETTE_GAIN times its weight (MCML's CHANCE = 0.1).
+const uint PHOTON_ROULETTE_GAIN = 10u;
+
 // Layout of the tally buffer (uint64 words): PHOTON_BATCHES batches of PHOTON_TALLY_STRIDE
 // counters, then the absorbed weight in rBins x zBins cylindrical bins (index iz * rBins + ir).
 // Photon i belongs to batch i % PHOTON_BATCHES; the batches give the standard errors.
@@ -31,15 +46,18 @@ const uint PHOTON_TALLY_ABSORBED = 3u;
 const uint PHOTON_TALLY_ESCAPED = 4u;
 const uint PHOTON_TALLY_SCATTERINGS = 5u;   // a count of scattering events, not weight
 const uint PHOTON_TALLY_WITHIN = 6u;        // 4 counters: weight absorbed above depth0..depth3
+const uint PHOTON_TALLY_INTERACTIONS = 10u; // a count of interactions (absorptions included)
+const uint PHOTON_TALLY_ROULETTE_GAIN = 11u;  // weight created by roulette survivors
+const uint PHOTON_TALLY_ROULETTE_LOSS = 12u;  // weight of photons ended by roulette
 const uint PHOTON_MAX_DEPTHS = 4u;
-const uint PHOTON_TALLY_STRIDE = 10u;
-const uint PHOTON_BIN_OFFSET = 160u;        // PHOTON_BATCHES * PHOTON_TALLY_STRIDE
+const uint PHOTON_TALLY_STRIDE = 13u;
+const uint PHOTON_BIN_OFFSET = 208u;        // PHOTON_BATCHES * PHOTON_TALLY_STRIDE
 
 // Everything one dispatch needs; lengths in mm, coefficients in 1/mm.
 struct PhotonParams {
-    uint seed;              // run seed; photon i draws from rngSeed(seed, i)
-    uint photonStart;       // first photon index of this dispatch
-    uint photonEnd;         // one past the last photon index of this dispatch
+    uint seed;              // run seed; photon i draws from photonStream(seed, i)
+    uint photonStart;       // first photon index of this dispatch (low 32 bits)
+    uint photonCount;       // photons of this dispatch
     uint invocationStride;  // invocations of this dispatch (a multiple of PHOTON_BATCHES)
     uint beamShape;         // PHOTON_BEAM_*
     float beamW0;           // Gaussian beam 1/e^2 intensity radius
@@ -66,15 +84,18 @@ struct PhotonParams {
     float depth1;
     float depth2;
     float depth3;
-    uint depthCount;        // how many of depth0..3 are used
-    uint reserved0;
-    uint reserved1;
+    uint rouletteWeight;    // quanta below which implicit-capture photons play roulette
+    uint photonStartHi;     // high 32 bits of the first photon index (budgets above 2^32)
+    uint estimator;         // PHOTON_ESTIMATOR_* | PHOTON_FLAG_*
 };
 
 // One photon in flight (never stored in a buffer).
 struct PhotonState {
-    vec3 pos;  // mm, z = 0 at the top surface, +z into the medium
-    vec3 dir;  // unit direction
+    vec3 pos;        // mm, z = 0 at the top surface, +z into the medium
+    vec3 dir;        // unit direction
+    uint weight;     // quanta the photon carries (implicit capture lowers it at interactions)
+    int pendingBin;  // track-length estimator: bin of the not yet flushed deposit, -1 = none
+    float pending;   // quanta pending for pendingBin (or the carried fraction of a quantum)
 };
 
 #endif

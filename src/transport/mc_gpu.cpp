@@ -45,7 +45,8 @@ McResult runPhotonMcGpu(const McSetup& setup, const std::shared_ptr<gpu::Context
     std::vector<float> table = makePhaseTable(setup);
     const uint64_t rzBins = uint64_t(setup.bins.rBins) * setup.bins.zBins;
     const uint64_t voxels = uint64_t(params.gridNxy) * params.gridNxy * params.gridNz;
-    const uint64_t tallyWords = glsl::PHOTON_BIN_OFFSET + rzBins;
+    const uint64_t rzWords = setup.binsPerBatch ? rzBins * MC_BATCHES : rzBins;
+    const uint64_t tallyWords = glsl::PHOTON_BIN_OFFSET + rzWords;
     for (uint64_t bytes : {tallyWords * 8, voxels * 8})
         if (bytes > info.maxStorageBufferRange)
             throw ResourceError("photon Monte Carlo tally of " + formatBytes(double(bytes)) +
@@ -67,8 +68,10 @@ McResult runPhotonMcGpu(const McSetup& setup, const std::shared_ptr<gpu::Context
     Progress progress("photon Monte Carlo (GPU)", setup.photons);
     for (uint64_t first = 0; first < setup.photons; first += PHOTONS_PER_SUBMIT) {
         uint64_t count = std::min(PHOTONS_PER_SUBMIT, setup.photons - first);
-        params.photonStart = uint32_t(first);
-        params.photonEnd = uint32_t(first + count);
+        const uint64_t index = setup.firstPhoton + first;
+        params.photonStart = uint32_t(index);
+        params.photonStartHi = uint32_t(index >> 32);
+        params.photonCount = uint32_t(count);
         params.invocationStride = invocationsFor(count);
         context->submit([&](gpu::Recorder& r) {
             r.dispatch1D(kernel, {&tallies, &tableBuffer, &grid}, &params, params.invocationStride);
@@ -84,16 +87,19 @@ McResult runPhotonMcGpu(const McSetup& setup, const std::shared_ptr<gpu::Context
     for (int b = 0; b < MC_BATCHES; ++b) {
         const uint64_t* w = words.data() + size_t(b) * glsl::PHOTON_TALLY_STRIDE;
         BatchTally& t = result.batches[size_t(b)];
-        t.photons = photonsInBatch(setup.photons, b);
+        t.photons = photonsInBatch(setup.firstPhoton, setup.photons, b);
         t.specular = w[glsl::PHOTON_TALLY_SPECULAR];
         t.diffuse = w[glsl::PHOTON_TALLY_DIFFUSE];
         t.transmitted = w[glsl::PHOTON_TALLY_TRANSMITTED];
         t.absorbed = w[glsl::PHOTON_TALLY_ABSORBED];
         t.escaped = w[glsl::PHOTON_TALLY_ESCAPED];
         t.scatterings = w[glsl::PHOTON_TALLY_SCATTERINGS];
+        t.interactions = w[glsl::PHOTON_TALLY_INTERACTIONS];
+        t.rouletteGain = w[glsl::PHOTON_TALLY_ROULETTE_GAIN];
+        t.rouletteLoss = w[glsl::PHOTON_TALLY_ROULETTE_LOSS];
         for (size_t k = 0; k < 4; ++k) t.absorbedWithin[k] = w[glsl::PHOTON_TALLY_WITHIN + k];
     }
-    result.absorbedRZ.assign(words.begin() + glsl::PHOTON_BIN_OFFSET, words.end());
+    setBins(result, std::vector<uint64_t>(words.begin() + glsl::PHOTON_BIN_OFFSET, words.end()));
     if (voxels > 0) result.absorbedGrid = grid.download<uint64_t>(voxels);
     result.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -30,7 +30,10 @@ glsl::PhotonParams makePhotonParams(const McSetup& setup);
 /// The inverse CDF as the shaders read it (resampled to MAX_PHASE_TABLE entries when longer);
 /// empty for Henyey-Greenstein.
 std::vector<float> makePhaseTable(const McSetup& setup);
-/// Photons of batch b among photon indices [0, photons).
-uint64_t photonsInBatch(uint64_t photons, int batch);
+/// Photons of batch b (index % MC_BATCHES == b) among photon indices [first, first + photons).
+uint64_t photonsInBatch(uint64_t first, uint64_t photons, int batch);
+/// Stores the (r,z) tally words of a run: one copy, or MC_BATCHES copies when
+/// result.setup.binsPerBatch (then absorbedRZ is their sum).
+void setBins(McResult& result, std::vector<uint64_t> words);
 
 }  // namespace vpsim::transport
