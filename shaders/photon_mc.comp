@@ -23,6 +23,7 @@ layout(push_constant) uniform Push { PhotonParams params; } pc;
 layout(std430, set = 0, binding = 0) buffer Tallies { uint64_t tally[]; };
 layout(std430, set = 0, binding = 1) readonly buffer PhaseTable { float phaseTable[]; };
 layout(std430, set = 0, binding = 2) buffer Grid { uint64_t grid[]; };
+layout(std430, set = 0, binding = 3) buffer Resume { uint resume[]; };
 
 // The table is read at random once per scattering: shared memory is the cheap place for it
 // (DESIGN.md: repeated storage-buffer loads in loops are slow on lavapipe).
@@ -57,6 +58,24 @@ void main() {
     bool alive = false;
     PhotonState s;
     RngState rng;
+    const uint slot = PHOTON_RESUME_HEADER + invocation * PHOTON_RESUME_SLOT;
+    if ((p.estimator & PHOTON_FLAG_RESUME) != 0u) {
+        next = resume[slot];
+        if (next == PHOTON_RESUME_DONE) return;
+        alive = resume[slot + 1u] != 0u;
+        s.pos = vec3(uintBitsToFloat(resume[slot + 2u]), uintBitsToFloat(resume[slot + 3u]),
+                     uintBitsToFloat(resume[slot + 4u]));
+        s.dir = vec3(uintBitsToFloat(resume[slot + 5u]), uintBitsToFloat(resume[slot + 6u]),
+                     uintBitsToFloat(resume[slot + 7u]));
+        s.weight = resume[slot + 8u];
+        s.pendingBin = int(resume[slot + 9u]);
+        s.pending = uintBitsToFloat(resume[slot + 10u]);
+        rng.s0 = resume[slot + 11u];
+        rng.s1 = resume[slot + 12u];
+        rng.s2 = resume[slot + 13u];
+        rng.s3 = resume[slot + 14u];
+    }
+    bool suspended = false;
     for (;;) {
         if (!alive) {
             if (next >= p.photonCount) break;
@@ -66,6 +85,30 @@ void main() {
             t.specular += uint64_t(specularQuanta);
         }
         alive = photonAdvance(p, s, rng, batch, t);
+        if (t.work >= PHOTON_WORK_BUDGET && (alive || next < p.photonCount)) {
+            suspended = true;
+            break;
+        }
+    }
+    if (suspended) {  // saved for the next dispatch, which the host makes while any is suspended
+        resume[slot] = next;
+        resume[slot + 1u] = alive ? 1u : 0u;
+        resume[slot + 2u] = floatBitsToUint(s.pos.x);
+        resume[slot + 3u] = floatBitsToUint(s.pos.y);
+        resume[slot + 4u] = floatBitsToUint(s.pos.z);
+        resume[slot + 5u] = floatBitsToUint(s.dir.x);
+        resume[slot + 6u] = floatBitsToUint(s.dir.y);
+        resume[slot + 7u] = floatBitsToUint(s.dir.z);
+        resume[slot + 8u] = s.weight;
+        resume[slot + 9u] = uint(s.pendingBin);
+        resume[slot + 10u] = floatBitsToUint(s.pending);
+        resume[slot + 11u] = rng.s0;
+        resume[slot + 12u] = rng.s1;
+        resume[slot + 13u] = rng.s2;
+        resume[slot + 14u] = rng.s3;
+        atomicAdd(resume[0], 1u);
+    } else {
+        resume[slot] = PHOTON_RESUME_DONE;
     }
 
     uint base = batch * PHOTON_TALLY_STRIDE;

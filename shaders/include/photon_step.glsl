@@ -138,12 +138,14 @@ struct PhotonTally {
     uint64_t within1;
     uint64_t within2;
     uint64_t within3;
+    uint work;  // photon steps + bin crossings of this invocation (GPU budget), not a tally
 };
 
 void photonTallyClear(VPSIM_OUT(PhotonTally) t) {
     t.specular = 0ul; t.diffuse = 0ul; t.transmitted = 0ul; t.absorbed = 0ul; t.escaped = 0ul;
     t.scatterings = 0ul; t.interactions = 0ul; t.rouletteGain = 0ul; t.rouletteLoss = 0ul;
     t.within0 = 0ul; t.within1 = 0ul; t.within2 = 0ul; t.within3 = 0ul;
+    t.work = 0u;
 }
 
 // Index of the cylindrical tally bin holding pos ([iz * rBins + ir]), or -1 outside the grid.
@@ -172,7 +174,8 @@ void photonPend(VPSIM_INOUT(PhotonState) s, uint batch, int bin, float amount) {
 // weight x mua x (length inside) to each bin. r^2(t) = c + 2 b t + a t^2 is smallest at
 // t = -b/a: before that the flight may cross the inner cylinder of its bin, after it only the
 // outer one. Bin indices are stepped face by face (never recomputed from rounded positions).
-void photonTrackBins(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, vec3 o, float len, uint batch) {
+// Returns the number of bin pieces visited.
+uint photonTrackBins(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, vec3 o, float len, uint batch) {
     vec3 d = s.dir;
     float scale = float(s.weight) * p.mua;
     float a = d.x * d.x + d.y * d.y;
@@ -205,12 +208,13 @@ void photonTrackBins(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, vec3 o, flo
         }
         float next = max(min(min(tz, tr), len), t);
         photonPend(s, batch, ir < nr && iz < nz ? iz * nr + ir : -1, scale * (next - t));
-        if (next >= len) return;
+        if (next >= len) return uint(guard + 1);
         if (tz <= tr) iz += d.z > float(0) ? 1 : -1;
         else ir += stepR;
         t = next;
-        if (iz < 0 || (iz >= nz && d.z >= float(0)) || (ir >= nr && t >= tTurn)) return;
+        if (iz < 0 || (iz >= nz && d.z >= float(0)) || (ir >= nr && t >= tTurn)) return uint(guard + 1);
     }
+    return uint(2 * (nr + nz) + 8);
 }
 
 // Flushes the track-length buffer at the end of a photon (the carried fraction is dropped).
@@ -249,7 +253,8 @@ bool photonAdvance(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, VPSIM_INOUT(R
     vec3 start = s.pos;
     float flight = boundary ? toSurface : path;
     s.pos += s.dir * flight;
-    if (estimator == PHOTON_ESTIMATOR_TRACK) photonTrackBins(p, s, start, flight, batch);
+    t.work += 1u;
+    if (estimator == PHOTON_ESTIMATOR_TRACK) t.work += photonTrackBins(p, s, start, flight, batch);
 
     if (boundary) {
         bool top = s.dir.z < float(0);

@@ -31,6 +31,17 @@ const uint PHOTON_ESTIMATOR_IMPLICIT = 1u;
 const uint PHOTON_ESTIMATOR_TRACK = 2u;
 // PhotonParams.estimator flag: the (r,z) bins are kept per batch (PHOTON_BATCHES copies).
 const uint PHOTON_FLAG_BATCH_BINS = 256u;
+// PhotonParams.estimator flag (GPU): continue the photons suspended by the previous dispatch.
+const uint PHOTON_FLAG_RESUME = 512u;
+// Work (photon steps plus bin crossings) one GPU invocation does per dispatch before it saves its
+// photon and stops: lavapipe silently ends a shader after 65535 loop iterations (gallivm's loop
+// limiter), which lost the photons of very turbid media (issue 14: mus = 1e7/cm).
+const uint PHOTON_WORK_BUDGET = 30000u;
+// Resume buffer: word 0 counts the invocations suspended by the last dispatch; invocation i's
+// photon state is at PHOTON_RESUME_HEADER + i * PHOTON_RESUME_SLOT.
+const uint PHOTON_RESUME_HEADER = 4u;
+const uint PHOTON_RESUME_SLOT = 16u;
+const uint PHOTON_RESUME_DONE = 4294967295u;  // slot word 0 of an invocation with nothing left
 // Russian roulette: a photon below the threshold survives with probability 1/PHOTON_ROULETTE_GAIN
 // and then carries PHOTON_ROULETTE_GAIN times its weight (MCML's CHANCE = 0.1).
 const uint PHOTON_ROULETTE_GAIN = 10u;

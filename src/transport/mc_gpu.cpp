@@ -56,7 +56,7 @@ McResult runPhotonMcGpu(const McSetup& setup, const std::shared_ptr<gpu::Context
 
     auto start = std::chrono::steady_clock::now();
     const uint32_t capacity = uint32_t(std::max<size_t>(table.size(), 1));
-    gpu::Kernel kernel(context, photon_mc_spv, sizeof photon_mc_spv, 3, sizeof(glsl::PhotonParams),
+    gpu::Kernel kernel(context, photon_mc_spv, sizeof photon_mc_spv, 4, sizeof(glsl::PhotonParams),
                        {gpu::SpecConstant{0, capacity}}, LOCAL_SIZE);
     gpu::Buffer tallies(context, tallyWords * 8);
     tallies.fill(0);
@@ -64,6 +64,11 @@ McResult runPhotonMcGpu(const McSetup& setup, const std::shared_ptr<gpu::Context
     if (!table.empty()) tableBuffer.upload(table);
     gpu::Buffer grid(context, std::max<uint64_t>(voxels, 1) * 8);
     grid.fill(0);
+    // Photon states of invocations that ran out of their per-dispatch work budget.
+    gpu::Buffer resume(context, (glsl::PHOTON_RESUME_HEADER +
+                                 uint64_t(MAX_INVOCATIONS) * glsl::PHOTON_RESUME_SLOT) *
+                                    sizeof(uint32_t));
+    resume.fill(0);
 
     Progress progress("photon Monte Carlo (GPU)", setup.photons);
     for (uint64_t first = 0; first < setup.photons; first += PHOTONS_PER_SUBMIT) {
@@ -73,9 +78,19 @@ McResult runPhotonMcGpu(const McSetup& setup, const std::shared_ptr<gpu::Context
         params.photonStartHi = uint32_t(index >> 32);
         params.photonCount = uint32_t(count);
         params.invocationStride = invocationsFor(count);
-        context->submit([&](gpu::Recorder& r) {
-            r.dispatch1D(kernel, {&tallies, &tableBuffer, &grid}, &params, params.invocationStride);
-        });
+        // Dispatch until no invocation is left suspended (one dispatch in ordinary media).
+        const uint32_t flags = params.estimator & ~glsl::PHOTON_FLAG_RESUME;
+        for (uint32_t suspended = 1, pass = 0; suspended > 0; ++pass) {
+            params.estimator = flags | (pass > 0 ? glsl::PHOTON_FLAG_RESUME : 0u);
+            context->submit([&](gpu::Recorder& r) {
+                r.dispatch1D(kernel, {&tallies, &tableBuffer, &grid, &resume}, &params,
+                             params.invocationStride);
+            });
+            resume.download(&suspended, sizeof suspended);
+            const uint32_t zero = 0;
+            if (suspended > 0) resume.upload(&zero, sizeof zero);
+        }
+        params.estimator = flags;
         progress.advance(count);
     }
     progress.finish();
