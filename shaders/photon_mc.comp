@@ -74,6 +74,8 @@ void main() {
         rng.s1 = resume[slot + 12u];
         rng.s2 = resume[slot + 13u];
         rng.s3 = resume[slot + 14u];
+        s.above = vec4(uintBitsToFloat(resume[slot + 15u]), uintBitsToFloat(resume[slot + 16u]),
+                       uintBitsToFloat(resume[slot + 17u]), uintBitsToFloat(resume[slot + 18u]));
     }
     bool suspended = false;
     for (;;) {
@@ -106,6 +108,10 @@ void main() {
         resume[slot + 12u] = rng.s1;
         resume[slot + 13u] = rng.s2;
         resume[slot + 14u] = rng.s3;
+        resume[slot + 15u] = floatBitsToUint(s.above.x);
+        resume[slot + 16u] = floatBitsToUint(s.above.y);
+        resume[slot + 17u] = floatBitsToUint(s.above.z);
+        resume[slot + 18u] = floatBitsToUint(s.above.w);
         atomicAdd(resume[0], 1u);
     } else {
         resume[slot] = PHOTON_RESUME_DONE;

@@ -99,6 +99,7 @@ void photonLaunch(PHOTON_PARAMS_IN p, uint lo, uint hi, VPSIM_OUT(PhotonState) s
     s.weight = p.enteringWeight;
     s.pendingBin = -1;
     s.pending = float(0);
+    s.above = vec4(float(0), float(0), float(0), float(0));
     if (p.beamShape == PHOTON_BEAM_GAUSSIAN) {
         float r = p.beamW0 * sqrt(float(-0.5) * log(rngUniform(rng)));
         float phi = PHOTON_TWO_PI * rngUniform(rng);
@@ -217,9 +218,38 @@ uint photonTrackBins(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, vec3 o, flo
     return uint(2 * (nr + nz) + 8);
 }
 
-// Flushes the track-length buffer at the end of a photon (the carried fraction is dropped).
-void photonFlush(VPSIM_INOUT(PhotonState) s, uint batch) {
+// Whether the bins and depth tallies are track-length estimates.
+bool photonTracks(PHOTON_PARAMS_IN p) {
+    uint e = p.estimator & 255u;
+    return e == PHOTON_ESTIMATOR_TRACK || e == PHOTON_ESTIMATOR_IMPLICIT_TRACK;
+}
+
+// Flushes the track-length buffers at the end of a photon (carried fractions are dropped).
+void photonFlush(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, uint batch, VPSIM_INOUT(PhotonTally) t) {
+    if (!photonTracks(p)) return;
     photonPend(s, batch, -1, float(0));
+    t.within0 += uint64_t(floor(s.above.x + float(0.5)));
+    t.within1 += uint64_t(floor(s.above.y + float(0.5)));
+    t.within2 += uint64_t(floor(s.above.z + float(0.5)));
+    t.within3 += uint64_t(floor(s.above.w + float(0.5)));
+}
+
+// Length of the flight z0 -> z1 (of length len) that lies above depth d.
+float photonLengthAbove(float z0, float z1, float len, float d) {
+    float lo = min(z0, z1), hi = max(z0, z1);
+    if (hi <= d) return len;
+    if (lo >= d) return float(0);
+    return len * (d - lo) / (hi - lo);
+}
+
+// Track-length depth tallies: weight x mua x (flight length above each depth), kept per photon
+// in float and added as whole quanta when it ends (rounding: < 1 quantum per photon and depth).
+void photonTrackDepths(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, float z0, float len) {
+    float scale = float(s.weight) * p.mua;
+    s.above.x += scale * photonLengthAbove(z0, s.pos.z, len, p.depth0);
+    s.above.y += scale * photonLengthAbove(z0, s.pos.z, len, p.depth1);
+    s.above.z += scale * photonLengthAbove(z0, s.pos.z, len, p.depth2);
+    s.above.w += scale * photonLengthAbove(z0, s.pos.z, len, p.depth3);
 }
 
 // Deposits q quanta at the photon's position: the absorbed total, the depth tallies, the
@@ -227,11 +257,13 @@ void photonFlush(VPSIM_INOUT(PhotonState) s, uint batch) {
 void photonDeposit(PHOTON_PARAMS_IN p, vec3 pos, uint q, uint batch, VPSIM_INOUT(PhotonTally) t) {
     uint64_t w = uint64_t(q);
     t.absorbed += w;
-    if (pos.z < p.depth0) t.within0 += w;
-    if (pos.z < p.depth1) t.within1 += w;
-    if (pos.z < p.depth2) t.within2 += w;
-    if (pos.z < p.depth3) t.within3 += w;
-    if ((p.estimator & 255u) != PHOTON_ESTIMATOR_TRACK) {
+    if (!photonTracks(p)) {
+        if (pos.z < p.depth0) t.within0 += w;
+        if (pos.z < p.depth1) t.within1 += w;
+        if (pos.z < p.depth2) t.within2 += w;
+        if (pos.z < p.depth3) t.within3 += w;
+    }
+    if (!photonTracks(p)) {
         int bin = photonRzBin(p, pos);
         if (bin >= 0) photonAddBin(batch, uint(bin), w);
     }
@@ -254,7 +286,10 @@ bool photonAdvance(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, VPSIM_INOUT(R
     float flight = boundary ? toSurface : path;
     s.pos += s.dir * flight;
     t.work += 1u;
-    if (estimator == PHOTON_ESTIMATOR_TRACK) t.work += photonTrackBins(p, s, start, flight, batch);
+    if (photonTracks(p)) {
+        t.work += photonTrackBins(p, s, start, flight, batch);
+        photonTrackDepths(p, s, start.z, flight);
+    }
 
     if (boundary) {
         bool top = s.dir.z < float(0);
@@ -266,19 +301,21 @@ bool photonAdvance(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, VPSIM_INOUT(R
         }
         if (top) t.diffuse += uint64_t(s.weight);
         else t.transmitted += uint64_t(s.weight);
-        photonFlush(s, batch);
+        photonFlush(p, s, batch, t);
         return false;
     }
 
     t.interactions += 1ul;
     if (p.lateralRadius > float(0) && s.pos.x * s.pos.x + s.pos.y * s.pos.y > p.lateralRadius * p.lateralRadius) {
         t.escaped += uint64_t(s.weight);
-        photonFlush(s, batch);
+        photonFlush(p, s, batch, t);
         return false;
     }
-    if (estimator == PHOTON_ESTIMATOR_ANALOG) {
+    bool analog = estimator == PHOTON_ESTIMATOR_ANALOG || estimator == PHOTON_ESTIMATOR_TRACK;
+    if (analog) {
         if (rngUniform(rng) * mut <= p.mua) {
             photonDeposit(p, s.pos, s.weight, batch, t);
+            photonFlush(p, s, batch, t);
             return false;
         }
     } else {
@@ -296,13 +333,13 @@ bool photonAdvance(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, VPSIM_INOUT(R
     s.dir = photonRotate(s.dir, cosT, cos(phi), sin(phi));
     t.scatterings += 1ul;
 
-    if (estimator != PHOTON_ESTIMATOR_ANALOG && s.weight < p.rouletteWeight) {
+    if (!analog && s.weight < p.rouletteWeight) {
         if (s.weight > 0u && rngUniform(rng) * float(PHOTON_ROULETTE_GAIN) <= float(1)) {
             t.rouletteGain += uint64_t(s.weight) * uint64_t(PHOTON_ROULETTE_GAIN - 1u);
             s.weight *= PHOTON_ROULETTE_GAIN;
         } else {
             t.rouletteLoss += uint64_t(s.weight);
-            photonFlush(s, batch);
+            photonFlush(p, s, batch, t);
             return false;
         }
     }

@@ -20,15 +20,19 @@ const int PHOTON_EVENT_REFLECTED = 3;    // left through the top surface z = 0 (
 const int PHOTON_EVENT_TRANSMITTED = 4;  // left through the bottom surface z = thickness
 const int PHOTON_EVENT_ESCAPED = 5;      // interacted outside the lateral radius (left sideways)
 
-// Estimators (low byte of PhotonParams.estimator). ANALOG: a photon is absorbed whole at an
-// interaction with probability mua/mut, and the (r,z) bins count absorption points. IMPLICIT:
-// implicit capture (at every interaction the fraction mua/mut of the weight is deposited and the
-// photon always scatters) with Russian roulette below PhotonParams.rouletteWeight; the bins count
-// the deposits (collision estimator). TRACK: the same transport, but the bins are tallied by the
-// track-length estimator (mua x weight x path length inside each bin).
+// Estimators (low byte of PhotonParams.estimator).
+// ANALOG: a photon is absorbed whole at an interaction with probability mua/mut; the (r,z) bins
+//   and the depth tallies count absorption points.
+// IMPLICIT: implicit capture (at every interaction the fraction mua/mut of the weight is deposited
+//   and the photon always scatters) with Russian roulette below PhotonParams.rouletteWeight; bins
+//   and depth tallies count the deposits (collision estimator).
+// IMPLICIT_TRACK: the same transport; bins and depth tallies by the track-length estimator
+//   (mua x weight x path length inside each bin, or above each depth).
+// TRACK: analog transport (cheap photons) with the track-length estimator for bins and depths.
 const uint PHOTON_ESTIMATOR_ANALOG = 0u;
 const uint PHOTON_ESTIMATOR_IMPLICIT = 1u;
-const uint PHOTON_ESTIMATOR_TRACK = 2u;
+const uint PHOTON_ESTIMATOR_IMPLICIT_TRACK = 2u;
+const uint PHOTON_ESTIMATOR_TRACK = 3u;
 // PhotonParams.estimator flag: the (r,z) bins are kept per batch (PHOTON_BATCHES copies).
 const uint PHOTON_FLAG_BATCH_BINS = 256u;
 // PhotonParams.estimator flag (GPU): continue the photons suspended by the previous dispatch.
@@ -40,7 +44,7 @@ const uint PHOTON_WORK_BUDGET = 30000u;
 // Resume buffer: word 0 counts the invocations suspended by the last dispatch; invocation i's
 // photon state is at PHOTON_RESUME_HEADER + i * PHOTON_RESUME_SLOT.
 const uint PHOTON_RESUME_HEADER = 4u;
-const uint PHOTON_RESUME_SLOT = 16u;
+const uint PHOTON_RESUME_SLOT = 20u;
 const uint PHOTON_RESUME_DONE = 4294967295u;  // slot word 0 of an invocation with nothing left
 // Russian roulette: a photon below the threshold survives with probability 1/PHOTON_ROULETTE_GAIN
 // and then carries PHOTON_ROULETTE_GAIN times its weight (MCML's CHANCE = 0.1).
@@ -49,7 +53,7 @@ const uint PHOTON_ROULETTE_GAIN = 10u;
 // Layout of the tally buffer (uint64 words): PHOTON_BATCHES batches of PHOTON_TALLY_STRIDE
 // counters, then the absorbed weight in rBins x zBins cylindrical bins (index iz * rBins + ir).
 // Photon i belongs to batch i % PHOTON_BATCHES; the batches give the standard errors.
-const uint PHOTON_BATCHES = 16u;
+const uint PHOTON_BATCHES = 64u;
 const uint PHOTON_TALLY_SPECULAR = 0u;
 const uint PHOTON_TALLY_DIFFUSE = 1u;
 const uint PHOTON_TALLY_TRANSMITTED = 2u;
@@ -62,7 +66,7 @@ const uint PHOTON_TALLY_ROULETTE_GAIN = 11u;  // weight created by roulette surv
 const uint PHOTON_TALLY_ROULETTE_LOSS = 12u;  // weight of photons ended by roulette
 const uint PHOTON_MAX_DEPTHS = 4u;
 const uint PHOTON_TALLY_STRIDE = 13u;
-const uint PHOTON_BIN_OFFSET = 208u;        // PHOTON_BATCHES * PHOTON_TALLY_STRIDE
+const uint PHOTON_BIN_OFFSET = 832u;        // PHOTON_BATCHES * PHOTON_TALLY_STRIDE
 
 // Everything one dispatch needs; lengths in mm, coefficients in 1/mm.
 struct PhotonParams {
@@ -107,6 +111,7 @@ struct PhotonState {
     uint weight;     // quanta the photon carries (implicit capture lowers it at interactions)
     int pendingBin;  // track-length estimator: bin of the not yet flushed deposit, -1 = none
     float pending;   // quanta pending for pendingBin (or the carried fraction of a quantum)
+    vec4 above;      // track-length depth tallies of this photon (quanta above depth0..3)
 };
 
 #endif

@@ -33,16 +33,19 @@ const char* estimatorName(Estimator e) {
     switch (e) {
         case Estimator::Analog: return "analog";
         case Estimator::Implicit: return "implicit";
+        case Estimator::ImplicitTrack: return "implicit-track";
         case Estimator::Track: return "track-length";
     }
     return "track-length";
 }
 
 Estimator parseEstimator(const std::string& text, const std::string& key) {
-    for (Estimator e : {Estimator::Analog, Estimator::Implicit, Estimator::Track})
+    for (Estimator e :
+         {Estimator::Analog, Estimator::Implicit, Estimator::ImplicitTrack, Estimator::Track})
         if (text == estimatorName(e)) return e;
-    throw InputError("estimator must be analog, implicit or track-length, got '" + text + "'", "",
-                     key);
+    throw InputError(
+        "estimator must be analog, implicit, implicit-track or track-length, got '" + text + "'",
+        "", key);
 }
 
 void validateSetup(const McSetup& s) {
@@ -149,6 +152,7 @@ glsl::PhotonParams makePhotonParams(const McSetup& s) {
     switch (s.estimator) {
         case Estimator::Analog: p.estimator = glsl::PHOTON_ESTIMATOR_ANALOG; break;
         case Estimator::Implicit: p.estimator = glsl::PHOTON_ESTIMATOR_IMPLICIT; break;
+        case Estimator::ImplicitTrack: p.estimator = glsl::PHOTON_ESTIMATOR_IMPLICIT_TRACK; break;
         case Estimator::Track: p.estimator = glsl::PHOTON_ESTIMATOR_TRACK; break;
     }
     if (s.binsPerBatch) p.estimator |= glsl::PHOTON_FLAG_BATCH_BINS;
@@ -303,7 +307,7 @@ nlohmann::json McResult::summaryJson() const {
     put("absorbed", absorbed());
     if (setup.lateralRadius > 0) put("escaped", escaped());
     j["estimator"] = estimatorName(setup.estimator);
-    if (setup.estimator != Estimator::Analog) {
+    if (setup.estimator == Estimator::Implicit || setup.estimator == Estimator::ImplicitTrack) {
         j["roulette_threshold"] = setup.rouletteThreshold;
         put("roulette_net", rouletteNet());
     }

@@ -15,6 +15,7 @@ namespace vpsim::transport {
 
 // The push-constant block is 32 four-byte scalars: the 128 bytes every Vulkan device accepts.
 static_assert(sizeof(glsl::PhotonParams) == 128, "PhotonParams must stay 32 x 4 bytes");
+static_assert(MC_BATCHES == int(glsl::PHOTON_BATCHES), "one batch count on both sides");
 
 /// Weight quanta of one launched photon (2^24: specular split resolved to 6e-8).
 constexpr uint32_t LAUNCH_WEIGHT = 1u << 24;

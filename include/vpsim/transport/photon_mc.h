@@ -54,13 +54,16 @@ struct CartesianGrid {
     uint32_t nz = 0;
 };
 
-/// How absorption is scored.
+/// How absorption is scored (see shaders/include/photon_types.glsl).
 enum class Estimator {
-    Analog,    ///< a photon is absorbed whole at an interaction with probability mua/mut
-    Implicit,  ///< implicit capture + Russian roulette; bins tally the deposits (collisions)
-    Track,     ///< implicit capture + roulette; bins by the track-length estimator (default)
-};
-/// "analog", "implicit" or "track-length".
+    Analog,         ///< a photon is absorbed whole with probability mua/mut; point tallies
+    Implicit,       ///< implicit capture + Russian roulette; collision tallies (MCML's)
+    ImplicitTrack,  ///< implicit capture + roulette; track-length bins and depth tallies
+    Track,          ///< analog transport, track-length bins and depth tallies (default)
+};  /// "analog", "implicit", "implicit-track" or "track-length". The totals (R, T, absorbed) are
+/// exact integer partitions for every estimator; the (r,z) bins and McResult::absorbedWithin of
+/// the track-length ones are track-length estimates (their sum matches the totals only within
+/// statistics).
 const char* estimatorName(Estimator e);
 /// Parses estimatorName's spellings. @throw InputError naming `key` for anything else.
 Estimator parseEstimator(const std::string& text, const std::string& key = "estimator");
@@ -99,7 +102,7 @@ struct McSetup {
 /// quanta, must fit 64 bits).
 constexpr uint64_t MAX_PHOTONS = 1000000000000ull;
 /// Batches used for the standard errors (photon i is in batch i % MC_BATCHES).
-constexpr int MC_BATCHES = 16;
+constexpr int MC_BATCHES = 64;
 
 /// A fraction of the launched weight with its standard error from the batch spread.
 struct Fraction {
