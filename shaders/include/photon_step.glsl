@@ -186,31 +186,44 @@ uint photonTrackBins(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, vec3 o, flo
     int ir = int(min(sqrt(c) / p.rBinWidth, float(nr)));  // nr: beyond the grid radially
     int iz = int(min(max(o.z, float(0)) / p.zBinWidth, float(nz)));
     bool radial = a > float(1.0e-12);
-    float tTurn = radial ? -b / a : PHOTON_FAR;
+    float invA = radial ? float(1) / a : float(0);
+    float invDz = d.z != float(0) ? float(1) / d.z : float(0);
+    float tTurn = radial ? -b * invA : PHOTON_FAR;
     float t = float(0);
+    // The next z face and the next cylinder are recomputed only when their index steps: a
+    // crossing found before the turning point stays the next one until it is passed.
+    float tz = PHOTON_FAR, tr = PHOTON_FAR;
+    int stepR = 0;
+    bool newZ = true, newR = true;
     for (int guard = 0; guard < 2 * (nr + nz) + 8; ++guard) {
-        float tz = PHOTON_FAR;
-        if (d.z > float(0) && iz < nz) tz = (float(iz + 1) * p.zBinWidth - o.z) / d.z;
-        else if (d.z < float(0)) tz = (float(min(iz, nz)) * p.zBinWidth - o.z) / d.z;
-        float tr = PHOTON_FAR;
-        int stepR = 0;
-        if (radial && t < tTurn && ir > 0) {  // heading inwards: the inner cylinder, if reached
-            float rr = float(ir) * p.rBinWidth;
-            float disc = b * b - a * (c - rr * rr);
-            if (disc >= float(0)) {
-                tr = (-b - sqrt(disc)) / a;
-                stepR = -1;
-            }
+        if (newZ) {
+            tz = PHOTON_FAR;
+            if (d.z > float(0) && iz < nz) tz = (float(iz + 1) * p.zBinWidth - o.z) * invDz;
+            else if (d.z < float(0)) tz = (float(min(iz, nz)) * p.zBinWidth - o.z) * invDz;
         }
-        if (radial && stepR == 0 && ir < nr) {  // the outer cylinder
-            float rr = float(ir + 1) * p.rBinWidth;
-            tr = (-b + sqrt(max(b * b - a * (c - rr * rr), float(0)))) / a;
-            stepR = 1;
+        if (newR) {
+            tr = PHOTON_FAR;
+            stepR = 0;
+            if (radial && t < tTurn && ir > 0) {  // heading inwards: the inner cylinder, if reached
+                float rr = float(ir) * p.rBinWidth;
+                float disc = b * b - a * (c - rr * rr);
+                if (disc >= float(0)) {
+                    tr = (-b - sqrt(disc)) * invA;
+                    stepR = -1;
+                }
+            }
+            if (radial && stepR == 0 && ir < nr) {  // the outer cylinder
+                float rr = float(ir + 1) * p.rBinWidth;
+                tr = (-b + sqrt(max(b * b - a * (c - rr * rr), float(0)))) * invA;
+                stepR = 1;
+            }
         }
         float next = max(min(min(tz, tr), len), t);
         photonPend(s, batch, ir < nr && iz < nz ? iz * nr + ir : -1, scale * (next - t));
         if (next >= len) return uint(guard + 1);
-        if (tz <= tr) iz += d.z > float(0) ? 1 : -1;
+        newZ = tz <= tr;
+        newR = !newZ;
+        if (newZ) iz += d.z > float(0) ? 1 : -1;
         else ir += stepR;
         t = next;
         if (iz < 0 || (iz >= nz && d.z >= float(0)) || (ir >= nr && t >= tTurn)) return uint(guard + 1);
@@ -218,16 +231,24 @@ uint photonTrackBins(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, vec3 o, flo
     return uint(2 * (nr + nz) + 8);
 }
 
-// Whether the bins and depth tallies are track-length estimates.
+// Whether the (r,z) bins are track-length estimates.
 bool photonTracks(PHOTON_PARAMS_IN p) {
     uint e = p.estimator & 255u;
     return e == PHOTON_ESTIMATOR_TRACK || e == PHOTON_ESTIMATOR_IMPLICIT_TRACK;
+}
+
+// Whether the depth tallies are track-length estimates (implicit capture only: with analog
+// transport the 0/1 absorption point has less variance over thick layers than mua x path
+// length, whose spread is that of an exponential; bench_photon_mc measured 0.14-0.44x).
+bool photonTracksDepths(PHOTON_PARAMS_IN p) {
+    return (p.estimator & 255u) == PHOTON_ESTIMATOR_IMPLICIT_TRACK;
 }
 
 // Flushes the track-length buffers at the end of a photon (carried fractions are dropped).
 void photonFlush(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, uint batch, VPSIM_INOUT(PhotonTally) t) {
     if (!photonTracks(p)) return;
     photonPend(s, batch, -1, float(0));
+    if (!photonTracksDepths(p)) return;
     t.within0 += uint64_t(floor(s.above.x + float(0.5)));
     t.within1 += uint64_t(floor(s.above.y + float(0.5)));
     t.within2 += uint64_t(floor(s.above.z + float(0.5)));
@@ -257,7 +278,7 @@ void photonTrackDepths(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, float z0,
 void photonDeposit(PHOTON_PARAMS_IN p, vec3 pos, uint q, uint batch, VPSIM_INOUT(PhotonTally) t) {
     uint64_t w = uint64_t(q);
     t.absorbed += w;
-    if (!photonTracks(p)) {
+    if (!photonTracksDepths(p)) {
         if (pos.z < p.depth0) t.within0 += w;
         if (pos.z < p.depth1) t.within1 += w;
         if (pos.z < p.depth2) t.within2 += w;
@@ -288,7 +309,7 @@ bool photonAdvance(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, VPSIM_INOUT(R
     t.work += 1u;
     if (photonTracks(p)) {
         t.work += photonTrackBins(p, s, start, flight, batch);
-        photonTrackDepths(p, s, start.z, flight);
+        if (photonTracksDepths(p)) photonTrackDepths(p, s, start.z, flight);
     }
 
     if (boundary) {

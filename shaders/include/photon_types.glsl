@@ -28,7 +28,8 @@ const int PHOTON_EVENT_ESCAPED = 5;      // interacted outside the lateral radiu
 //   and depth tallies count the deposits (collision estimator).
 // IMPLICIT_TRACK: the same transport; bins and depth tallies by the track-length estimator
 //   (mua x weight x path length inside each bin, or above each depth).
-// TRACK: analog transport (cheap photons) with the track-length estimator for bins and depths.
+// TRACK: analog transport (cheap photons), bins by the track-length estimator, depth tallies by
+//   the absorption points (as ANALOG).
 const uint PHOTON_ESTIMATOR_ANALOG = 0u;
 const uint PHOTON_ESTIMATOR_IMPLICIT = 1u;
 const uint PHOTON_ESTIMATOR_IMPLICIT_TRACK = 2u;

@@ -134,7 +134,7 @@ vpsim::cli::CommandRegistration registerMc{
         cmd->add_option("--voxel", o->voxel, "voxel edge of the --vdb grid");
         cmd->add_option("--estimator", o->estimator,
                         "absorption estimator: track-length (analog transport, track-length "
-                        "bins and depth tallies; default), implicit-track (implicit capture "
+                        "bins; default), implicit-track (implicit capture "
                         "and roulette, track-length tallies), implicit (MCML's: collision "
                         "tallies) or analog")
             ->check(CLI::IsMember({"analog", "implicit", "implicit-track", "track-length"}));

@@ -59,11 +59,11 @@ enum class Estimator {
     Analog,         ///< a photon is absorbed whole with probability mua/mut; point tallies
     Implicit,       ///< implicit capture + Russian roulette; collision tallies (MCML's)
     ImplicitTrack,  ///< implicit capture + roulette; track-length bins and depth tallies
-    Track,          ///< analog transport, track-length bins and depth tallies (default)
+    Track,          ///< analog transport, track-length bins, point depth tallies (default)
 };  /// "analog", "implicit", "implicit-track" or "track-length". The totals (R, T, absorbed) are
-/// exact integer partitions for every estimator; the (r,z) bins and McResult::absorbedWithin of
-/// the track-length ones are track-length estimates (their sum matches the totals only within
-/// statistics).
+/// exact integer partitions for every estimator; the (r,z) bins of the track-length ones (and
+/// McResult::absorbedWithin of implicit-track) are track-length estimates, which match the
+/// totals only within statistics.
 const char* estimatorName(Estimator e);
 /// Parses estimatorName's spellings. @throw InputError naming `key` for anything else.
 Estimator parseEstimator(const std::string& text, const std::string& key = "estimator");
