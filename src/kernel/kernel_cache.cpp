@@ -35,7 +35,11 @@ std::string cacheKey(const KernelRequest& r) {
         {"r_max", s.bins.rMax},
         {"z_max", s.bins.zMax},
         {"bins", {s.bins.rBins, s.bins.zBins}},
-        {"version", 2}};
+        {"estimator", transport::estimatorName(s.estimator)},
+        {"roulette_threshold", s.rouletteThreshold},
+        // 3: sub-bin zmax (0 when Ie(0,z) falls from the surface), fit energies, track-length
+        // estimator by default (issue 14).
+        {"version", 3}};
     char name[64];
     std::snprintf(name, sizeof name, "kernel-%016llx.json", (unsigned long long)fnv1a(key.dump()));
     return name;

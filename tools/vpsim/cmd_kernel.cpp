@@ -32,6 +32,7 @@ struct KernelOptions {
     double nOutside = 1.0;
     std::string rMax, zMax;  ///< empty = chosen from W0 and mua
     uint32_t bins = 80;
+    std::string estimator = "track-length";
     bool json = false;
 };
 
@@ -53,6 +54,7 @@ void runKernel(const KernelOptions& o, const vpsim::cli::Globals& g) {
         s.thickness = thickness;
         s.bins.zMax = std::min(s.bins.zMax, thickness);
     }
+    s.estimator = parseEstimator(o.estimator, "--estimator");
     s.nAbove = s.nBelow = o.nOutside;
     if (!o.rMax.empty()) s.bins.rMax = quantity(o.rMax, vpsim::dim::LENGTH, "--r-max");
     if (!o.zMax.empty()) s.bins.zMax = quantity(o.zMax, vpsim::dim::LENGTH, "--z-max");
@@ -75,6 +77,11 @@ void runKernel(const KernelOptions& o, const vpsim::cli::Globals& g) {
                        {"zmax_um", k.zmax * 1000},
                        {"amplitude_mW_per_mm2", k.fit.amplitude},
                        {"residual", k.fit.residual},
+                       {"fit_energy_fraction", k.fit.energyFraction},
+                       {"energy_conserving_amplitude_mW_per_mm2", k.energyFit.amplitude},
+                       {"energy_conserving_residual", k.energyFit.residual},
+                       {"engine_fit", "least-squares"},
+                       {"estimator", estimatorName(s.estimator)},
                        {"W0_um", s.w0 * 1000},
                        {"Dp_no_scattering_um", 1000 / s.optics.mua},
                        {"no_scattering_peak_mW_per_mm2", k.beerLambert(0, 0)},
@@ -93,6 +100,10 @@ void runKernel(const KernelOptions& o, const vpsim::cli::Globals& g) {
     std::printf("  zmax  %.2f um   (depth of the largest Ie(0,z))\n", k.zmax * 1000);
     std::printf("  Ie3D(0,0) %.4g mW/mm^2 (no scattering %.4g), fit residual %.3f\n",
                 k.fit.amplitude, k.beerLambert(0, 0), k.fit.residual);
+    std::printf(
+        "  energy: the fit (used by the engines) carries %.3f of the table's absorbed "
+        "power;\n          the energy-conserving fit has Ie3D(0,0) %.4g, residual %.3f\n",
+        k.fit.energyFraction, k.energyFit.amplitude, k.energyFit.residual);
 }
 
 vpsim::cli::CommandRegistration registerKernel{
@@ -112,6 +123,10 @@ vpsim::cli::CommandRegistration registerKernel{
         cmd->add_option("--r-max", o->rMax, "radius of the tabulated kernel (default 4 W0)");
         cmd->add_option("--z-max", o->zMax, "depth of the tabulated kernel (default 3/mua)");
         cmd->add_option("--bins", o->bins, "bins along r and along z");
+        cmd->add_option("--estimator", o->estimator,
+                        "absorption estimator: track-length (default), implicit-track, implicit or "
+                        "analog")
+            ->check(CLI::IsMember({"analog", "implicit", "implicit-track", "track-length"}));
         cmd->add_flag("--json", o->json, "print JSON");
         cmd->callback([o, &g] { runKernel(*o, g); });
     }};
