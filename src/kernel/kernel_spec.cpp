@@ -18,6 +18,9 @@ KernelSpec kernelSpecFromConfig(const ConfigNode& kernel) {
         spec.seed = uint32_t(kernel.integer("seed", 1));
         spec.tabulated =
             kernel.choice("use", {"fitted", "tabulated"}, std::string("fitted")) == "tabulated";
+        if (kernel.has("estimator"))
+            spec.estimator =
+                transport::parseEstimator(kernel.string("estimator"), kernel.keyPath("estimator"));
         return spec;
     }
     spec.source = KernelSource::Given;

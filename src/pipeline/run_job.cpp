@@ -61,8 +61,15 @@ Front runFront(const Job& job, const std::string& outDir, const RunContext& cont
         createDirectories(outDir + "/kernel");
         k.save(outDir + "/kernel/kernel.json");
         kernel::writeKernelFigures(outDir + "/kernel", k);
-        result.kernel = report::KernelSummary{f.beam.beam, k.fit.residual, k.photons,
-                                              f.beam.fromCache, job.kernel.tabulated};
+        report::KernelSummary summary;
+        summary.beam = f.beam.beam;
+        summary.fitResidual = k.fit.residual;
+        summary.fitEnergyFraction = k.fit.energyFraction;
+        summary.estimator = transport::estimatorName(job.kernel.estimator);
+        summary.photons = k.photons;
+        summary.fromCache = f.beam.fromCache;
+        summary.tabulatedExposure = job.kernel.tabulated;
+        result.kernel = summary;
     }
     timer.finish("kernel");
 
@@ -131,6 +138,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     if (model->usesGpu()) result.exposure.backend = deviceName(context);
     result.exposure.maxDose = volume.maxValue();
     result.exposure.storedVoxels = volume.activeVoxels();
+    result.exposure.keptEnergyFraction = model->keptEnergyFraction();
     if (job.simulation.writeVdb) volume.write(outDir + "/exposure.vdb");
     timer.finish("expose");
 

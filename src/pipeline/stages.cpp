@@ -32,6 +32,7 @@ BeamResult beamStage(const Job& job, const RunContext& context) {
     kernel::KernelRequest request =
         kernel::kernelRequest(job.materialFile, job.machine.laserPower, job.machine.beamRadius,
                               job.kernel.photons, job.kernel.seed);
+    request.setup.estimator = job.kernel.estimator;
     result.monteCarlo = kernel::cachedKernel(request, context, result.fromCache);
     result.beam = kernel::fittedBeamOf(*result.monteCarlo);
     return result;

@@ -65,6 +65,8 @@ public:
     virtual const ExposureGrid& grid() const = 0;
     virtual double layerThickness() const = 0;
     virtual bool usesGpu() const = 0;
+    /// Fraction of the kernel's energy the engine keeps after truncating it (1: none dropped).
+    virtual double keptEnergyFraction() const { return 1.0; }
 
     /// Forward, whole plan: deposits every layer of `plan` (layer k's top at plan.layers[k].z) and
     /// calls `sink` for each voxel slice from the top of the part down (top layer first, slice 0

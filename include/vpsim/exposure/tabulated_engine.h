@@ -84,7 +84,7 @@ public:
     double workingBytes() const { return mWorkingBytes; }
     /// Fraction of the kernel's energy (summed over the slice depths inside the table) that the
     /// truncated stencils keep.
-    double keptEnergyFraction() const { return mKeptEnergyFraction; }
+    double keptEnergyFraction() const override { return mKeptEnergyFraction; }
 
 private:
     struct GpuState;

@@ -1,12 +1,14 @@
 #pragma once
 /// @file
 /// A job's `kernel` section: where the beam kernel comes from and how the exposure uses it.
-///   {"source": "monte-carlo", "photons": 300000, "seed": 1, "use": "fitted" | "tabulated"}
+///   {"source": "monte-carlo", "photons": 300000, "seed": 1, "use": "fitted" | "tabulated",
+///    "estimator": "track-length" | "analog" | "implicit" | "implicit-track"}
 ///   {"source": "given", "We3D": "60 um", "De3D": "100 um", "zmax": "0 um", "efficiency": 1}
 
 #include <cstdint>
 
 #include "vpsim/kernel/fitted_beam.h"
+#include "vpsim/transport/photon_mc.h"
 
 namespace vpsim {
 class ConfigNode;
@@ -21,7 +23,9 @@ struct KernelSpec {
     uint64_t photons = 300000;  ///< Monte Carlo photons (1000 .. 1e12, 64-bit indices)
     uint32_t seed = 1;
     bool tabulated = false;  ///< expose with the Monte Carlo table instead of the Eq. 12 fit
-    FittedBeam given;        ///< source == Given: the beam as written in the job
+    /// The Monte Carlo estimator of the kernel's bins (transport/photon_mc.h).
+    transport::Estimator estimator = transport::Estimator::Track;
+    FittedBeam given;  ///< source == Given: the beam as written in the job
 };
 
 /// @throw InputError naming the file and key

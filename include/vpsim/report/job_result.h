@@ -27,6 +27,9 @@ struct PartSummary {
 struct KernelSummary {
     kernel::FittedBeam beam;  ///< We3D, De3D, zmax, efficiency of the fit
     double fitResidual = 0;
+    /// Absorbed power the Eq. 12 fit carries over the table's (the fit the engine uses).
+    double fitEnergyFraction = 0;
+    std::string estimator;  ///< the Monte Carlo estimator of the bins
     uint64_t photons = 0;
     bool fromCache = false;
     bool tabulatedExposure = false;  ///< the exposure used the table, not the fit
@@ -48,7 +51,8 @@ struct ExposureSummary {
     double engineSeconds = 0, sinkSeconds = 0;
     double maxDose = 0;  ///< mJ/mm^2
     uint64_t storedVoxels = 0;
-    kernel::FittedBeam beam;  ///< the beam the engine used
+    kernel::FittedBeam beam;        ///< the beam the engine used
+    double keptEnergyFraction = 1;  ///< of the kernel's energy, after the engine's truncation
 };
 
 struct ValidationReport {
