@@ -68,8 +68,8 @@ DlpPartResult optimiseDlpPart(const DlpLayerStack& part, const DlpPartOptions& o
             std::vector<uint8_t> solid(profiles[i].begin(), profiles[i].end());
             std::vector<double> dose;
             if (options.objective == DlpObjective::Geometric) {
-                DlpGeometricResult r = optimiseColumnGeometric(solid, options.problem,
-                                                               options.geometric);
+                DlpGeometricResult r =
+                    optimiseColumnGeometric(solid, options.problem, options.geometric);
                 dose = std::move(r.dose);
                 gaps[i] = 0.0;  // local search: no certificate (the LP bound is not tight)
             } else {
@@ -99,8 +99,7 @@ DlpPartResult optimiseDlpPart(const DlpLayerStack& part, const DlpPartOptions& o
         out.meanGap += g / double(std::max<size_t>(gaps.size(), 1));
         out.openColumns += g > 1e-9 ? 1 : 0;
     }
-    out.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;
 }
 

@@ -25,8 +25,7 @@ GreyLevels::GreyLevels(std::vector<std::pair<int, double>> points, double exposu
             throw InputError("grey levels: irradiance at grey " + std::to_string(grey) +
                              " must be positive");
         if (i > 0 && (grey <= mPoints[i - 1].first || value <= mPoints[i - 1].second))
-            throw InputError(
-                "grey levels: grey and irradiance must both increase along the table");
+            throw InputError("grey levels: grey and irradiance must both increase along the table");
     }
     for (int g = 0; g < 256; ++g) mDose[size_t(g)] = irradiance(g) * mExposureTime;
 }
@@ -42,7 +41,9 @@ double GreyLevels::irradiance(int grey) const {
     return mPoints.back().second;
 }
 
-double GreyLevels::minDose() const { return dose(mPoints.front().first); }
+double GreyLevels::minDose() const {
+    return dose(mPoints.front().first);
+}
 
 uint8_t GreyLevels::quantise(double dose) const {
     if (!(dose > 0.0)) return 0;
@@ -64,10 +65,11 @@ GreyLevels greyLevelsFromConfig(const ConfigNode& machine) {
     for (size_t i = 0; i < table.size(); ++i) {
         const nlohmann::json& entry = table[i];
         if (!entry.is_array() || entry.size() != 2 || !entry[0].is_number_integer())
-            throw machine.error("grey_levels",
-                                "entry " + std::to_string(i) + " must be [integer grey, irradiance]");
+            throw machine.error("grey_levels", "entry " + std::to_string(i) +
+                                                   " must be [integer grey, irradiance]");
         points.emplace_back(entry[0].get<int>(),
-                            quantityFromJson(entry[1], dim::IRRADIANCE, key + "[" + std::to_string(i) + "]", machine.file()));
+                            quantityFromJson(entry[1], dim::IRRADIANCE,
+                                             key + "[" + std::to_string(i) + "]", machine.file()));
     }
     const double time = machine.quantity("exposure_time", dim::TIME);
     try {

@@ -33,7 +33,9 @@ public:
     /// the last point's value above it.
     double irradiance(int grey) const;
     /// Dose (mJ/mm^2) a pixel of this grey level delivers in one exposure.
-    double dose(int grey) const { return mDose[std::size_t(grey < 0 ? 0 : grey > 255 ? 255 : grey)]; }
+    double dose(int grey) const {
+        return mDose[std::size_t(grey < 0 ? 0 : grey > 255 ? 255 : grey)];
+    }
     /// Largest dose (grey 255), mJ/mm^2.
     double maxDose() const { return mDose[255]; }
     /// Smallest non-null dose (the first calibrated grey), mJ/mm^2.
