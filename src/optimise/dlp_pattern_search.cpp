@@ -123,12 +123,19 @@ public:
         return solveBoundedLeastSquares(mT, mTarget, lo, hi, start);
     }
 
-    /// Solves pattern `exposed` exactly; false when it cannot be printed.
-    bool solvePattern(const std::vector<uint8_t>& exposed, DlpColumnResult& out) {
+    /// Solves pattern `exposed` exactly (warm-started from `start` when given); false when it
+    /// cannot be printed.
+    bool solvePattern(const std::vector<uint8_t>& exposed, DlpColumnResult& out,
+                      const std::vector<double>& start = {}) {
         std::vector<double> lo, hi;
         if (!exposureBounds(exposed, mSolid, mP, lo, hi)) return false;
-        out = resultFrom(mT, exposed, solve(lo, hi));
+        out = resultFrom(mT, exposed, solve(lo, hi, start));
         return true;
+    }
+
+    /// Layers at most `depth` above the bottom of their run (where patterns matter).
+    bool nearRunBottom(size_t k, size_t depth) const {
+        return mSolid[k] && k - mRunBegin[k] < depth;
     }
 
     const std::vector<uint8_t>& solid() const { return mSolid; }
@@ -166,19 +173,20 @@ void tryRounding(ColumnSearch& search, const Node& node, DlpColumnResult& incumb
         exposed[k] = search.solid()[k] && node.state[k] != OFF &&
                      (node.state[k] == ON || node.dose[k] >= half);
     DlpColumnResult candidate;
-    if (search.solvePattern(exposed, candidate) && candidate.objective < incumbent.objective)
+    if (search.solvePattern(exposed, candidate, node.dose) &&
+        candidate.objective < incumbent.objective)
         incumbent = std::move(candidate);
 }
 
 /// First-improvement local search on an incumbent's pattern: switch one solid layer on or off,
 /// or move one exposure a layer up or down, while F decreases.
-void improveLocally(ColumnSearch& search, DlpColumnResult& best, int maxPasses) {
+void improveLocally(ColumnSearch& search, DlpColumnResult& best, int maxPasses, size_t depth) {
     const std::vector<uint8_t>& solid = search.solid();
     const size_t n = solid.size();
     for (int pass = 0; pass < maxPasses; ++pass) {
         bool improved = false;
         for (size_t k = 0; k < n; ++k) {
-            if (!solid[k]) continue;
+            if (!search.nearRunBottom(k, depth)) continue;
             for (int move = 0; move < 3; ++move) {
                 std::vector<uint8_t> trial = best.exposed;
                 if (move == 0)
@@ -189,7 +197,7 @@ void improveLocally(ColumnSearch& search, DlpColumnResult& best, int maxPasses) 
                     trial[k] = 0, trial[j] = 1;
                 }
                 DlpColumnResult candidate;
-                if (search.solvePattern(trial, candidate) &&
+                if (search.solvePattern(trial, candidate, best.dose) &&
                     candidate.objective < best.objective * (1.0 - 1e-13)) {
                     best = std::move(candidate);
                     improved = true;
@@ -254,7 +262,7 @@ DlpSearchResult branchAndBoundColumn(const std::vector<uint8_t>& solid,
     std::vector<uint8_t> all(solid.begin(), solid.end());
     for (auto& v : all) v = v ? 1 : 0;
     search.solvePattern(all, out.best);
-    improveLocally(search, out.best, 20);
+    bool locallyImproved = false;
 
     std::priority_queue<std::shared_ptr<Node>, std::vector<std::shared_ptr<Node>>, NodeOrder> open;
     auto makeNode = [&](std::vector<uint8_t> state, const std::vector<double>& warm) {
@@ -280,6 +288,10 @@ DlpSearchResult branchAndBoundColumn(const std::vector<uint8_t>& solid,
         open.pop();
         ++out.nodes;
         long k = search.firstViolation(node->dose);
+        if (k >= 0 && !locallyImproved) {  // the root is not printable: find a good incumbent
+            improveLocally(search, out.best, 20, options.localSearchDepth);
+            locallyImproved = true;
+        }
         if (k < 0) {  // the relaxed minimiser is printable: the node's optimum
             std::vector<uint8_t> exposed(solid.size(), 0);
             for (size_t i = 0; i < solid.size(); ++i)

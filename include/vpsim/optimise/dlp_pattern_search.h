@@ -32,6 +32,9 @@ struct DlpSearchOptions {
     size_t maxNodes = 4000;
     /// Stop when (incumbent - bound) <= relativeGap x incumbent.
     double relativeGap = 1e-9;
+    /// The incumbent's local search (switch/move one exposure) only visits layers this close to
+    /// the bottom of their solid run; it only seeds the bound, so this costs no exactness.
+    size_t localSearchDepth = 24;
 };
 
 /// A column's optimum with its certificate.
