@@ -117,7 +117,7 @@ TEST_CASE("Table 2: run-bottom reading over-cures more than the prints show", "[
 
 TEST_CASE("Geometric objective: mean |Z - objective| <= 0.05 mm with own-layer bonding",
           "[optimise][slow]") {
-    // Measured: +0.019, +0.019, -0.048, -0.031 mm (mean 0.029 mm), vs the paper's printed 0.08.
+    // Measured: +0.019, +0.019, -0.048, -0.050 mm (mean 0.034 mm), vs the paper's printed 0.08.
     double sum = 0.0;
     for (const Feature& f : features()) {
         DlpGeometricResult r = optimiseColumnGeometric(f.solid, paperProblem(Bonding::OwnLayer));
@@ -154,7 +154,7 @@ TEST_CASE("Geometric objective: nothing cures outside the part in a synthetic co
     REQUIRE(cured[0].first >= 20 * 0.05);  // nothing below the designed surface
     REQUIRE(cured[0].second == Approx(36 * 0.05));
     REQUIRE(cured[1].first >= 46 * 0.05);
-    REQUIRE(cured[1].first <= 47 * 0.05);
+    REQUIRE(cured[1].first <= 47 * 0.05 + 1e-9);
 }
 
 TEST_CASE("Cured profile: one exposure cures its Jacobs depth", "[optimise]") {

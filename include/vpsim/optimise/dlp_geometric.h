@@ -33,7 +33,7 @@ struct DlpGeometricOptions {
     double margin = 0.05;            ///< outside nodes stay below (1 - margin) Ec, in [0, 1)
     double violationWeight = 100.0;  ///< weight of gel-condition violations (per Ec) vs spread
     double spreadWeight = 1.0;       ///< weight of the spread max - min of D inside (per Ec)
-    int maxPasses = 10;              ///< local-search passes over the exposure pattern
+    int maxPasses = 3;               ///< local-search passes over the exposure pattern
     int searchDepth = 24;            ///< layers above each run's bottom the local search moves
 };
 
