@@ -168,7 +168,7 @@ DlpGeometricResult optimiseColumnGeometric(const std::vector<uint8_t>& solid,
         bool improved = false;
         for (size_t k = 0; k < n; ++k) {
             if (!movable[k]) continue;
-            for (int move = 0; move < 3; ++move) {
+            for (int move = 0; move < o.moves; ++move) {
                 std::vector<uint8_t> trial = pattern;
                 if (move == 0)
                     trial[k] ^= 1;

@@ -34,6 +34,7 @@ struct DlpGeometricOptions {
     double violationWeight = 100.0;  ///< weight of gel-condition violations (per Ec) vs spread
     double spreadWeight = 1.0;       ///< weight of the spread max - min of D inside (per Ec)
     int maxPasses = 3;               ///< local-search passes over the exposure pattern
+    int moves = 1;                   ///< 1: switch a layer on/off; 3: also move an exposure +-1
     int searchDepth = 24;            ///< layers above each run's bottom the local search moves
 };
 
