@@ -99,4 +99,32 @@ DlpMaskPlan planOptimisedMasks(const DlpLayerStack& part, const DlpProcess& proc
     return out;
 }
 
+nlohmann::json dlpColumnFigureData(const DlpMaskPlan& plan, const DlpLayerStack& part,
+                                   const DlpProcess& process, int x, int y) {
+    if (x < 0 || y < 0 || x >= part.width || y >= part.height)
+        throw InputError("optimised-mask: figure column outside the masks");
+    const size_t p = size_t(y) * size_t(part.width) + size_t(x);
+    const size_t n = part.layers.size();
+    std::vector<double> quantised(n);
+    nlohmann::json z = nlohmann::json::array(), solid = z, dose = z, qdose = z, conversion = z;
+    for (size_t k = 0; k < n; ++k) quantised[k] = plan.plan.layers[k].masks[0].dose[p];
+    // Accumulated dose at each layer's top node (Eq. 4), then Phi = 1 - exp(-K D) (Eq. 1).
+    const double r = std::exp(-process.layerThickness / process.penetrationDepth);
+    std::vector<double> accumulated(n);
+    double carried = 0.0;
+    for (size_t k = n; k-- > 0;) accumulated[k] = carried = quantised[k] + r * carried;
+    for (size_t k = 0; k < n; ++k) {
+        z.push_back(double(k + 1) * process.layerThickness);
+        solid.push_back(part.layers[k][p] != 0);
+        dose.push_back(100.0 * plan.optimised.dose[k][p]);
+        qdose.push_back(100.0 * quantised[k]);
+        conversion.push_back(-std::expm1(-process.rateConstant * accumulated[k]));
+    }
+    return {{"z_mm", z},
+            {"solid", solid},
+            {"dose_mJ_per_cm2", dose},
+            {"quantised_dose_mJ_per_cm2", qdose},
+            {"conversion", conversion}};
+}
+
 }  // namespace vpsim::optimise

@@ -58,6 +58,13 @@ TEST_CASE("optimised-mask: quantised hole column keeps Table 2 within 0.2 mm", "
     REQUIRE(std::abs(top - (1.35 + 1.31 + 1.39) / 3) <= 0.2);
     REQUIRE(std::abs(bottom - (2.85 + 3.02 + 2.96) / 3) <= 0.2);
     REQUIRE(r.summary["distinct_columns"] == 1);
+    // Fig. 13-14 data: conversion inside the solid runs near Phi_obj, below the gel point deep
+    // in the holes (mid-hole nodes).
+    nlohmann::json fig = dlpColumnFigureData(r, part, process, 0, 0);
+    REQUIRE(fig["z_mm"].size() == 220);
+    REQUIRE(fig["conversion"][70].get<double>() < 0.276);  // z 3.55 mm, inside the bottom hole
+    REQUIRE(fig["conversion"][120].get<double>() > 0.9);   // z 6.05 mm, between the holes
+    REQUIRE(fig["quantised_dose_mJ_per_cm2"][70].get<double>() == 0.0);
     DlpMaskPlannerSettings hot;
     hot.maxDose = 2.6;  // above grey 255's 1.35 mJ/mm^2
     REQUIRE_THROWS_WITH(planOptimisedMasks(part, process, hot, levels),

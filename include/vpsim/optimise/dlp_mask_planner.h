@@ -65,4 +65,12 @@ DlpMaskPlan planOptimisedMasks(const DlpLayerStack& part, const DlpProcess& proc
                                const DlpMaskPlannerSettings& settings,
                                const plan::GreyLevels& levels);
 
+/// Data of the paper's Fig. 13-16 for pixel column (x, y): per layer the height of its top node
+/// (mm), solid or not, the optimised and the quantised dose (mJ/cm^2) and the conversion Phi at
+/// the node after quantisation (print-through included):
+/// {"z_mm", "solid", "dose_mJ_per_cm2", "quantised_dose_mJ_per_cm2", "conversion"}.
+/// @throw InputError when (x, y) is outside the part's masks
+nlohmann::json dlpColumnFigureData(const DlpMaskPlan& plan, const DlpLayerStack& part,
+                                   const DlpProcess& process, int x, int y);
+
 }  // namespace vpsim::optimise
