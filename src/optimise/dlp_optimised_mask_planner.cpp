@@ -18,13 +18,13 @@ public:
     plan::ScanPlan plan(const plan::PlannerInputs& in) override {
         const auto* fpp = dynamic_cast<const cure::FppLaw*>(&in.cure);
         if (!fpp)
-            throw InputError("planner optimised-mask needs the fpp cure law (K and gel point)",
-                             "", "plan.strategy");
+            throw InputError("planner optimised-mask needs the fpp cure law (K and gel point)", "",
+                             "plan.strategy");
         DlpProcess process;
         process.rateConstant = fpp->rateConstant();
         process.gelPoint = fpp->gelPoint();
-        process.penetrationDepth = fpp->hasPenetrationDepth() ? fpp->penetrationDepth()
-                                                              : in.beam.attenuationLength;
+        process.penetrationDepth =
+            fpp->hasPenetrationDepth() ? fpp->penetrationDepth() : in.beam.attenuationLength;
         process.layerThickness = in.machine.layerThickness;
         process.pixelPitch = in.machine.pixelPitch;
         process.blurRadius = in.machine.beamRadius;
