@@ -1,5 +1,7 @@
 #include "vpsim/optimise/dlp_optimised_mask_planner.h"
 
+#include <memory>
+
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
 #include "vpsim/cure/fpp_law.h"
@@ -11,7 +13,8 @@ namespace {
 
 class OptimisedMaskPlanner : public plan::Planner {
 public:
-    OptimisedMaskPlanner(DlpMaskPlannerSettings settings, plan::GreyLevels levels)
+    OptimisedMaskPlanner(DlpMaskPlannerSettings settings,
+                         std::shared_ptr<const plan::GreyLevels> levels)
         : mSettings(settings), mLevels(std::move(levels)) {}
     plan::Process process() const override { return plan::Process::Dlp; }
 
@@ -39,7 +42,14 @@ public:
             part.layers.push_back(layer.region.empty()
                                       ? std::vector<uint8_t>(grid.pixelCount(), 0)
                                       : geometry::rasterizeBinary(layer.region, grid));
-        DlpMaskPlan result = planOptimisedMasks(part, process, mSettings, mLevels);
+        // The machine's calibration (machine.grey_levels), else one given in the plan section.
+        const auto& levels = in.machine.greyLevels ? in.machine.greyLevels : mLevels;
+        if (!levels)
+            throw InputError(
+                "planner optimised-mask needs the projector's grey levels (machine.grey_levels "
+                "and machine.exposure_time)",
+                "", "machine.grey_levels");
+        DlpMaskPlan result = planOptimisedMasks(part, process, mSettings, *levels);
         mSummary = result.summary;
         plan::ScanPlan out = plan::emptyPlan(in.layers, in.machine);
         for (size_t k = 0; k < out.layers.size(); ++k)
@@ -51,7 +61,7 @@ public:
 
 private:
     DlpMaskPlannerSettings mSettings;
-    plan::GreyLevels mLevels;
+    std::shared_ptr<const plan::GreyLevels> mLevels;
     nlohmann::json mSummary = nlohmann::json::object();
 };
 
@@ -69,11 +79,15 @@ void registerOptimisedMaskPlanner(plan::PlannerRegistry& registry) {
           {"bonding", "Eq. 10 for a run's first exposure: own-layer (default) | run-bottom"},
           {"xy_coupling", "optimise jointly through the projector blur (default false)"},
           {"margin", "geometric: outside nodes below (1 - margin) Ec (default 0.05)"},
-          {"grey_levels", "[[grey, irradiance mW/mm^2], ...] projector calibration"},
-          {"exposure_time", "s per layer (dose = irradiance(grey) x time)"}},
+          {"grey_levels", "optional override of machine.grey_levels: [[grey, irradiance], ...]"},
+          {"exposure_time", "with grey_levels: s per layer (dose = irradiance(grey) x time)"}},
          [](const ConfigNode& section) {
+             std::shared_ptr<const plan::GreyLevels> levels;
+             if (section.has("grey_levels"))
+                 levels =
+                     std::make_shared<const plan::GreyLevels>(plan::greyLevelsFromConfig(section));
              return std::make_unique<OptimisedMaskPlanner>(
-                 dlpMaskPlannerSettingsFromConfig(section), plan::greyLevelsFromConfig(section));
+                 dlpMaskPlannerSettingsFromConfig(section), std::move(levels));
          }});
 }
 
