@@ -60,7 +60,8 @@ KernelRequest kernelRequest(const std::string& materialFile, double power, doubl
     return request;
 }
 
-BeamKernel cachedKernel(const KernelRequest& request, const RunContext& context, bool& fromCache) {
+BeamKernel cachedKernel(const KernelRequest& request, const RunContext& context, bool& fromCache,
+                        transport::McResult* monteCarlo) {
     if (!(request.setup.optics.mua > 0))
         throw InputError("the beam kernel needs an absorbing material (mua > 0)",
                          request.materialFile, "mua");
@@ -78,6 +79,7 @@ BeamKernel cachedKernel(const KernelRequest& request, const RunContext& context,
     }
     transport::McResult mc = transport::runPhotonMc(request.setup, context.gpu);
     BeamKernel beam = kernelFromMonteCarlo(mc, request.power);
+    if (monteCarlo) *monteCarlo = mc;
     if (path.empty()) return beam;
     try {
         createDirectories(dir);
