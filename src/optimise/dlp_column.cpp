@@ -115,16 +115,20 @@ bool exposureBounds(const std::vector<uint8_t>& exposed, const std::vector<uint8
     const double perLayer = std::exp(p.attenuation * p.layerThickness);
     bool feasible = true;
     double bonding = gelDose;  // grows by exp(mu Le) per element since the last exposure (Eq. 10)
+    bool firstOfRun = true;
     for (size_t k = 0; k < solid.size(); ++k) {
         if (!solid[k]) {
             if (exposed[k])
                 throw InputError("DLP column: layer " + std::to_string(k) +
                                  " is exposed outside the part");
             bonding = gelDose;  // the next run counts from its own bottom surface
+            firstOfRun = true;
             continue;
         }
         bonding *= perLayer;
         if (!exposed[k]) continue;
+        if (firstOfRun && p.bonding == Bonding::OwnLayer) bonding = gelDose * perLayer;
+        firstOfRun = false;
         lower[k] = bonding;
         upper[k] = p.maxDose;
         feasible = feasible && bonding <= p.maxDose;

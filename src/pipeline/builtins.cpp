@@ -2,6 +2,8 @@
 
 #include "vpsim/cure/fpp_law.h"
 #include "vpsim/cure/threshold_law.h"
+#include "vpsim/exporters/sl1_exporter.h"
+#include "vpsim/optimise/dlp_optimised_mask_planner.h"
 #include "vpsim/plan/aces_planner.h"
 #include "vpsim/plan/uniform_mask_planner.h"
 
@@ -11,10 +13,12 @@ void registerBuiltins(Builtins& b) {
     // Planners.
     plan::registerAcesPlanner(b.planners);
     plan::registerUniformMaskPlanner(b.planners);
+    optimise::registerOptimisedMaskPlanner(b.planners);
     // Cure laws.
     cure::registerThresholdLaw(b.cureLaws);
     cure::registerFppLaw(b.cureLaws);
     // Exporters.
+    exporters::registerSl1Exporters(b.exporters);
 }
 
 Builtins makeBuiltins() {

@@ -27,6 +27,8 @@ Machine machineFromConfig(const ConfigNode& section) {
     } else {
         machine.pixelPitch = positiveQuantity(section, "pixel_pitch", dim::LENGTH, 0.0625);
         machine.beamRadius = positiveQuantity(section, "blur_radius", dim::LENGTH, 0.02);
+        if (section.has("grey_levels"))
+            machine.greyLevels = std::make_shared<const GreyLevels>(greyLevelsFromConfig(section));
     }
     return machine;
 }

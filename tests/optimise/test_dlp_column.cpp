@@ -25,6 +25,7 @@ DlpColumnProblem seedResin(double maxDose) {
     p.maxDose = maxDose;
     p.targetConversion = 0.95;
     p.penalty = 5.5;
+    p.bonding = Bonding::RunBottom;  // the reading these tests were written for
     return p;
 }
 

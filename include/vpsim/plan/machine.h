@@ -4,7 +4,10 @@
 /// projection), the layer thickness and the light source. Read from a job's `machine` section.
 /// Units: mm, mW.
 
+#include <memory>
 #include <string>
+
+#include "vpsim/plan/grey_levels.h"
 
 namespace vpsim {
 class ConfigNode;
@@ -27,11 +30,14 @@ struct Machine {
     /// radius at the resin (DLP)
     double beamRadius = 0.05;
     double pixelPitch = 0.0625;  ///< mm (DLP projector pixel at the resin)
+    /// DLP: the projector's grey-level calibration ("grey_levels" + "exposure_time"), or null
+    std::shared_ptr<const GreyLevels> greyLevels;
 };
 
 /// Reads a job's `machine` section: "process" (laser | dlp, default laser), "layer_thickness"
 /// (default 50 um); laser: "laser_power" (10 mW), "beam_radius" (50 um); DLP: "pixel_pitch"
-/// (62.5 um), "blur_radius" (20 um). @throw InputError naming the file and key
+/// (62.5 um), "blur_radius" (20 um), optional "grey_levels" with "exposure_time" (grey_levels.h).
+/// @throw InputError naming the file and key
 Machine machineFromConfig(const ConfigNode& section);
 
 }  // namespace vpsim::plan

@@ -1,0 +1,214 @@
+#include "vpsim/optimise/dlp_geometric.h"
+
+#include <glpk.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <sstream>
+
+#include "vpsim/core/error.h"
+#include "vpsim/cure/cure_model.h"
+#include "vpsim/optimise/dlp_pattern_search.h"
+
+namespace vpsim::optimise {
+namespace {
+
+/// A thin owner of a GLPK problem with 1-based column/row helpers.
+class Programme {
+public:
+    Programme() : mP(glp_create_prob(), glp_delete_prob) { glp_set_obj_dir(mP.get(), GLP_MIN); }
+    int column(double lo, double hi, double cost, bool binary = false) {
+        int j = glp_add_cols(mP.get(), 1);
+        glp_set_col_bnds(mP.get(), j, lo == hi ? GLP_FX : (std::isinf(hi) ? GLP_LO : GLP_DB), lo,
+                         hi);
+        glp_set_obj_coef(mP.get(), j, cost);
+        if (binary) glp_set_col_kind(mP.get(), j, GLP_BV);
+        return j;
+    }
+    /// Row sum(coef x) with type GLP_LO (>= lo), GLP_UP (<= hi) or GLP_FX (= lo).
+    void row(const std::vector<std::pair<int, double>>& terms, int type, double lo, double hi) {
+        int i = glp_add_rows(mP.get(), 1);
+        std::vector<int> index{0};
+        std::vector<double> value{0.0};
+        for (const auto& [j, c] : terms) index.push_back(j), value.push_back(c);
+        glp_set_mat_row(mP.get(), i, int(terms.size()), index.data(), value.data());
+        glp_set_row_bnds(mP.get(), i, type, lo, hi);
+    }
+    glp_prob* get() { return mP.get(); }
+
+private:
+    std::unique_ptr<glp_prob, void (*)(glp_prob*)> mP;
+};
+
+}  // namespace
+
+DlpGeometricResult optimiseColumnGeometric(const std::vector<uint8_t>& solid,
+                                           const DlpColumnProblem& p,
+                                           const DlpGeometricOptions& o) {
+    std::vector<double> lo, hi;
+    exposureBounds(std::vector<uint8_t>(solid.size(), 0), solid, p, lo, hi);  // checks p
+    if (!(o.margin >= 0.0 && o.margin < 1.0))
+        throw InputError("DLP geometric: margin must lie in [0, 1)");
+    const double ec = cure::fppGelDose(p.rateConstant, p.gelPoint);
+    const double mule = p.attenuation * p.layerThickness, r = std::exp(-mule);
+    const double cap = p.maxDose / ec;                                 // d_max in units of Ec
+    const int window = int(std::floor(std::log(cap) / mule + 1e-12));  // longest allowed n_z
+    if (window < 1) throw InputError("DLP geometric: d_max is below the bonding dose (Eq. 10)");
+    const size_t n = solid.size();
+    Programme lp;
+    glp_term_out(GLP_OFF);
+    std::vector<int> x(n, 0), z(n, 0), y(n, 0), d(n);
+    for (size_t k = 0; k < n; ++k) {
+        if (solid[k]) {
+            x[k] = lp.column(0.0, cap, 1e-4);  // tiny dose cost breaks ties towards less light
+            z[k] = lp.column(0.0, 1.0, 0.0, true);
+            y[k] = lp.column(0.0, 1.0, 0.0);  // some exposure at or below k in this run
+        }
+        d[k] = lp.column(0.0, INFINITY, 0.0);
+    }
+    const int dMax = lp.column(0.0, INFINITY, o.spreadWeight),
+              dMin = lp.column(0.0, INFINITY, -o.spreadWeight);
+    for (size_t k = 0; k < n; ++k) {
+        // Print-through recursion D_k = x_k + r D_{k+1}.
+        std::vector<std::pair<int, double>> rec{{d[k], 1.0}};
+        if (k + 1 < n) rec.push_back({d[k + 1], -r});
+        if (solid[k]) rec.push_back({x[k], -1.0});
+        lp.row(rec, GLP_FX, 0.0, 0.0);
+        const int slack = lp.column(0.0, INFINITY, o.violationWeight);
+        if (solid[k]) {
+            lp.row({{d[k], 1.0}, {slack, 1.0}}, GLP_LO, 1.0, 0.0);  // reaches the gel dose
+            lp.row({{d[k], 1.0}, {dMax, -1.0}}, GLP_UP, 0.0, 0.0);
+            lp.row({{d[k], 1.0}, {dMin, -1.0}}, GLP_LO, 0.0, 0.0);
+        } else {
+            lp.row({{d[k], 1.0}, {slack, -1.0}}, GLP_UP, 0.0, 1.0 - o.margin);
+        }
+    }
+    const bool runBottom = p.bonding == Bonding::RunBottom;
+    for (size_t q = 0; q < n; ++q) {
+        if (!solid[q]) continue;
+        size_t begin = q;
+        while (begin > 0 && solid[begin - 1]) --begin;
+        lp.row({{x[q], 1.0}, {z[q], -cap}}, GLP_UP, 0.0, 0.0);             // x <= d_max z
+        lp.row({{x[q], 1.0}, {z[q], -std::exp(mule)}}, GLP_LO, 0.0, 0.0);  // n_z >= 1
+        // Monotone indicator: y_q = y_{q-1} or z_q (the surface counts under run-bottom).
+        const bool below = q > begin;
+        lp.row({{y[q], 1.0}, {z[q], -1.0}}, GLP_LO, 0.0, 0.0);
+        if (below) {
+            lp.row({{y[q], 1.0}, {y[q - 1], -1.0}}, GLP_LO, 0.0, 0.0);
+            lp.row({{y[q], 1.0}, {y[q - 1], -1.0}, {z[q], -1.0}}, GLP_UP, 0.0, 0.0);
+        } else {
+            lp.row({{y[q], 1.0}, {z[q], -1.0}}, GLP_UP, 0.0, runBottom ? 1.0 : 0.0);
+            if (runBottom) lp.row({{y[q], 1.0}}, GLP_LO, 1.0, 0.0);
+        }
+        // Eq. 10 for each gap k the cap allows: the previous exposure (or surface) at q - k.
+        for (int k = 2; k <= window; ++k) {
+            const long prev = long(q) - k;
+            const bool surface = prev == long(begin) - 1;
+            if (prev < long(begin) - 1 || (surface && !runBottom)) break;
+            const double lambda = std::exp(mule * k);
+            std::vector<std::pair<int, double>> t{{x[q], 1.0}, {z[q], -lambda}};
+            for (long j = prev + 1; j < long(q); ++j) t.push_back({z[j], lambda});
+            if (!surface) t.push_back({z[prev], -lambda});
+            lp.row(t, GLP_LO, surface ? 0.0 : -lambda, 0.0);
+        }
+        // No gap longer than the window between two exposures (or above the surface).
+        const long past = long(q) - window - 1;
+        if (past >= long(begin) - 1 && (past >= long(begin) || runBottom)) {
+            std::vector<std::pair<int, double>> t{{z[q], 1.0}};
+            for (long j = past + 1; j < long(q); ++j) t.push_back({z[j], -1.0});
+            if (past >= long(begin)) {
+                t.push_back({y[past], 1.0});
+                lp.row(t, GLP_UP, 0.0, 1.0);
+            } else {
+                lp.row(t, GLP_UP, 0.0, 0.0);  // the surface is "exposed" under run-bottom
+            }
+        }
+    }
+    // Search: exposure patterns from the L2 optimum and a short MILP, improved by local moves,
+    // each pattern's programme solved as an LP (z fixed); the LP relaxation bounds the gap.
+    auto solveFixed = [&](const std::vector<uint8_t>& pattern, std::vector<double>& doses) {
+        for (size_t k = 0; k < n; ++k)
+            if (solid[k]) glp_set_col_bnds(lp.get(), z[k], GLP_FX, pattern[k], pattern[k]);
+        glp_smcp sm;
+        glp_init_smcp(&sm);
+        sm.msg_lev = GLP_MSG_OFF;
+        if (glp_simplex(lp.get(), &sm) != 0 || glp_get_status(lp.get()) != GLP_OPT)
+            return std::numeric_limits<double>::infinity();
+        doses.assign(n, 0.0);
+        for (size_t k = 0; k < n; ++k)
+            if (solid[k] && pattern[k]) doses[k] = glp_get_col_prim(lp.get(), x[k]) * ec;
+        return glp_get_obj_val(lp.get());
+    };
+    glp_smcp sm;
+    glp_init_smcp(&sm);
+    sm.msg_lev = GLP_MSG_OFF;
+    double bound = -INFINITY;
+    if (glp_simplex(lp.get(), &sm) == 0 && glp_get_status(lp.get()) == GLP_OPT)
+        bound = glp_get_obj_val(lp.get());  // LP relaxation of the MILP
+    DlpColumnProblem l2 = p;
+    l2.penalty = 5.5;
+    std::vector<uint8_t> pattern = solveColumnExactly(solid, l2).best.exposed;
+    std::vector<double> bestDose;
+    double best = solveFixed(pattern, bestDose);
+    if (!std::isfinite(best)) {  // fall back to exposing every solid layer
+        pattern.assign(solid.begin(), solid.end());
+        best = solveFixed(pattern, bestDose);
+    }
+    // Only the layers near a run's bottom decide where a down-facing surface ends; the interior
+    // of a run stays exposed (moves there change the spread only, at a high LP cost).
+    std::vector<uint8_t> movable(n, 0);
+    for (size_t k = 0; k < n; ++k) {
+        size_t begin = k;
+        while (begin > 0 && solid[begin - 1]) --begin;
+        movable[k] = solid[k] && (k - begin) < size_t(o.searchDepth);
+    }
+    for (int pass = 0; pass < o.maxPasses; ++pass) {
+        bool improved = false;
+        for (size_t k = 0; k < n; ++k) {
+            if (!movable[k]) continue;
+            for (int move = 0; move < o.moves; ++move) {
+                std::vector<uint8_t> trial = pattern;
+                if (move == 0)
+                    trial[k] ^= 1;
+                else {
+                    size_t j = move == 1 ? k + 1 : k - 1;
+                    if (!trial[k] || j >= n || !solid[j] || trial[j]) continue;
+                    trial[k] = 0, trial[j] = 1;
+                }
+                std::vector<double> doses;
+                double value = solveFixed(trial, doses);
+                if (value < best - 1e-9 * std::max(1.0, std::abs(best))) {
+                    best = value, pattern = trial, bestDose = doses, improved = true;
+                }
+            }
+        }
+        if (!improved) break;
+    }
+    if (!std::isfinite(best)) throw InputError("DLP geometric: no printable exposure pattern");
+    DlpGeometricResult out;
+    out.dose = bestDose;
+    out.accumulated.assign(n, 0.0);
+    out.objective = best;
+    out.lowerBound = std::min(bound, best);
+    out.gap = (best - out.lowerBound) / std::max(std::abs(best), 1e-12);
+    out.optimal = out.gap <= 1e-9;
+    // Recompute D from the doses (not GLPK's values) so the result is self-consistent.
+    double carried = 0.0;
+    for (size_t k = n; k-- > 0;) out.accumulated[k] = carried = out.dose[k] + r * carried;
+    double high = 0.0, low = INFINITY;
+    for (size_t k = 0; k < n; ++k) {
+        const double v = out.accumulated[k] / ec;
+        if (solid[k]) {
+            out.violation += std::max(0.0, 1.0 - v);
+            high = std::max(high, v), low = std::min(low, v);
+        } else {
+            out.violation += std::max(0.0, v - (1.0 - o.margin));
+        }
+    }
+    out.spread = high >= low ? high - low : 0.0;
+    return out;
+}
+
+}  // namespace vpsim::optimise

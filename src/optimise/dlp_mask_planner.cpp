@@ -1,0 +1,130 @@
+#include "vpsim/optimise/dlp_mask_planner.h"
+
+#include <cmath>
+
+#include "vpsim/core/config.h"
+#include "vpsim/core/error.h"
+#include "vpsim/core/units.h"
+
+namespace vpsim::optimise {
+
+DlpMaskPlannerSettings dlpMaskPlannerSettingsFromConfig(const ConfigNode& plan) {
+    DlpMaskPlannerSettings s;
+    s.targetConversion = plan.numberInRange("target_conversion", 1e-6, 1.0 - 1e-6, 0.95);
+    s.penalty = plan.numberInRange("penalty", 0.0, 1e6, 5.5);
+    s.maxDose = plan.quantity("max_dose", dim::DOSE, 1.3);
+    if (!(s.maxDose > 0.0)) throw plan.error("max_dose", "must be positive");
+    s.objective = dlpObjectiveFromName(
+        plan.choice("objective", {"conversion-l2", "geometric"}, std::string("conversion-l2")));
+    s.bonding = bondingFromName(
+        plan.choice("bonding", {"own-layer", "run-bottom"}, std::string("own-layer")));
+    s.xyCoupling = plan.boolean("xy_coupling", false);
+    s.margin = plan.numberInRange("margin", 0.0, 0.99, 0.05);
+    return s;
+}
+
+DlpMaskPlan planOptimisedMasks(const DlpLayerStack& part, const DlpProcess& process,
+                               const DlpMaskPlannerSettings& settings,
+                               const plan::GreyLevels& levels) {
+    if (settings.maxDose > levels.maxDose() * (1.0 + 1e-9))
+        throw InputError("optimised-mask: max_dose " + std::to_string(settings.maxDose * 100.0) +
+                         " mJ/cm^2 is above the brightest grey level's dose " +
+                         std::to_string(levels.maxDose() * 100.0) + " mJ/cm^2");
+    DlpPartOptions o;
+    o.problem.layerThickness = process.layerThickness;
+    o.problem.rateConstant = process.rateConstant;
+    o.problem.attenuation = 1.0 / process.penetrationDepth;
+    o.problem.gelPoint = process.gelPoint;
+    o.problem.maxDose = settings.maxDose;
+    o.problem.targetConversion = settings.targetConversion;
+    o.problem.penalty = settings.penalty;
+    o.problem.bonding = settings.bonding;
+    o.objective = settings.objective;
+    o.geometric.margin = settings.margin;
+    DlpMaskPlan out;
+    out.optimised = optimiseDlpPart(part, o);
+    nlohmann::json xyJson = nullptr;
+    if (settings.xyCoupling) {
+        DlpXyOptions xy;
+        xy.pixelPitch = process.pixelPitch;
+        xy.blurRadius = process.blurRadius;
+        DlpXyResult joint = optimiseDlpPartXy(part, o, xy, &out.optimised);
+        xyJson = {{"seconds", joint.seconds},
+                  {"objective_columns", joint.objectiveColumns},
+                  {"objective_xy", joint.objectiveXy},
+                  {"contour_error_columns_mm", joint.contourErrorColumns},
+                  {"contour_error_xy_mm", joint.contourErrorXy}};
+        out.optimised = std::move(joint.doses);
+    }
+    std::vector<size_t> histogram(256, 0);
+    out.plan.machine.layerThickness = process.layerThickness;
+    out.plan.machine.pixelPitch = process.pixelPitch;
+    double quantisationError = 0.0;
+    size_t exposedPixels = 0;
+    for (size_t k = 0; k < part.layers.size(); ++k) {
+        plan::LayerPlan layer;
+        layer.z = double(k + 1) * process.layerThickness;
+        plan::MaskImage mask;
+        mask.width = part.width, mask.height = part.height;
+        mask.originX = process.originX, mask.originY = process.originY;
+        mask.pixelPitch = process.pixelPitch;
+        mask.dose.resize(out.optimised.dose[k].size());
+        std::vector<uint8_t> grey(mask.dose.size());
+        for (size_t p = 0; p < grey.size(); ++p) {
+            const double d = out.optimised.dose[k][p];
+            grey[p] = levels.quantise(d);
+            mask.dose[p] = float(levels.dose(grey[p]));  // what the printer delivers
+            if (d > 0.0) {
+                ++histogram[grey[p]];
+                ++exposedPixels;
+                quantisationError = std::max(quantisationError, std::abs(mask.dose[p] - d));
+            }
+        }
+        layer.masks.push_back(std::move(mask));
+        out.plan.layers.push_back(std::move(layer));
+        out.grey.push_back(std::move(grey));
+    }
+    out.summary = {{"planner", "optimised-mask"},
+                   {"objective",
+                    settings.objective == DlpObjective::Geometric ? "geometric" : "conversion-l2"},
+                   {"bonding", settings.bonding == Bonding::OwnLayer ? "own-layer" : "run-bottom"},
+                   {"distinct_columns", out.optimised.distinctColumns},
+                   {"max_optimality_gap", out.optimised.maxGap},
+                   {"columns_with_gap", out.optimised.openColumns},
+                   {"optimiser_seconds", out.optimised.seconds},
+                   {"exposed_pixels", exposedPixels},
+                   {"max_quantisation_error_mJ_per_cm2", quantisationError * 100.0},
+                   {"grey_histogram", histogram},
+                   {"xy_coupling", xyJson}};
+    return out;
+}
+
+nlohmann::json dlpColumnFigureData(const DlpMaskPlan& plan, const DlpLayerStack& part,
+                                   const DlpProcess& process, int x, int y) {
+    if (x < 0 || y < 0 || x >= part.width || y >= part.height)
+        throw InputError("optimised-mask: figure column outside the masks");
+    const size_t p = size_t(y) * size_t(part.width) + size_t(x);
+    const size_t n = part.layers.size();
+    std::vector<double> quantised(n);
+    nlohmann::json z = nlohmann::json::array(), solid = z, dose = z, qdose = z, conversion = z;
+    for (size_t k = 0; k < n; ++k) quantised[k] = plan.plan.layers[k].masks[0].dose[p];
+    // Accumulated dose at each layer's top node (Eq. 4), then Phi = 1 - exp(-K D) (Eq. 1).
+    const double r = std::exp(-process.layerThickness / process.penetrationDepth);
+    std::vector<double> accumulated(n);
+    double carried = 0.0;
+    for (size_t k = n; k-- > 0;) accumulated[k] = carried = quantised[k] + r * carried;
+    for (size_t k = 0; k < n; ++k) {
+        z.push_back(double(k + 1) * process.layerThickness);
+        solid.push_back(part.layers[k][p] != 0);
+        dose.push_back(100.0 * plan.optimised.dose[k][p]);
+        qdose.push_back(100.0 * quantised[k]);
+        conversion.push_back(-std::expm1(-process.rateConstant * accumulated[k]));
+    }
+    return {{"z_mm", z},
+            {"solid", solid},
+            {"dose_mJ_per_cm2", dose},
+            {"quantised_dose_mJ_per_cm2", qdose},
+            {"conversion", conversion}};
+}
+
+}  // namespace vpsim::optimise

@@ -1,0 +1,94 @@
+#include "vpsim/optimise/dlp_optimised_mask_planner.h"
+
+#include <memory>
+
+#include "vpsim/core/config.h"
+#include "vpsim/core/error.h"
+#include "vpsim/cure/fpp_law.h"
+#include "vpsim/geometry/raster.h"
+#include "vpsim/optimise/dlp_mask_planner.h"
+
+namespace vpsim::optimise {
+namespace {
+
+class OptimisedMaskPlanner : public plan::Planner {
+public:
+    OptimisedMaskPlanner(DlpMaskPlannerSettings settings,
+                         std::shared_ptr<const plan::GreyLevels> levels)
+        : mSettings(settings), mLevels(std::move(levels)) {}
+    plan::Process process() const override { return plan::Process::Dlp; }
+
+    plan::ScanPlan plan(const plan::PlannerInputs& in) override {
+        const auto* fpp = dynamic_cast<const cure::FppLaw*>(&in.cure);
+        if (!fpp)
+            throw InputError("planner optimised-mask needs the fpp cure law (K and gel point)", "",
+                             "plan.strategy");
+        DlpProcess process;
+        process.rateConstant = fpp->rateConstant();
+        process.gelPoint = fpp->gelPoint();
+        process.penetrationDepth =
+            fpp->hasPenetrationDepth() ? fpp->penetrationDepth() : in.beam.attenuationLength;
+        process.layerThickness = in.machine.layerThickness;
+        process.pixelPitch = in.machine.pixelPitch;
+        process.blurRadius = in.machine.beamRadius;
+        const geometry::Bounds& b = in.partBounds;
+        const geometry::RasterGrid grid = geometry::RasterGrid::covering(
+            {b.lo.x, b.lo.y}, {b.hi.x, b.hi.y}, in.machine.pixelPitch, 2);
+        process.originX = grid.origin.x;
+        process.originY = grid.origin.y;
+        DlpLayerStack part;
+        part.width = grid.width, part.height = grid.height;
+        for (const auto& layer : in.layers.layers)
+            part.layers.push_back(layer.region.empty()
+                                      ? std::vector<uint8_t>(grid.pixelCount(), 0)
+                                      : geometry::rasterizeBinary(layer.region, grid));
+        // The machine's calibration (machine.grey_levels), else one given in the plan section.
+        const auto& levels = in.machine.greyLevels ? in.machine.greyLevels : mLevels;
+        if (!levels)
+            throw InputError(
+                "planner optimised-mask needs the projector's grey levels (machine.grey_levels "
+                "and machine.exposure_time)",
+                "", "machine.grey_levels");
+        DlpMaskPlan result = planOptimisedMasks(part, process, mSettings, *levels);
+        mSummary = result.summary;
+        plan::ScanPlan out = plan::emptyPlan(in.layers, in.machine);
+        for (size_t k = 0; k < out.layers.size(); ++k)
+            out.layers[k].masks = std::move(result.plan.layers[k].masks);
+        return out;
+    }
+
+    nlohmann::json summary() const override { return mSummary; }
+
+private:
+    DlpMaskPlannerSettings mSettings;
+    std::shared_ptr<const plan::GreyLevels> mLevels;
+    nlohmann::json mSummary = nlohmann::json::object();
+};
+
+}  // namespace
+
+void registerOptimisedMaskPlanner(plan::PlannerRegistry& registry) {
+    registry.add(
+        {"optimised-mask",
+         "DLP greyscale masks with a per-pixel, per-layer dose optimised against print-through "
+         "(seed 001 Section 3: exact column optimum; geometric objective; xy coupling)",
+         {{"target_conversion", "Phi_obj inside the part (default 0.95)"},
+          {"penalty", "a of Eq. 12 at nodes outside the part (default 5.5)"},
+          {"max_dose", "d_max per layer (default \"130 mJ/cm^2\")"},
+          {"objective", "conversion-l2 (default) | geometric"},
+          {"bonding", "Eq. 10 for a run's first exposure: own-layer (default) | run-bottom"},
+          {"xy_coupling", "optimise jointly through the projector blur (default false)"},
+          {"margin", "geometric: outside nodes below (1 - margin) Ec (default 0.05)"},
+          {"grey_levels", "optional override of machine.grey_levels: [[grey, irradiance], ...]"},
+          {"exposure_time", "with grey_levels: s per layer (dose = irradiance(grey) x time)"}},
+         [](const ConfigNode& section) {
+             std::shared_ptr<const plan::GreyLevels> levels;
+             if (section.has("grey_levels"))
+                 levels =
+                     std::make_shared<const plan::GreyLevels>(plan::greyLevelsFromConfig(section));
+             return std::make_unique<OptimisedMaskPlanner>(
+                 dlpMaskPlannerSettingsFromConfig(section), std::move(levels));
+         }});
+}
+
+}  // namespace vpsim::optimise
