@@ -201,6 +201,13 @@ std::vector<ConfigNode> ConfigNode::children(const std::string& key) const {
     return nodes;
 }
 
+std::vector<std::string> ConfigNode::keys() const {
+    std::vector<std::string> out;
+    if (mNode->is_object())
+        for (const auto& item : mNode->items()) out.push_back(item.key());
+    return out;
+}
+
 const nlohmann::json& ConfigNode::raw(const std::string& key) const {
     const nlohmann::json& value = require(key);
     markRead(key, true);

@@ -36,6 +36,25 @@ void createPlanner(const ConfigNode& root, const Builtins& builtins, Job& job) {
                                               plan::processName(job.machine.process));
 }
 
+void createExporters(const ConfigNode& root, const Builtins& builtins, Job& job) {
+    if (!root.has("export")) {
+        const ConfigNode none(nlohmann::json::object(), root.file());
+        for (const std::string& name : builtins.exporters.names())
+            job.exporters.emplace_back(name, builtins.exporters.create(name, none));
+        return;
+    }
+    ConfigNode section = root.child("export");
+    for (const std::string& name : section.keys()) {
+        ConfigNode options = section.child(name);
+        try {
+            job.exporters.emplace_back(name, builtins.exporters.create(name, options));
+        } catch (const InputError& e) {
+            if (builtins.exporters.has(name)) throw;
+            throw section.error(name, e.reason());  // an unknown exporter, named with its key
+        }
+    }
+}
+
 }  // namespace
 
 Job loadJob(const std::string& path, const Builtins& builtins,
@@ -59,6 +78,7 @@ Job loadJob(const std::string& path, const Builtins& builtins,
                          "(cure.penetration_depth or cure.attenuation)");
     createPlanner(root, builtins, job);
     job.simulation = simulationFromConfig(sectionOrEmpty(root, "simulation"));
+    createExporters(root, builtins, job);
     if (root.has("features"))
         job.features = validate::featureProbesFromConfig(root.children("features"));
     root.checkUnknownKeys();

@@ -86,6 +86,7 @@ PlanResult planJob(const Job& job, const std::string& outDir, const RunContext& 
     Front f = runFront(job, outDir, context, result, timer);
     PlanResult plan = planStage(job, f.layers, f.bounds, f.beam, context);
     plan::saveScanPlan(plan.plan, outDir + "/plan.json");
+    exportStage(job, plan.plan, outDir);
     timer.finish("plan");
     return plan;
 }
@@ -116,6 +117,8 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
                    planned.summary};
     if (saved) result.plan.strategy = "saved plan " + options.planFile;
     timer.finish("plan");
+    result.exports = exportStage(job, planned.plan, outDir);
+    timer.finish("export");
 
     const int layers = int(f.layers.layers.size());
     const exposure::ExposureGrid grid = exposureGrid(job, f.bounds, f.beam);

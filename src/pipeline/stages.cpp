@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "vpsim/core/error.h"
+#include "vpsim/core/log.h"
 #include "vpsim/cure/cured_surface.h"
 #include "vpsim/exposure/exposure_engine.h"
 #include "vpsim/exposure/tabulated_engine.h"
@@ -74,6 +75,21 @@ void checkPlanFitsJob(const plan::ScanPlan& plan, const Job& job,
         throw InputError("the plan has " + std::to_string(plan.layers.size()) +
                              " layers, the job's part has " + std::to_string(layers.layers.size()),
                          file, "layers");
+}
+
+std::vector<std::string> exportStage(const Job& job, const plan::ScanPlan& plan,
+                                     const std::string& outDir) {
+    std::vector<std::string> written;
+    for (const auto& [name, exporter] : job.exporters) {
+        std::string reason;
+        if (!exporter->accepts(plan, reason)) {
+            logInfo("export " + name + " skipped: " + reason);
+            continue;
+        }
+        exporter->write(plan, outDir + "/" + exporter->defaultFileName());
+        written.push_back(exporter->defaultFileName());
+    }
+    return written;
 }
 
 exposure::ExposureGrid exposureGrid(const Job& job, const geometry::Bounds& b,

@@ -102,8 +102,10 @@ void writeHtmlReport(const std::string& outDir, const JobResult& r) {
     for (const auto& [stage, seconds] : r.stageSeconds) row(html, stage, number(seconds, 3));
     html << "</table>\n<h2>Files</h2><p><a href='report.json'>report.json</a>, <a "
             "href='part.stl'>part.stl</a>, <a href='cured.stl'>cured.stl</a>, <a "
-            "href='plan.json'>plan.json</a>, exposure.vdb, reference.vdb</p>\n"
-            "</body></html>\n";
+            "href='plan.json'>plan.json</a>, exposure.vdb, reference.vdb";
+    for (const std::string& file : r.exports)
+        html << ", <a href='" << escapeHtml(file) << "'>" << escapeHtml(file) << "</a>";
+    html << "</p>\n</body></html>\n";
     writeFileAtomic(outDir + "/index.html", html.str());
 }
 

@@ -24,6 +24,7 @@ nlohmann::json toJson(const JobResult& r) {
     report.update(r.plan.planner);
     report["plan"] = {
         {"strategy", r.plan.strategy}, {"layers", r.plan.layers}, {"energy_mJ", r.plan.energy}};
+    report["exports"] = r.exports;
     const ExposureSummary& e = r.exposure;
     report["exposure"] = {{"model", e.model},
                           {"backend", e.backend},

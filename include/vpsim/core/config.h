@@ -56,6 +56,8 @@ public:
     std::vector<ConfigNode> children(const std::string& key) const;
     /// The raw JSON value (marks the whole subtree as known). @throw InputError when missing.
     const nlohmann::json& raw(const std::string& key) const;
+    /// The keys of this object node (none for other kinds), without marking them read.
+    std::vector<std::string> keys() const;
 
     /// @throw InputError "unknown key 'x'" for the first key in the whole document never read.
     void checkUnknownKeys() const;

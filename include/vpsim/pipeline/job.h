@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "vpsim/cure/cure_law.h"
+#include "vpsim/exporters/exporter.h"
 #include "vpsim/geometry/part_spec.h"
 #include "vpsim/kernel/kernel_spec.h"
 #include "vpsim/pipeline/builtins.h"
@@ -43,6 +44,10 @@ struct Job {
     std::unique_ptr<plan::Planner> planner;
     SimulationSpec simulation;
     std::vector<validate::FeatureProbe> features;  ///< Z dimensions to measure (seed 001 Table 2)
+    /// Machine-file exporters run with the job, by name: those named in the `export` section
+    /// ({"sl1": {options}, "cli": {}}), or every registered one when it is absent; each writes
+    /// the plan when it can express it (a CLI file for laser plans, an SL1 archive for masks).
+    std::vector<std::pair<std::string, std::unique_ptr<exporters::Exporter>>> exporters;
 };
 
 /// Reads and checks a job file (unknown keys, units, ranges, referenced files), creating its

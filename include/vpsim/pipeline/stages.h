@@ -52,6 +52,12 @@ PlanResult planStage(const Job& job, const geometry::LayerStack& layers,
 void checkPlanFitsJob(const plan::ScanPlan& plan, const Job& job,
                       const geometry::LayerStack& layers, const std::string& file);
 
+/// Writes the plan with each of the job's exporters that can express it (into `outDir`, under
+/// the exporter's file name); returns the files written. Exporters that cannot are skipped
+/// with an info line saying why.
+std::vector<std::string> exportStage(const Job& job, const plan::ScanPlan& plan,
+                                     const std::string& outDir);
+
 /// The grid the exposure is computed on: the part's footprint plus the margin.
 exposure::ExposureGrid exposureGrid(const Job& job, const geometry::Bounds& partBounds,
                                     const BeamResult& beam);

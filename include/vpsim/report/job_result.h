@@ -69,7 +69,8 @@ struct JobResult {
     std::optional<KernelSummary> kernel;
     PlanSummary plan;
     ExposureSummary exposure;
-    double curedVolume = 0;  ///< mm^3 of the cured mesh
+    std::vector<std::string> exports;  ///< machine files written (names in the output directory)
+    double curedVolume = 0;            ///< mm^3 of the cured mesh
     ValidationReport validation;
     std::vector<std::pair<std::string, double>> stageSeconds;  ///< in run order
 };
