@@ -161,15 +161,20 @@ AcesDesign designAces(const AcesParameters& p, const geometry::PolygonSet& regio
 }
 
 std::vector<LaserVector> hatchRegion(const geometry::PolygonSet& region, double spacing,
-                                     double direction, double power, double speed) {
+                                     double direction, double power, double speed,
+                                     const geometry::PolygonSet* clip) {
     if (!(spacing > 0) || !(speed > 0))
         throw InputError("hatching needs a positive spacing and speed");
-    std::vector<geometry::Contour> contours = region.contours();
-    for (auto& contour : contours)
-        for (auto& v : contour) v = rotate(v, -direction);  // scan lines become horizontal
+    auto rotatedContours = [&](const geometry::PolygonSet& set) {
+        std::vector<geometry::Contour> contours = set.contours();
+        for (auto& contour : contours)
+            for (auto& v : contour) v = rotate(v, -direction);  // scan lines become horizontal
+        return contours;
+    };
     double lo = 1e300, hi = -1e300;
-    for (const auto& contour : contours)
+    for (const auto& contour : rotatedContours(region))
         for (const auto& v : contour) lo = std::min(lo, v.y), hi = std::max(hi, v.y);
+    const std::vector<geometry::Contour> contours = rotatedContours(clip ? *clip : region);
     std::vector<LaserVector> vectors;
     if (!(hi > lo)) return vectors;
     long lines = long(std::floor((hi - lo) / spacing + 1e-9)) + 1;
@@ -222,7 +227,13 @@ LayerPlan planAcesLayer(const geometry::PolygonSet& region, const AcesDesign& de
     }
     geometry::PolygonSet field =
         region.offset(-(design.edgeOffset + design.borderCount * design.hatchSpacing));
-    auto hatch = hatchRegion(field, design.hatchSpacing, design.direction, laserPower, design.speed);
+    // Line ends stop half a spacing short of the outermost line (border loop or imaginary line):
+    // along the lines the field is a continuous sheet, which a line field matches when it
+    // reaches half a spacing beyond its last line (the edge offset's definition).
+    geometry::PolygonSet clip = region.offset(
+        -(design.edgeOffset + (design.borderCount - 0.5) * design.hatchSpacing));
+    auto hatch = hatchRegion(field, design.hatchSpacing, design.direction, laserPower, design.speed,
+                             &clip);
     layer.vectors.insert(layer.vectors.end(), hatch.begin(), hatch.end());
     if (design.beamRadius > 0) detail::planSmallFeatures(region, design, laserPower, layer, local);
     if (!region.empty() && layer.vectors.empty() && layer.points.empty()) {

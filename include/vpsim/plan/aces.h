@@ -109,9 +109,11 @@ double longestEdgeDirection(const geometry::PolygonSet& region);
 AcesDesign designAces(const AcesParameters& parameters, const geometry::PolygonSet& region);
 
 /// Parallel scan vectors at `spacing` along `direction`, clipped to the region (scan-line
-/// intersection with the contours, even-odd), alternating in direction line by line.
+/// intersection with the contours, even-odd), alternating in direction line by line. With
+/// `clip`, the lines' positions come from `region` and their ends from `clip`.
 std::vector<LaserVector> hatchRegion(const geometry::PolygonSet& region, double spacing,
-                                     double direction, double power, double speed);
+                                     double direction, double power, double speed,
+                                     const geometry::PolygonSet* clip = nullptr);
 
 /// Closed scan loops along every contour of `region` (one vector per contour edge).
 std::vector<LaserVector> contourLoops(const geometry::PolygonSet& region, double power,

@@ -1,0 +1,71 @@
+#pragma once
+/// @file
+/// Disassembled-feature-based trajectory planning, DFBTP (seed 000 Section III): per layer, the
+/// middle area with ACES (the seed's 5% Ep edge rule, App. A), then every linear edge as a 1D
+/// least-squares QP across the edge (Eq. 17), then every corner as a 2D QP over a dot grid
+/// (Eq. 19), each on the exposure still missing after the features planned before it; layers
+/// planned from the top down, each aiming at its target minus what the layers above transmit
+/// into it (Eq. 21-22).
+///
+/// The QPs (optimise/qp_active_set.h): minimise |K T - E_c|^2 over T >= 0 subject to
+/// K T <= E_c + a_i Etar at every evaluation point. The seed gives no a_i; vpsim's defaults:
+///   a_out = 0.15 outside the part (sub-blocks 1, 5): with the middle area's 5% tail the surface
+///               outside stays below 0.2 Etar, below Ec/Etar = exp(-(lt - zmax)/De) for layers up
+///               to ~1.6 De thick, so the lifting does not cure outside the contour at the top;
+///   a_edge = 0.25 in the band the middle leaves short (sub-blocks 2, 4): room for the steep rise;
+///   a_in = 0.05 inside the middle area (sub-blocks 3, 6): the ACES ripple's size.
+/// Linear edges are planned as rows of constant line density parallel to the edge, i.e. laser
+/// vectors at power P and speed P / lambda; corners as laser points (dots) of given energy.
+///
+/// Exposure maps come from the exposure engine's separable model (exposure::ExposureEngine::
+/// exposureMap: deposit, blur, efficiency), the transmitted exposure by its print-through decay
+/// exp(-lt/De3D) per layer. Units: mm, mW, mJ, dose mJ/mm^2.
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "vpsim/exposure/exposure_engine.h"
+#include "vpsim/geometry/polygons.h"
+#include "vpsim/plan/aces.h"
+
+namespace vpsim::optimise {
+
+struct DfbtpParameters {
+    /// Beam and process for the ACES middle area; criticalDose in delivered units (Ec divided by
+    /// the beam efficiency), as for a stand-alone ACES plan. `edge` is ignored (5% rule).
+    plan::AcesParameters aces;
+    double gridPitch = 0.01;  ///< mm, planning grid (exposure maps, evaluation points)
+    double dotPitch = 0.02;   ///< mm, corner dot grid and edge row spacing
+    double liftOutside = 0.15, liftEdge = 0.25, liftInside = 0.05;  ///< a_i (see file comment)
+    bool compensate = true;   ///< subtract the exposure transmitted from the layers above
+};
+
+/// Per-layer record of a DFBTP (or any top-down) plan.
+struct LayerCompensation {
+    double uncompensableArea = 0;  ///< mm^2 where the transmitted exposure exceeds the target
+                                   ///< by more than 5% Etar (cannot be taken back by scanning)
+    double uncompensableMax = 0;   ///< largest excess / Etar
+    double curingOutsideArea = 0;  ///< mm^2 outside the region where the transmitted surface
+                                   ///< exposure alone reaches Ec
+    int edgeBlocks = 0, cornerBlocks = 0, cornerDots = 0;
+};
+
+struct DfbtpResult {
+    plan::ScanPlan plan;
+    std::vector<LayerCompensation> layers;  ///< same order as plan.layers (bottom first)
+    double targetDose = 0;                  ///< Etar at the surface (mJ/mm^2, after efficiency)
+};
+
+/// Plans every layer (regions bottom first; tops[k] is layer k's top z, mm).
+/// @throw InputError for impossible parameters (as designAces) or mismatched sizes
+DfbtpResult planDfbtp(const std::vector<geometry::PolygonSet>& regions,
+                      const std::vector<double>& tops, const DfbtpParameters& parameters,
+                      const exposure::SeparableBeam& beam);
+
+/// The planning grid covering every region plus a margin of Reff + 2 W.
+exposure::ExposureGrid planningGrid(const std::vector<geometry::PolygonSet>& regions,
+                                    double beamRadius, double pitch);
+
+}  // namespace vpsim::optimise

@@ -1,0 +1,124 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "vpsim/exposure/deposit.h"
+#include "vpsim/optimise/dfbtp_exposure_error.h"
+#include "vpsim/optimise/dfbtp_planner.h"
+#include "vpsim/plan/feature_blocks.h"
+
+using namespace vpsim;
+
+namespace {
+
+/// The default job's L part (examples/default.json: test part l-shape, size 2 mm, centred).
+geometry::PolygonSet lShape(double s = 2.0) {
+    auto a = geometry::PolygonSet::rectangle({0, 0}, {s, s / 2});
+    auto b = geometry::PolygonSet::rectangle({0, s / 2}, {s / 2, s});
+    return a.unite(b).translated({-s / 2, -s / 2});
+}
+
+/// The default job's fitted Monte Carlo kernel (report.json of examples/default.json): We3D
+/// 63.2 um, De3D 36.7 um, zmax 2.2 um, efficiency 2.37; Ec 10 mJ/cm^2, 10 mW, 50 um layers.
+struct Setup {
+    exposure::SeparableBeam beam{0.0632, 0.0367, 2.37};
+    optimise::DfbtpParameters p;
+    Setup() {
+        p.aces.beamRadius = beam.radius;
+        p.aces.attenuationLength = beam.attenuationLength;
+        p.aces.depthOfMaximum = 0.0022;
+        p.aces.criticalDose = 0.1 / beam.efficiency;
+        p.aces.layerThickness = 0.05;
+        p.aces.laserPower = 10.0;
+    }
+};
+
+/// Own exposure map of a layer plan on `grid`.
+exposure::SurfaceGrid mapOf(const plan::LayerPlan& layer, const exposure::ExposureGrid& grid,
+                            const exposure::SeparableBeam& beam) {
+    exposure::ExposureEngine engine(grid, beam, 0.05);
+    exposure::SurfaceGrid deposit(grid.nx, grid.ny, grid.originX, grid.originY, grid.pitch);
+    exposure::depositLayer(layer, deposit);
+    return engine.exposureMap(deposit);
+}
+
+double energyOf(const plan::LayerPlan& layer) {
+    double e = 0;
+    for (const auto& pt : layer.points) e += pt.energy;
+    for (const auto& v : layer.vectors) e += v.power / v.speed * std::hypot(v.x1 - v.x0, v.y1 - v.y0);
+    return e;
+}
+
+}  // namespace
+
+// Seed 000 Fig. 22/23: on one layer (nothing above it) DFBTP's squared exposure error is 39
+// against ACES's 60 mJ^2/mm^4 (ratio 0.65) with the seed's 5% edge rule. Here: the default L part
+// on a 10 um grid, errors over the part plus Reff; DFBTP must reach that ratio and also beat ACES
+// with vpsim's cure-at-contour rule.
+TEST_CASE("DFBTP lowers the single-layer exposure error of ACES as in seed 000", "[optimise][dfbtp]") {
+    Setup s;
+    auto region = lShape();
+    optimise::DfbtpResult dfbtp = optimise::planDfbtp({region}, {0.05}, s.p, s.beam);
+    REQUIRE(dfbtp.plan.layers.size() == 1);
+    const auto grid = optimise::planningGrid({region}, s.beam.radius, 0.01);
+    const double etar = dfbtp.targetDose, reff = plan::effectiveRadius(s.beam.radius);
+
+    plan::AcesParameters seed = s.p.aces;
+    seed.borderCount = 0;
+    plan::LayerPlan aces5 = plan::planAcesLayer(region, plan::designAces(seed, region), 10.0, 0.05);
+    plan::AcesParameters contour = s.p.aces;
+    contour.edge = plan::AcesEdge::CureAtContour;
+    contour.steadyPrintThrough = false;
+    plan::LayerPlan acesC =
+        plan::planAcesLayer(region, plan::designAces(contour, region), 10.0, 0.05);
+
+    auto errorOf = [&](const plan::LayerPlan& l) {
+        return optimise::layerExposureError(mapOf(l, grid, s.beam), region, etar, reff);
+    };
+    auto eAces5 = errorOf(aces5), eAcesC = errorOf(acesC), eDfbtp = errorOf(dfbtp.plan.layers[0]);
+    INFO("SSE mJ^2/mm^4: ACES 5% " << eAces5.sse << ", ACES cure-at-contour " << eAcesC.sse
+                                   << ", DFBTP " << eDfbtp.sse);
+    CHECK(eDfbtp.sse <= 0.65 * eAces5.sse);
+    CHECK(eDfbtp.sse < eAcesC.sse);
+    CHECK(dfbtp.layers[0].edgeBlocks == 6);
+    CHECK(dfbtp.layers[0].cornerBlocks == 6);
+    for (const auto& pt : dfbtp.plan.layers[0].points) CHECK(pt.energy > 0);
+    for (const auto& v : dfbtp.plan.layers[0].vectors) CHECK(v.speed > 0);
+}
+
+// Eq. 21-22 on two layers: the lower layer aims at its target minus what the upper one sends
+// down, exp(-lt/De) times the upper layer's own map (the direct sum of Eq. 21 for n = 2). With a
+// wide upper layer over a narrow lower one (bottom-narrow), the excess outside the lower region
+// cannot be taken back and is reported.
+TEST_CASE("DFBTP compensates the exposure transmitted from the layer above", "[optimise][dfbtp]") {
+    Setup s;
+    s.beam.attenuationLength = 0.1;  // print-through that matters: De = 2 lt
+    s.p.aces.attenuationLength = 0.1;
+    auto big = geometry::PolygonSet::rectangle({-0.6, -0.6}, {0.6, 0.6});
+    auto small = geometry::PolygonSet::rectangle({-0.4, -0.4}, {0.4, 0.4});
+    auto withComp = optimise::planDfbtp({small, big}, {0.05, 0.1}, s.p, s.beam);
+    s.p.compensate = false;
+    auto without = optimise::planDfbtp({small, big}, {0.05, 0.1}, s.p, s.beam);
+    const auto grid = optimise::planningGrid({small, big}, s.beam.radius, 0.01);
+    // The top layer does not depend on compensation.
+    CHECK(energyOf(withComp.plan.layers[1]) == Approx(energyOf(without.plan.layers[1])).epsilon(1e-9));
+    auto upper = mapOf(withComp.plan.layers[1], grid, s.beam);
+    auto lowerC = mapOf(withComp.plan.layers[0], grid, s.beam);
+    auto lowerU = mapOf(without.plan.layers[0], grid, s.beam);
+    const double decay = std::exp(-0.05 / 0.1), etar = withComp.targetDose;
+    exposure::SurfaceGrid totalC = lowerC, totalU = lowerU;
+    for (size_t c = 0; c < upper.values.size(); ++c) {
+        totalC.values[c] += float(decay * upper.values[c]);
+        totalU.values[c] += float(decay * upper.values[c]);
+    }
+    double reff = plan::effectiveRadius(s.beam.radius);
+    auto eC = optimise::layerExposureError(totalC, small, etar, reff);
+    auto eU = optimise::layerExposureError(totalU, small, etar, reff);
+    INFO("lower layer SSE with compensation " << eC.sse << ", without " << eU.sse);
+    CHECK(eC.sse < 0.5 * eU.sse);
+    CHECK(energyOf(withComp.plan.layers[0]) < energyOf(without.plan.layers[0]));
+    // Outside the small layer the big one sends about decay * Etar: reported as uncompensable.
+    CHECK(withComp.layers[0].uncompensableArea > 0.5 * (big.area() - small.area()));
+    CHECK(withComp.layers[0].uncompensableMax == Approx(decay).margin(0.15));
+    CHECK(withComp.layers[1].uncompensableArea == 0);
+}
