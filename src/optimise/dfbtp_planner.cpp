@@ -141,6 +141,28 @@ int planCorner(const plan::CornerBlock& corner, LayerContext& c, plan::LayerPlan
     return placed;
 }
 
+/// Eq. 22 for the middle area: the ACES vectors cut into pieces of about two grid cells, each at
+/// the speed that gives the local compensated target (the plan's speed scaled by Etar / goal);
+/// pieces where nothing is left to expose are dropped.
+std::vector<plan::LaserVector> modulatedHatch(const std::vector<plan::LaserVector>& vectors,
+                                              const LayerContext& c) {
+    std::vector<plan::LaserVector> out;
+    const double piece = 2 * c.p->gridPitch;
+    for (const auto& v : vectors) {
+        double length = std::hypot(v.x1 - v.x0, v.y1 - v.y0);
+        int pieces = std::max(1, int(std::ceil(length / piece)));
+        for (int k = 0; k < pieces; ++k) {
+            double t0 = double(k) / pieces, t1 = double(k + 1) / pieces, tm = 0.5 * (t0 + t1);
+            double goal = bilinear(c.goal, v.x0 + tm * (v.x1 - v.x0), v.y0 + tm * (v.y1 - v.y0));
+            if (!(goal > 0.01 * c.etar)) continue;
+            out.push_back({v.x0 + t0 * (v.x1 - v.x0), v.y0 + t0 * (v.y1 - v.y0),
+                           v.x0 + t1 * (v.x1 - v.x0), v.y0 + t1 * (v.y1 - v.y0), v.power,
+                           v.speed * std::max(1.0, c.etar / goal)});
+        }
+    }
+    return out;
+}
+
 }  // namespace
 
 exposure::ExposureGrid planningGrid(const std::vector<geometry::PolygonSet>& regions,
@@ -212,7 +234,9 @@ DfbtpResult planDfbtp(const std::vector<geometry::PolygonSet>& regions,
                 if (!c.inside[cell] && transmitted.values[cell] >= criticalDose)
                     rec.curingOutsideArea += cellArea;
                 c.goal.values[cell] = float(std::max(target - sent, 0.0));
+                if (c.inside[cell] && sent > 0.01 * c.etar) rec.compensated = true;
             }
+            if (p.compensate && rec.compensated) layer.vectors = modulatedHatch(layer.vectors, c);
             c.planned = mapOf(engine, layer);
             plan::LayerPlan edges;
             for (const auto& e : blocks.edges) planEdge(e, c, edges);

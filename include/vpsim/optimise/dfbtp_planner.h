@@ -14,6 +14,8 @@
 ///               to ~1.6 De thick, so the lifting does not cure outside the contour at the top;
 ///   a_edge = 0.25 in the band the middle leaves short (sub-blocks 2, 4): room for the steep rise;
 ///   a_in = 0.05 inside the middle area (sub-blocks 3, 6): the ACES ripple's size.
+/// With compensation the middle area's ACES vectors are cut into short pieces whose speeds follow
+/// the compensated target Etar - E_t (Eq. 22) instead of Etar.
 /// Linear edges are planned as rows of constant line density parallel to the edge, i.e. laser
 /// vectors at power P and speed P / lambda; corners as laser points (dots) of given energy.
 ///
@@ -50,6 +52,7 @@ struct LayerCompensation {
     double curingOutsideArea = 0;  ///< mm^2 outside the region where the transmitted surface
                                    ///< exposure alone reaches Ec
     int edgeBlocks = 0, cornerBlocks = 0, cornerDots = 0;
+    bool compensated = false;  ///< the layers above send more than 1% Etar into the region
 };
 
 struct DfbtpResult {
