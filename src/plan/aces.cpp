@@ -177,7 +177,9 @@ std::vector<LaserVector> hatchRegion(const geometry::PolygonSet& region, double 
     const std::vector<geometry::Contour> contours = rotatedContours(clip ? *clip : region);
     std::vector<LaserVector> vectors;
     if (!(hi > lo)) return vectors;
-    long lines = long(std::floor((hi - lo) / spacing + 1e-9)) + 1;
+    // designAces makes the width a whole number of spaces, but Clipper rounds offset contours to
+    // 1 nm: allow 1% of a space before dropping the last line (it is clamped into the field).
+    long lines = long(std::floor((hi - lo) / spacing + 0.01)) + 1;
     const double nudge =
         1e-9 * std::max(1.0, hi - lo);  // keep the extreme lines off horizontal edges
     std::vector<double> xs;
