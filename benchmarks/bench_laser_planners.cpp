@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "vpsim/exposure/deposit.h"
+#include "vpsim/exposure/exposure_engine.h"
 #include "vpsim/optimise/dfbtp_exposure_error.h"
 #include "vpsim/optimise/dfbtp_planner.h"
 #include "vpsim/plan/feature_blocks.h"
@@ -17,7 +18,7 @@ using namespace vpsim;
 
 namespace {
 
-const exposure::SeparableBeam BEAM{0.0632, 0.0367, 2.37};  // examples/default.json's fitted kernel
+const kernel::FittedBeam BEAM{0.0632, 0.0367, 0.0022, 2.37};  // examples/default.json's fitted kernel
 
 optimise::DfbtpParameters parameters() {
     optimise::DfbtpParameters p;

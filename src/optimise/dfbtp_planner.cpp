@@ -1,12 +1,14 @@
 #include "vpsim/optimise/dfbtp_planner.h"
 
 #include <algorithm>
+#include <memory>
 #include <cmath>
 
 #include <glm/common.hpp>
 
 #include "vpsim/core/error.h"
 #include "vpsim/exposure/deposit.h"
+#include "vpsim/exposure/exposure_engine.h"
 #include "vpsim/optimise/dfbtp_exposure_error.h"
 #include "vpsim/optimise/qp_active_set.h"
 #include "vpsim/plan/feature_blocks.h"
@@ -41,11 +43,14 @@ double missingAt(const LayerContext& c, double x, double y) {
     return std::max(bilinear(c.goal, x, y) - bilinear(c.planned, x, y), 0.0);
 }
 
-SurfaceGrid mapOf(exposure::ExposureEngine& engine, const plan::LayerPlan& layer) {
-    const auto& g = engine.grid();
-    SurfaceGrid deposit(g.nx, g.ny, g.originX, g.originY, g.pitch);
+SurfaceGrid depositOf(const exposure::ExposureModel& model, const plan::LayerPlan& layer) {
+    SurfaceGrid deposit = model.grid().surface();
     exposure::depositLayer(layer, deposit);
-    return engine.exposureMap(deposit);
+    return deposit;
+}
+
+SurfaceGrid mapOf(exposure::ExposureModel& model, const plan::LayerPlan& layer) {
+    return model.layerMap(depositOf(model, layer), 0.0);
 }
 
 /// Seed Eq. 17: one linear edge as rows of constant line density lambda_j (mJ/mm) at distances
@@ -179,9 +184,23 @@ exposure::ExposureGrid planningGrid(const std::vector<geometry::PolygonSet>& reg
     return exposure::ExposureGrid::covering(lo.x, lo.y, hi.x, hi.y, margin, pitch, 1);
 }
 
+exposure::SurfaceGrid transmittedExposure(exposure::ExposureModel& model,
+                                          const std::vector<exposure::SurfaceGrid>& deposits,
+                                          int k, double attenuationLength) {
+    SurfaceGrid sum = model.grid().surface();
+    const double lt = model.layerThickness();
+    for (int j = k + 1; j < int(deposits.size()); ++j) {
+        double depth = (j - k) * lt;
+        if (std::exp(-depth / attenuationLength) < 1e-4) break;
+        SurfaceGrid part = model.layerMap(deposits[j], depth);
+        for (size_t c = 0; c < sum.values.size(); ++c) sum.values[c] += part.values[c];
+    }
+    return sum;
+}
+
 DfbtpResult planDfbtp(const std::vector<geometry::PolygonSet>& regions,
                       const std::vector<double>& tops, const DfbtpParameters& p,
-                      const exposure::SeparableBeam& beam) {
+                      const kernel::FittedBeam& beam, exposure::ExposureModel* model) {
     if (regions.size() != tops.size())
         throw InputError("DFBTP: one top height per layer region is needed");
     if (!(p.gridPitch > 0) || !(p.dotPitch > 0) || !(p.liftOutside >= 0) || !(p.liftEdge >= 0) ||
@@ -191,11 +210,16 @@ DfbtpResult planDfbtp(const std::vector<geometry::PolygonSet>& regions,
     acesParameters.edge = plan::AcesEdge::SeedFivePercent;
     acesParameters.borderCount = 0;
     acesParameters.borderOffset.reset();
-    const exposure::ExposureGrid grid = planningGrid(regions, beam.radius, p.gridPitch);
-    exposure::ExposureEngine engine(grid, beam, p.aces.layerThickness);
-    const double decay = std::exp(-p.aces.layerThickness / beam.attenuationLength);
+    std::unique_ptr<exposure::ExposureModel> own;
+    if (!model) {
+        own = std::make_unique<exposure::ExposureEngine>(
+            planningGrid(regions, beam.radius, p.gridPitch), beam, p.aces.layerThickness);
+        model = own.get();
+    }
+    exposure::ExposureModel& engine = *model;
+    const exposure::ExposureGrid grid = engine.grid();
     const double criticalDose = p.aces.criticalDose * beam.efficiency;
-    SurfaceGrid transmitted(grid.nx, grid.ny, grid.originX, grid.originY, grid.pitch);
+    std::vector<SurfaceGrid> deposits(regions.size(), grid.surface());
     DfbtpResult result;
     result.plan.machine.layerThickness = p.aces.layerThickness;
     result.plan.machine.laserPower = p.aces.laserPower;
@@ -204,6 +228,8 @@ DfbtpResult planDfbtp(const std::vector<geometry::PolygonSet>& regions,
     result.layers.resize(regions.size());
     for (int k = int(regions.size()) - 1; k >= 0; --k) {
         plan::LayerPlan& layer = result.plan.layers[k];
+        const SurfaceGrid transmitted =
+            transmittedExposure(engine, deposits, k, beam.attenuationLength);
         layer.z = tops[k];
         const geometry::PolygonSet& region = regions[k];
         if (!region.empty()) {
@@ -249,9 +275,7 @@ DfbtpResult planDfbtp(const std::vector<geometry::PolygonSet>& regions,
             for (const auto& corner : blocks.corners) rec.cornerDots += planCorner(corner, c, layer);
             rec.cornerBlocks = int(blocks.corners.size());
         }
-        SurfaceGrid own = mapOf(engine, layer);
-        for (size_t cell = 0; cell < own.values.size(); ++cell)
-            transmitted.values[cell] = float(decay * (own.values[cell] + transmitted.values[cell]));
+        deposits[k] = depositOf(engine, layer);
     }
     return result;
 }

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "vpsim/exposure/deposit.h"
+#include "vpsim/exposure/exposure_engine.h"
 #include "vpsim/optimise/dfbtp_exposure_error.h"
 #include "vpsim/optimise/dfbtp_planner.h"
 #include "vpsim/plan/feature_blocks.h"
@@ -21,7 +22,7 @@ geometry::PolygonSet lShape(double s = 2.0) {
 /// The default job's fitted Monte Carlo kernel (report.json of examples/default.json): We3D
 /// 63.2 um, De3D 36.7 um, zmax 2.2 um, efficiency 2.37; Ec 10 mJ/cm^2, 10 mW, 50 um layers.
 struct Setup {
-    exposure::SeparableBeam beam{0.0632, 0.0367, 2.37};
+    kernel::FittedBeam beam{0.0632, 0.0367, 0.0022, 2.37};
     optimise::DfbtpParameters p;
     Setup() {
         p.aces.beamRadius = beam.radius;
@@ -35,7 +36,7 @@ struct Setup {
 
 /// Own exposure map of a layer plan on `grid`.
 exposure::SurfaceGrid mapOf(const plan::LayerPlan& layer, const exposure::ExposureGrid& grid,
-                            const exposure::SeparableBeam& beam) {
+                            const kernel::FittedBeam& beam) {
     exposure::ExposureEngine engine(grid, beam, 0.05);
     exposure::SurfaceGrid deposit(grid.nx, grid.ny, grid.originX, grid.originY, grid.pitch);
     exposure::depositLayer(layer, deposit);

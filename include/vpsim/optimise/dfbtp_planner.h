@@ -19,16 +19,16 @@
 /// Linear edges are planned as rows of constant line density parallel to the edge, i.e. laser
 /// vectors at power P and speed P / lambda; corners as laser points (dots) of given energy.
 ///
-/// Exposure maps come from the exposure engine's separable model (exposure::ExposureEngine::
-/// exposureMap: deposit, blur, efficiency), the transmitted exposure by its print-through decay
-/// exp(-lt/De3D) per layer. Units: mm, mW, mJ, dose mJ/mm^2.
+/// Exposure maps, own and transmitted, come from the exposure model (exposure::ExposureModel::
+/// layerMap at the depth of the receiving layer's top). Units: mm, mW, mJ, dose mJ/mm^2.
 
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
-#include "vpsim/exposure/exposure_engine.h"
+#include "vpsim/exposure/exposure_model.h"
+#include "vpsim/kernel/fitted_beam.h"
 #include "vpsim/geometry/polygons.h"
 #include "vpsim/plan/aces.h"
 
@@ -61,11 +61,21 @@ struct DfbtpResult {
     double targetDose = 0;                  ///< Etar at the surface (mJ/mm^2, after efficiency)
 };
 
-/// Plans every layer (regions bottom first; tops[k] is layer k's top z, mm).
+/// Plans every layer (regions bottom first; tops[k] is layer k's top z, mm). The exposure maps
+/// come from `model` (its grid must cover the regions plus Reff; the tabulated kernel works
+/// too) or, when null, from a fitted-kernel engine on planningGrid(). The beam's numbers size the
+/// features and the QP kernels.
 /// @throw InputError for impossible parameters (as designAces) or mismatched sizes
 DfbtpResult planDfbtp(const std::vector<geometry::PolygonSet>& regions,
                       const std::vector<double>& tops, const DfbtpParameters& parameters,
-                      const exposure::SeparableBeam& beam);
+                      const kernel::FittedBeam& beam, exposure::ExposureModel* model = nullptr);
+
+/// The exposure the layers above send into the top of layer k (Eq. 21) through the model:
+/// sum over j > k of layerMap(deposit_j, (j - k) lt), over the layers whose transmission
+/// exp(-(j - k) lt / De3D) exceeds 1e-4. `deposits` are bottom first.
+exposure::SurfaceGrid transmittedExposure(exposure::ExposureModel& model,
+                                          const std::vector<exposure::SurfaceGrid>& deposits,
+                                          int k, double attenuationLength);
 
 /// The planning grid covering every region plus a margin of Reff + 2 W.
 exposure::ExposureGrid planningGrid(const std::vector<geometry::PolygonSet>& regions,
