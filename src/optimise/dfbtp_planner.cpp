@@ -1,8 +1,8 @@
 #include "vpsim/optimise/dfbtp_planner.h"
 
 #include <algorithm>
-#include <memory>
 #include <cmath>
+#include <memory>
 
 #include <glm/common.hpp>
 
@@ -185,8 +185,8 @@ exposure::ExposureGrid planningGrid(const std::vector<geometry::PolygonSet>& reg
 }
 
 exposure::SurfaceGrid transmittedExposure(exposure::ExposureModel& model,
-                                          const std::vector<exposure::SurfaceGrid>& deposits,
-                                          int k, double attenuationLength) {
+                                          const std::vector<exposure::SurfaceGrid>& deposits, int k,
+                                          double attenuationLength) {
     SurfaceGrid sum = model.grid().surface();
     const double lt = model.layerThickness();
     for (int j = k + 1; j < int(deposits.size()); ++j) {
@@ -272,7 +272,8 @@ DfbtpResult planDfbtp(const std::vector<geometry::PolygonSet>& regions,
                                      edges.vectors.end());
                 c.planned = mapOf(engine, layer);
             }
-            for (const auto& corner : blocks.corners) rec.cornerDots += planCorner(corner, c, layer);
+            for (const auto& corner : blocks.corners)
+                rec.cornerDots += planCorner(corner, c, layer);
             rec.cornerBlocks = int(blocks.corners.size());
         }
         deposits[k] = depositOf(engine, layer);

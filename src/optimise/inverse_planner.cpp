@@ -18,9 +18,9 @@ using exposure::SurfaceGrid;
 /// One layer's least-squares problem f(x) = 1/2 |W (M S x + offset)|^2 (see the header).
 struct LayerProblem {
     exposure::ExposureModel* model = nullptr;
-    std::vector<size_t> dots;     ///< dot cells
-    std::vector<char> counted;    ///< cells in the objective
-    std::vector<float> offset;    ///< E_t - Etm on counted cells
+    std::vector<size_t> dots;   ///< dot cells
+    std::vector<char> counted;  ///< cells in the objective
+    std::vector<float> offset;  ///< E_t - Etm on counted cells
     double cellArea = 0;
 
     SurfaceGrid forward(const std::vector<double>& x) const {
@@ -160,7 +160,8 @@ InverseResult planInverse(const std::vector<geometry::PolygonSet>& regions,
             problem.offset[c] = float(excess);
             if (excess > 0.05 * etar) rec.uncompensableArea += cellArea;
             rec.uncompensableMax = std::max(rec.uncompensableMax, excess / etar);
-            if (!inside[c] && transmitted.values[c] >= criticalDose) rec.curingOutsideArea += cellArea;
+            if (!inside[c] && transmitted.values[c] >= criticalDose)
+                rec.curingOutsideArea += cellArea;
             rec.compensated |= inside[c] && transmitted.values[c] > 0.01 * etar;
         }
         // Dots on every stride-th cell centre, and the ACES deposit gathered onto the nearest.
@@ -198,9 +199,10 @@ InverseResult planInverse(const std::vector<geometry::PolygonSet>& regions,
             rep.finalObjective = best;
             for (size_t d = 0; d < solution.size(); ++d)
                 if (solution[d] > 0)
-                    layer.points.push_back({grid.originX + (problem.dots[d] % grid.nx + 0.5) * grid.pitch,
-                                            grid.originY + (problem.dots[d] / grid.nx + 0.5) * grid.pitch,
-                                            solution[d]});
+                    layer.points.push_back(
+                        {grid.originX + (problem.dots[d] % grid.nx + 0.5) * grid.pitch,
+                         grid.originY + (problem.dots[d] / grid.nx + 0.5) * grid.pitch,
+                         solution[d]});
         }
         exposure::depositLayer(layer, deposits[k]);
     }

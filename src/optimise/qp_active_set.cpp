@@ -38,16 +38,14 @@ void equalityStep(const Eigen::MatrixXd& H, const Eigen::VectorXd& g, const Eige
 
 }  // namespace
 
-LsqQpResult solveLsqQp(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
-                       const Eigen::MatrixXd& C, const Eigen::VectorXd& d, double ridge,
-                       int maxIterations) {
+LsqQpResult solveLsqQp(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::MatrixXd& C,
+                       const Eigen::VectorXd& d, double ridge, int maxIterations) {
     const int n = int(A.cols()), m = int(C.rows());
     if (A.rows() != b.size() || (m > 0 && C.cols() != n) || d.size() != m || !(ridge >= 0))
         throw InputError("least-squares QP: mismatched matrix sizes or negative ridge");
     if (m > 0 && d.minCoeff() < 0)
         throw InputError("least-squares QP: a bound C x <= d with d < 0 makes x = 0 infeasible");
-    const Eigen::MatrixXd H =
-        A.transpose() * A + ridge * Eigen::MatrixXd::Identity(n, n);
+    const Eigen::MatrixXd H = A.transpose() * A + ridge * Eigen::MatrixXd::Identity(n, n);
     const Eigen::VectorXd Atb = A.transpose() * b;
     const double scale = std::max(1.0, H.diagonal().cwiseAbs().maxCoeff());
     const double tol = 1e-12 * scale;
@@ -56,7 +54,7 @@ LsqQpResult solveLsqQp(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
     LsqQpResult result;
     Eigen::VectorXd x = Eigen::VectorXd::Zero(n), p, mu;
     WorkingSet w{std::vector<char>(n, 1), {}};  // start: every bound active at x = 0
-    Eigen::VectorXd slack = d;                   // d - C x
+    Eigen::VectorXd slack = d;                  // d - C x
     for (int it = 0; it < maxIterations; ++it) {
         result.iterations = it + 1;
         Eigen::VectorXd g = H * x - Atb;

@@ -232,10 +232,10 @@ LayerPlan planAcesLayer(const geometry::PolygonSet& region, const AcesDesign& de
     // Line ends stop half a spacing short of the outermost line (border loop or imaginary line):
     // along the lines the field is a continuous sheet, which a line field matches when it
     // reaches half a spacing beyond its last line (the edge offset's definition).
-    geometry::PolygonSet clip = region.offset(
-        -(design.edgeOffset + (design.borderCount - 0.5) * design.hatchSpacing));
-    auto hatch = hatchRegion(field, design.hatchSpacing, design.direction, laserPower, design.speed,
-                             &clip);
+    geometry::PolygonSet clip =
+        region.offset(-(design.edgeOffset + (design.borderCount - 0.5) * design.hatchSpacing));
+    auto hatch =
+        hatchRegion(field, design.hatchSpacing, design.direction, laserPower, design.speed, &clip);
     layer.vectors.insert(layer.vectors.end(), hatch.begin(), hatch.end());
     if (design.beamRadius > 0) detail::planSmallFeatures(region, design, laserPower, layer, local);
     if (!region.empty() && layer.vectors.empty() && layer.points.empty()) {

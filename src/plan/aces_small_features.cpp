@@ -75,8 +75,8 @@ void planSmallFeatures(const geometry::PolygonSet& region, const AcesDesign& des
         }
         for (const auto& [x0, x1] : intervals) {
             double c = std::cos(direction), s = std::sin(direction);
-            layer.vectors.push_back(
-                {c * x0 - s * y, s * x0 + c * y, c * x1 - s * y, s * x1 + c * y, laserPower, speed});
+            layer.vectors.push_back({c * x0 - s * y, s * x0 + c * y, c * x1 - s * y, s * x1 + c * y,
+                                     laserPower, speed});
         }
         ++info.smallFeatureLines;
     }

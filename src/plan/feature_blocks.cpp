@@ -9,11 +9,13 @@
 namespace vpsim::plan {
 namespace {
 
-double cross(const glm::dvec2& a, const glm::dvec2& b) { return a.x * b.y - a.y * b.x; }
+double cross(const glm::dvec2& a, const glm::dvec2& b) {
+    return a.x * b.y - a.y * b.x;
+}
 
 /// The quadrilateral a + s t + u n for s in [s0, s1], u in [u0, u1].
-geometry::PolygonSet band(const glm::dvec2& a, const glm::dvec2& t, const glm::dvec2& n,
-                          double s0, double s1, double u0, double u1) {
+geometry::PolygonSet band(const glm::dvec2& a, const glm::dvec2& t, const glm::dvec2& n, double s0,
+                          double s1, double u0, double u1) {
     geometry::Contour c{a + s0 * t + u0 * n, a + s1 * t + u0 * n, a + s1 * t + u1 * n,
                         a + s0 * t + u1 * n};
     return geometry::PolygonSet::fromContours({c});

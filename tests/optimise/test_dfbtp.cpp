@@ -46,7 +46,8 @@ exposure::SurfaceGrid mapOf(const plan::LayerPlan& layer, const exposure::Exposu
 double energyOf(const plan::LayerPlan& layer) {
     double e = 0;
     for (const auto& pt : layer.points) e += pt.energy;
-    for (const auto& v : layer.vectors) e += v.power / v.speed * std::hypot(v.x1 - v.x0, v.y1 - v.y0);
+    for (const auto& v : layer.vectors)
+        e += v.power / v.speed * std::hypot(v.x1 - v.x0, v.y1 - v.y0);
     return e;
 }
 
@@ -56,7 +57,8 @@ double energyOf(const plan::LayerPlan& layer) {
 // against ACES's 60 mJ^2/mm^4 (ratio 0.65) with the seed's 5% edge rule. Here: the default L part
 // on a 10 um grid, errors over the part plus Reff; DFBTP must reach that ratio and also beat ACES
 // with vpsim's cure-at-contour rule.
-TEST_CASE("DFBTP lowers the single-layer exposure error of ACES as in seed 000", "[optimise][dfbtp]") {
+TEST_CASE("DFBTP lowers the single-layer exposure error of ACES as in seed 000",
+          "[optimise][dfbtp]") {
     Setup s;
     auto region = lShape();
     optimise::DfbtpResult dfbtp = optimise::planDfbtp({region}, {0.05}, s.p, s.beam);

@@ -14,7 +14,8 @@ using namespace vpsim;
 // measured from the cured area, inset = (A_ref - A) / perimeter (convex corners' rounding adds
 // about 1 um to it here). Both shapes of the issue: a square and the default job's L, whose
 // hatch runs along y (it once lost its last line to Clipper's 1 nm rounding).
-TEST_CASE("ACES cure-at-contour puts the cured wall on the contour on average", "[optimise][aces]") {
+TEST_CASE("ACES cure-at-contour puts the cured wall on the contour on average",
+          "[optimise][aces]") {
     const kernel::FittedBeam beam{0.0632, 0.0367, 0.0022, 2.37};
     const double ec = 0.1, lt = 0.05;
     plan::AcesParameters p;

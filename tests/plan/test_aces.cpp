@@ -3,10 +3,10 @@
 #include <cmath>
 
 #include "vpsim/core/error.h"
-#include "vpsim/plan/aces.h"
-#include "vpsim/plan/dlp_masks.h"
 #include "vpsim/geometry/slicer.h"
 #include "vpsim/geometry/test_parts.h"
+#include "vpsim/plan/aces.h"
+#include "vpsim/plan/dlp_masks.h"
 
 using namespace vpsim;
 using namespace vpsim::plan;
@@ -192,8 +192,8 @@ TEST_CASE("ACES plans a spot or a line on a cone tip", "[plan][aces]") {
     for (const auto& l : layers) {
         if (l.region.empty()) continue;
         AcesLayerInfo info;
-        LayerPlan layer = planAcesLayer(l.region, designAces(p, l.region), p.laserPower,
-                                        l.zBottom + 0.05, &info);
+        LayerPlan layer =
+            planAcesLayer(l.region, designAces(p, l.region), p.laserPower, l.zBottom + 0.05, &info);
         INFO("layer " << l.index << " area " << l.region.area());
         CHECK_FALSE(info.unexposed);
         small += info.smallFeatureLines + info.smallFeatureSpots;

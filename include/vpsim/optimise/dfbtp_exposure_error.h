@@ -14,10 +14,10 @@
 namespace vpsim::optimise {
 
 struct ExposureError {
-    double sse = 0;          ///< sum over cells of (E - Etm)^2 (mJ^2/mm^4)
-    double rmsRelative = 0;  ///< sqrt(sse / cells) / Etar
-    double maxRelative = 0;  ///< largest |E - Etm| / Etar
-    int cells = 0;           ///< cells evaluated
+    double sse = 0;                     ///< sum over cells of (E - Etm)^2 (mJ^2/mm^4)
+    double rmsRelative = 0;             ///< sqrt(sse / cells) / Etar
+    double maxRelative = 0;             ///< largest |E - Etm| / Etar
+    int cells = 0;                      ///< cells evaluated
     std::vector<float> sortedRelative;  ///< |E - Etm| / Etar, ascending (Fig. 23)
 };
 

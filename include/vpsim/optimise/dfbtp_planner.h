@@ -28,8 +28,8 @@
 #include <nlohmann/json.hpp>
 
 #include "vpsim/exposure/exposure_model.h"
-#include "vpsim/kernel/fitted_beam.h"
 #include "vpsim/geometry/polygons.h"
+#include "vpsim/kernel/fitted_beam.h"
 #include "vpsim/plan/aces.h"
 
 namespace vpsim::optimise {
@@ -41,7 +41,7 @@ struct DfbtpParameters {
     double gridPitch = 0.01;  ///< mm, planning grid (exposure maps, evaluation points)
     double dotPitch = 0.02;   ///< mm, corner dot grid and edge row spacing
     double liftOutside = 0.15, liftEdge = 0.25, liftInside = 0.05;  ///< a_i (see file comment)
-    bool compensate = true;   ///< subtract the exposure transmitted from the layers above
+    bool compensate = true;  ///< subtract the exposure transmitted from the layers above
 };
 
 /// Per-layer record of a DFBTP (or any top-down) plan.
@@ -74,8 +74,8 @@ DfbtpResult planDfbtp(const std::vector<geometry::PolygonSet>& regions,
 /// sum over j > k of layerMap(deposit_j, (j - k) lt), over the layers whose transmission
 /// exp(-(j - k) lt / De3D) exceeds 1e-4. `deposits` are bottom first.
 exposure::SurfaceGrid transmittedExposure(exposure::ExposureModel& model,
-                                          const std::vector<exposure::SurfaceGrid>& deposits,
-                                          int k, double attenuationLength);
+                                          const std::vector<exposure::SurfaceGrid>& deposits, int k,
+                                          double attenuationLength);
 
 /// The planning grid covering every region plus a margin of Reff + 2 W.
 exposure::ExposureGrid planningGrid(const std::vector<geometry::PolygonSet>& regions,

@@ -30,7 +30,7 @@ struct InverseParameters {
 };
 
 struct InverseLayerReport {
-    double acesObjective = 0;  ///< f of the ACES plan (mJ^2/mm^4, the seed's SSE / 2)
+    double acesObjective = 0;   ///< f of the ACES plan (mJ^2/mm^4, the seed's SSE / 2)
     double startObjective = 0;  ///< f of the warm start (ACES gathered onto the dots)
     double finalObjective = 0;  ///< f of the returned plan
     int iterations = 0, dots = 0;

@@ -17,7 +17,7 @@
 namespace vpsim::optimise {
 
 struct LsqQpResult {
-    Eigen::VectorXd x;   ///< the minimiser
+    Eigen::VectorXd x;     ///< the minimiser
     double objective = 0;  ///< 1/2 |A x - b|^2
     int iterations = 0;
     int activeBounds = 0;       ///< x_i = 0 at the solution
@@ -28,8 +28,7 @@ struct LsqQpResult {
 /// Solves the problem above. `ridge` (>= 0) adds ridge/2 |x|^2 so a rank-deficient A still has a
 /// unique minimiser. C may have zero rows.
 /// @throw InputError for mismatched sizes or d with a negative entry (x = 0 infeasible)
-LsqQpResult solveLsqQp(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
-                       const Eigen::MatrixXd& C, const Eigen::VectorXd& d, double ridge = 0.0,
-                       int maxIterations = 0);
+LsqQpResult solveLsqQp(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::MatrixXd& C,
+                       const Eigen::VectorXd& d, double ridge = 0.0, int maxIterations = 0);
 
 }  // namespace vpsim::optimise

@@ -10,11 +10,10 @@
 ///   sub-block 1  u in [-Reff, 0]     outside the part: dots there may help sub-block 2;
 ///   sub-block 2  u in [0, Roff]      the band the middle area's edge leaves under-exposed;
 ///   sub-block 3  u in [Roff, Roff + Reff]  inside, already at Etar: kept from over-exposure.
-/// Corner block of vertex v: the axis-aligned square of half-size c = Roff + W around v; sub-block 4 is its part inside the region but outside the middle area,
-/// sub-block 5 its part outside the region (grown by Reff), sub-block 6 its part in the middle
-/// area. Reff (the effective radius) is where a dot's exposure falls below 1% of its centre:
-/// exp(-2 Reff^2 / W^2) = 0.01.
-/// Units: mm.
+/// Corner block of vertex v: the axis-aligned square of half-size c = Roff + W around v; sub-block
+/// 4 is its part inside the region but outside the middle area, sub-block 5 its part outside the
+/// region (grown by Reff), sub-block 6 its part in the middle area. Reff (the effective radius) is
+/// where a dot's exposure falls below 1% of its centre: exp(-2 Reff^2 / W^2) = 0.01. Units: mm.
 
 #include <vector>
 
@@ -26,17 +25,17 @@ namespace vpsim::plan {
 double effectiveRadius(double beamRadius, double fraction = 0.01);
 
 struct EdgeBlock {
-    glm::dvec2 a, b;          ///< the contour edge (mm), region on the left of a -> b
-    glm::dvec2 tangent;       ///< unit vector a -> b
-    glm::dvec2 normal;        ///< unit inward normal
-    double start = 0, end = 0;  ///< the block's extent along the tangent from a (mm)
+    glm::dvec2 a, b;              ///< the contour edge (mm), region on the left of a -> b
+    glm::dvec2 tangent;           ///< unit vector a -> b
+    glm::dvec2 normal;            ///< unit inward normal
+    double start = 0, end = 0;    ///< the block's extent along the tangent from a (mm)
     geometry::PolygonSet sub[3];  ///< sub-blocks 1, 2, 3
 };
 
 struct CornerBlock {
     glm::dvec2 vertex;
-    bool convex = true;       ///< interior angle below 180 degrees
-    double halfSize = 0;      ///< mm
+    bool convex = true;           ///< interior angle below 180 degrees
+    double halfSize = 0;          ///< mm
     geometry::PolygonSet square;  ///< the whole block
     geometry::PolygonSet sub[3];  ///< sub-blocks 4, 5, 6
 };
