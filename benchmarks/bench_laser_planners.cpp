@@ -4,6 +4,7 @@
 /// ACES. Prints one JSON object; the 1-minute load average tells how shared the 2 cores were.
 #include <chrono>
 #include <cstdlib>
+#include <ctime>
 #include <iostream>
 
 #include <nlohmann/json.hpp>
@@ -43,8 +44,9 @@ double seconds(std::chrono::steady_clock::time_point since) {
 nlohmann::json compare(const geometry::PolygonSet& region) {
     auto p = parameters();
     auto t0 = std::chrono::steady_clock::now();
+    std::clock_t c1 = std::clock();
     auto dfbtp = optimise::planDfbtp({region}, {0.05}, p, BEAM);
-    double dfbtpSeconds = seconds(t0);
+    double dfbtpSeconds = seconds(t0), dfbtpCpu = double(std::clock() - c1) / CLOCKS_PER_SEC;
     plan::AcesParameters seed = p.aces, contour = p.aces;
     seed.borderCount = 0;
     contour.edge = plan::AcesEdge::CureAtContour;
@@ -56,9 +58,11 @@ nlohmann::json compare(const geometry::PolygonSet& region) {
     optimise::InverseParameters ip;
     ip.base = p;
     ip.base.aces.steadyPrintThrough = false;
+    ip.base.aces.edge = plan::AcesEdge::CureAtContour;
     t0 = std::chrono::steady_clock::now();
+    std::clock_t c0 = std::clock();
     auto inverse = optimise::planInverse({region}, {0.05}, ip, BEAM);
-    double inverseSeconds = seconds(t0);
+    double inverseSeconds = seconds(t0), inverseCpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
     auto grid = optimise::planningGrid({region}, BEAM.radius, 0.01);
     exposure::ExposureEngine engine(grid, BEAM, 0.05);
     auto sse = [&](const plan::LayerPlan& l) {
@@ -81,6 +85,7 @@ nlohmann::json compare(const geometry::PolygonSet& region) {
         {"inverse_dots", inverse.layers[0].dots},
         {"plan_seconds",
          {{"aces", acesSeconds}, {"dfbtp", dfbtpSeconds}, {"inverse", inverseSeconds}}},
+        {"plan_cpu_seconds_all_threads", {{"dfbtp", dfbtpCpu}, {"inverse", inverseCpu}}},
         {"grid_cells", double(grid.nx) * grid.ny},
         {"dfbtp_points", dfbtp.plan.layers[0].points.size()},
         {"dfbtp_vectors", dfbtp.plan.layers[0].vectors.size()}};
@@ -128,6 +133,7 @@ nlohmann::json overhang() {
     double dfbtpSeconds = seconds(t0);
     optimise::InverseParameters ip;
     ip.base = p;
+    ip.base.aces.edge = plan::AcesEdge::CureAtContour;
     t0 = std::chrono::steady_clock::now();
     auto inverse = optimise::planInverse(regions, tops, ip, beam);
     double inverseSeconds = seconds(t0);

@@ -29,6 +29,7 @@ optimise::InverseParameters parameters(const kernel::FittedBeam& beam) {
     a.layerThickness = 0.05;
     a.laserPower = 10.0;
     a.steadyPrintThrough = false;  // one layer: nothing above it
+    a.edge = plan::AcesEdge::CureAtContour;
     return ip;
 }
 

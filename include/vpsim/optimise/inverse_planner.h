@@ -12,9 +12,9 @@
 /// with compensation off E_t = 0). Its gradient is S' M' (E + E_t - Etm) through the model's
 /// adjoint (layerMapAdjoint). Solved by projected gradient with Nesterov acceleration (FISTA,
 /// step 1/L with L from a power iteration on S'M'MS, restarted when f rises), warm-started from
-/// the ACES cure-at-contour plan gathered onto the dots. The best iterate is kept, and if it
-/// is not below the ACES plan's own error the ACES plan is returned: never worse than ACES.
-/// Curved edges and arbitrary corners need no special treatment. Units: mm, mJ, mJ/mm^2.
+/// the ACES plan (base.aces; cure-at-contour in jobs) gathered onto the dots. The best iterate is
+/// kept, and if it is not below the ACES plan's own error the ACES plan is returned: never worse
+/// than ACES. Curved edges and arbitrary corners need no special treatment. Units: mm, mJ, mJ/mm^2.
 
 #include <vector>
 
@@ -23,10 +23,12 @@
 namespace vpsim::optimise {
 
 struct InverseParameters {
-    /// Beam, process, grid pitch and compensation as for DFBTP (its liftings are not used).
+    /// Beam, process, grid pitch and compensation as for DFBTP (its liftings are not used);
+    /// base.aces also designs the ACES warm start with its own edge rule and border loops
+    /// (readInverseKeys() defaults it to cure-at-contour).
     DfbtpParameters base;
     double dotPitch = 0.02;  ///< mm, rounded to a whole number of grid cells
-    int iterations = 60;     ///< projected-gradient iterations per layer
+    int iterations = 40;     ///< projected-gradient iterations per layer
 };
 
 struct InverseLayerReport {

@@ -132,3 +132,18 @@ geometry::PolygonSet smallFeatures(const geometry::PolygonSet& region, double ed
                                    double beamRadius);
 
 }  // namespace vpsim::plan
+
+namespace vpsim {
+class ConfigNode;
+}
+
+namespace vpsim::plan {
+
+/// Reads the ACES keys of a job's `plan` section into `parameters` (the beam and process fields
+/// stay as they are): `homogeneity` (Srlt, default 0.01), `edge` ("seed-5-percent" or
+/// "cure-at-contour", default seed-5-percent), `border_count` (border loops, default 1),
+/// `border_offset` (length, default: the edge rule's), `direction` (degrees from +x, default:
+/// the longest edge). @throw InputError naming the key for bad values
+void readAcesKeys(const ConfigNode& plan, AcesParameters& parameters);
+
+}  // namespace vpsim::plan

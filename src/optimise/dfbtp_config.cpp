@@ -1,0 +1,55 @@
+#include "vpsim/optimise/dfbtp_config.h"
+
+#include <algorithm>
+
+#include "vpsim/core/config.h"
+#include "vpsim/core/units.h"
+
+namespace vpsim::optimise {
+namespace {
+
+double pitch(const ConfigNode& plan, const std::string& key, double fallback) {
+    double value = plan.quantity(key, dim::LENGTH, fallback);
+    if (!(value >= 1e-4 && value <= 1.0)) throw plan.error(key, "must be between 0.1 um and 1 mm");
+    return value;
+}
+
+}  // namespace
+
+DfbtpParameters readDfbtpKeys(const ConfigNode& plan) {
+    DfbtpParameters p;
+    p.aces.homogeneity = plan.numberInRange("homogeneity", 1e-6, 0.5, p.aces.homogeneity);
+    p.dotPitch = pitch(plan, "dot_pitch", p.dotPitch);
+    p.gridPitch = pitch(plan, "grid_pitch", p.gridPitch);
+    p.liftOutside = plan.numberInRange("lift_outside", 0.0, 10.0, p.liftOutside);
+    p.liftEdge = plan.numberInRange("lift_edge", 0.0, 10.0, p.liftEdge);
+    p.liftInside = plan.numberInRange("lift_inside", 0.0, 10.0, p.liftInside);
+    p.compensate = plan.boolean("compensate", p.compensate);
+    return p;
+}
+
+InverseParameters readInverseKeys(const ConfigNode& plan) {
+    InverseParameters p;
+    p.base.aces.edge = plan::AcesEdge::CureAtContour;
+    plan::readAcesKeys(plan, p.base.aces);
+    p.dotPitch = pitch(plan, "dot_pitch", p.dotPitch);
+    p.base.gridPitch = pitch(plan, "grid_pitch", p.base.gridPitch);
+    long long iterations = plan.integer("iterations", p.iterations);
+    if (iterations < 0 || iterations > 100000)
+        throw plan.error("iterations", "must be between 0 and 100000");
+    p.iterations = int(iterations);
+    p.base.compensate = plan.boolean("compensate", p.base.compensate);
+    return p;
+}
+
+void setProcess(plan::AcesParameters& aces, const kernel::FittedBeam& beam, double criticalDose,
+                double layerThickness, double laserPower) {
+    aces.beamRadius = beam.radius;
+    aces.attenuationLength = beam.attenuationLength;
+    aces.depthOfMaximum = std::min(beam.depthOfMaximum, 0.99 * layerThickness);
+    aces.criticalDose = criticalDose / beam.efficiency;
+    aces.layerThickness = layerThickness;
+    aces.laserPower = laserPower;
+}
+
+}  // namespace vpsim::optimise
