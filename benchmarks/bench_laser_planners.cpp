@@ -4,6 +4,7 @@
 /// ACES. Prints one JSON object; the 1-minute load average tells how shared the 2 cores were.
 #include <chrono>
 #include <cstdlib>
+#include <cctype>
 #include <ctime>
 #include <iostream>
 
@@ -41,7 +42,10 @@ double seconds(std::chrono::steady_clock::time_point since) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
 
-nlohmann::json compare(const geometry::PolygonSet& region) {
+/// Directory for the single-layer pictures (first command-line argument), empty for none.
+std::string gPictures;
+
+nlohmann::json compare(const geometry::PolygonSet& region, const std::string& name) {
     auto p = parameters();
     auto t0 = std::chrono::steady_clock::now();
     std::clock_t c1 = std::clock();
@@ -74,6 +78,24 @@ nlohmann::json compare(const geometry::PolygonSet& region) {
     };
     double s5 = sse(aces5), sc = sse(acesC), sd = sse(dfbtp.plan.layers[0]);
     double si = sse(inverse.plan.layers[0]);
+    if (!gPictures.empty()) {
+        std::vector<std::pair<std::string, optimise::ExposureError>> curves;
+        for (auto [label, layer] : {std::pair{"ACES 5%", &aces5}, {"ACES cure-at-contour", &acesC},
+                                    {"DFBTP", &dfbtp.plan.layers[0]},
+                                    {"inverse", &inverse.plan.layers[0]}}) {
+            exposure::SurfaceGrid d = grid.surface();
+            exposure::depositLayer(*layer, d);
+            auto map = engine.exposureMap(d);
+            curves.push_back({label, optimise::layerExposureError(map, region, dfbtp.targetDose,
+                                                                  plan::effectiveRadius(BEAM.radius))});
+            std::string file = std::string(label);
+            for (char& ch : file)
+                if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+            optimise::writeExposurePicture(gPictures + "/" + name + "_" + file + ".png", map,
+                                           dfbtp.targetDose, 0.1);
+        }
+        optimise::writeErrorCurves(gPictures + "/" + name + "_error_curves.svg", curves);
+    }
     return {
         {"sse_mJ2_per_mm4",
          {{"aces_5_percent", s5}, {"aces_cure_at_contour", sc}, {"dfbtp", sd}, {"inverse", si}}},
@@ -150,7 +172,8 @@ nlohmann::json overhang() {
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
+    if (argc > 1) gPictures = argv[1];
     auto l = geometry::PolygonSet::rectangle({0, 0}, {2, 1})
                  .unite(geometry::PolygonSet::rectangle({0, 1}, {1, 2}))
                  .translated({-1, -1});
@@ -159,8 +182,8 @@ int main() {
     getloadavg(load, 1);
     nlohmann::json out{{"benchmark", "laser_planners"},
                        {"grid_um", 10},
-                       {"l_part_2mm", compare(l)},
-                       {"square_10mm", compare(square)},
+                       {"l_part_2mm", compare(l, "l_part")},
+                       {"square_10mm", compare(square, "square_10mm")},
                        {"overhang_3d", overhang()},
                        {"load_average_1min", load[0]},
                        {"cores", 2}};

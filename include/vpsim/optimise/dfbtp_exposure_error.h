@@ -6,6 +6,8 @@
 /// cells: the squared error sum in mJ^2/mm^4 (so it depends on the grid: the seed's figures are
 /// on a 10 um grid), its RMS as a fraction of Etar, and the sorted |error| / Etar curve.
 
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "vpsim/exposure/surface_grid.h"
@@ -28,5 +30,20 @@ std::vector<char> insideMask(const geometry::PolygonSet& region, const exposure:
 ExposureError layerExposureError(const exposure::SurfaceGrid& exposure,
                                  const geometry::PolygonSet& region, double targetDose,
                                  double band);
+
+}  // namespace vpsim::optimise
+
+namespace vpsim::optimise {
+
+/// Seed 000 Fig. 23: the sorted |error| / Etar of each plan against the fraction of cells, as an
+/// SVG line chart (at most 400 points per curve). @throw InputError when it cannot be written
+void writeErrorCurves(const std::string& path,
+                      const std::vector<std::pair<std::string, ExposureError>>& curves);
+
+/// The seed-style single-layer figure (Fig. 21/22 as a top view): the surface exposure as a heat
+/// map from 0 to 1.5 Etar, with iso-lines at Etar and at `contourLevel` (e.g. Ec), as PNG.
+/// @throw InputError when it cannot be written
+void writeExposurePicture(const std::string& path, const exposure::SurfaceGrid& exposure,
+                          double targetDose, double contourLevel);
 
 }  // namespace vpsim::optimise
