@@ -18,7 +18,10 @@ double pitch(const ConfigNode& plan, const std::string& key, double fallback) {
 
 DfbtpParameters readDfbtpKeys(const ConfigNode& plan) {
     DfbtpParameters p;
-    p.aces.homogeneity = plan.numberInRange("homogeneity", 1e-6, 0.5, p.aces.homogeneity);
+    // The ACES keys are read so one job runs under every laser strategy; DFBTP's middle area
+    // keeps the seed's 5% rule and no border loops (planDfbtp sets them), only homogeneity and
+    // direction matter to it.
+    plan::readAcesKeys(plan, p.aces);
     p.dotPitch = pitch(plan, "dot_pitch", p.dotPitch);
     p.gridPitch = pitch(plan, "grid_pitch", p.gridPitch);
     p.liftOutside = plan.numberInRange("lift_outside", 0.0, 10.0, p.liftOutside);

@@ -3,7 +3,8 @@
 /// The job keys of the `dfbtp` and `inverse` strategies (a job's `plan` section), and the beam
 /// and process numbers every laser planner shares.
 ///
-/// dfbtp:   homogeneity, dot_pitch (length, 20 um), grid_pitch (length, 10 um), lift_outside
+/// dfbtp:   the ACES keys (plan::readAcesKeys; edge and border keys are accepted and ignored:
+///          the middle area uses the seed's 5% rule), dot_pitch (length, 20 um), grid_pitch (length, 10 um), lift_outside
 ///          (0.15), lift_edge (0.25), lift_inside (0.05), compensate (true)
 /// inverse: homogeneity, edge, border_count, border_offset (its ACES warm start), dot_pitch
 ///          (20 um), grid_pitch (10 um), iterations (40), compensate (true)
