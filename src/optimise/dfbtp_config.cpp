@@ -45,6 +45,28 @@ InverseParameters readInverseKeys(const ConfigNode& plan) {
     return p;
 }
 
+std::vector<ConfigKeyDoc> dfbtpKeyDocs() {
+    return {{"dot_pitch", "corner dot grid and edge row spacing (length, default 20 um)"},
+            {"grid_pitch", "planning grid: exposure maps and evaluation points (length, 10 um)"},
+            {"lift_outside", "a_i outside the part, fraction of Etar (default 0.15)"},
+            {"lift_edge", "a_i in the under-exposed band inside the contour (default 0.25)"},
+            {"lift_inside", "a_i inside the middle area (default 0.05)"},
+            {"compensate", "subtract the exposure the layers above transmit (default true)"},
+            {"border_count", "ACES border loops (accepted, unused by DFBTP)"},
+            {"border_offset", "ACES first border loop offset (accepted, unused by DFBTP)"},
+            {"direction", "hatch direction in degrees from +x (default: longest edge)"}};
+}
+
+std::vector<ConfigKeyDoc> inverseKeyDocs() {
+    return {{"dot_pitch", "dot grid pitch, a whole number of grid cells (length, 20 um)"},
+            {"grid_pitch", "planning grid (length, default 10 um)"},
+            {"iterations", "projected-gradient iterations per layer (default 40)"},
+            {"compensate", "subtract the exposure the layers above transmit (default true)"},
+            {"border_count", "border loops of the ACES warm start (default 1)"},
+            {"border_offset", "first border loop offset of the warm start (length)"},
+            {"direction", "hatch direction of the warm start, degrees from +x"}};
+}
+
 void setProcess(plan::AcesParameters& aces, const kernel::FittedBeam& beam, double criticalDose,
                 double layerThickness, double laserPower) {
     aces.beamRadius = beam.radius;
