@@ -5,6 +5,7 @@
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/image.h"
+#include "vpsim/exposure/deposit.h"
 
 namespace vpsim::optimise {
 
@@ -72,6 +73,67 @@ void writeExposurePicture(const std::string& path, const exposure::SurfaceGrid& 
             flipped[size_t(exposure.ny - 1 - j) * exposure.nx + i] = exposure.at(i, j);
     writePng(path, heatMap(flipped, exposure.nx, exposure.ny, 0.0, 1.5 * targetDose,
                            {contourLevel, targetDose}));
+}
+
+}  // namespace vpsim::optimise
+
+namespace vpsim::optimise {
+
+nlohmann::json planExposureError(exposure::ExposureModel& model, const plan::ScanPlan& plan,
+                                 const std::vector<geometry::PolygonSet>& regions,
+                                 double targetDose, double band, ExposureError* all) {
+    if (plan.layers.size() != regions.size())
+        throw InputError("exposure error: one region per plan layer is needed");
+    std::vector<exposure::SurfaceGrid> deposits(regions.size(), model.grid().surface());
+    for (size_t k = 0; k < regions.size(); ++k) exposure::depositLayer(plan.layers[k], deposits[k]);
+    const double lt = model.layerThickness();
+    nlohmann::json layers = nlohmann::json::array(), top = nlohmann::json::object();
+    ExposureError total;
+    int topLayer = -1;
+    for (int k = int(regions.size()) - 1; k >= 0; --k)
+        if (!regions[k].empty()) {
+            topLayer = k;
+            break;
+        }
+    for (int k = 0; k < int(regions.size()); ++k) {
+        if (regions[k].empty()) continue;
+        exposure::SurfaceGrid map = model.layerMap(deposits[k], 0.0);
+        for (int j = k + 1; j < int(regions.size()); ++j) {  // Eq. 21 through the model
+            exposure::SurfaceGrid sent = model.layerMap(deposits[j], (j - k) * lt);
+            double peak = 0;
+            for (size_t c = 0; c < map.values.size(); ++c) {
+                map.values[c] += sent.values[c];
+                peak = std::max(peak, double(sent.values[c]));
+            }
+            if (peak < 1e-6 * targetDose) break;  // deeper layers send nothing measurable
+        }
+        ExposureError e = layerExposureError(map, regions[k], targetDose, band);
+        nlohmann::json row{{"layer", k},
+                           {"sse_mJ2_per_mm4", e.sse},
+                           {"rms_over_Etar", e.rmsRelative},
+                           {"max_over_Etar", e.maxRelative}};
+        if (k == topLayer) top = row;
+        layers.push_back(row);
+        total.sse += e.sse;
+        total.cells += e.cells;
+        total.maxRelative = std::max(total.maxRelative, e.maxRelative);
+        if (all)
+            total.sortedRelative.insert(total.sortedRelative.end(), e.sortedRelative.begin(),
+                                        e.sortedRelative.end());
+    }
+    if (total.cells > 0) total.rmsRelative = std::sqrt(total.sse / total.cells) / targetDose;
+    if (all) {
+        std::sort(total.sortedRelative.begin(), total.sortedRelative.end());
+        *all = total;
+    }
+    top.erase("layer");
+    return {{"band_um", band * 1e3},
+            {"target_dose_mJ_per_cm2", targetDose * 100},
+            {"sse_mJ2_per_mm4", total.sse},
+            {"rms_over_Etar", total.rmsRelative},
+            {"max_over_Etar", total.maxRelative},
+            {"top_layer", top},
+            {"layers", layers}};
 }
 
 }  // namespace vpsim::optimise

@@ -131,3 +131,25 @@ TEST_CASE("DFBTP compensates the exposure transmitted from the layer above", "[o
         for (const auto& l : r.plan.layers)
             for (const auto& pt : l.points) CHECK(pt.energy >= 0);
 }
+
+// The plan-wide metric on two identical layers: the top layer's error is its own map's, the
+// lower layer's is on its map plus exp(-lt/De) times the upper map (the direct sum of Eq. 21).
+TEST_CASE("the plan exposure error adds what the layers above transmit", "[optimise][dfbtp]") {
+    Setup s;
+    auto square = geometry::PolygonSet::rectangle({-0.4, -0.4}, {0.4, 0.4});
+    auto r = optimise::planDfbtp({square, square}, {0.05, 0.1}, s.p, s.beam);
+    auto grid = optimise::planningGrid({square}, s.beam.radius, 0.01);
+    exposure::ExposureEngine engine(grid, s.beam, 0.05);
+    const double reff = plan::effectiveRadius(s.beam.radius), etar = r.targetDose;
+    auto json = optimise::planExposureError(engine, r.plan, {square, square}, etar, reff);
+    auto upper = mapOf(r.plan.layers[1], grid, s.beam),
+         lower = mapOf(r.plan.layers[0], grid, s.beam);
+    const double decay = std::exp(-0.05 / s.beam.attenuationLength);
+    for (size_t c = 0; c < lower.values.size(); ++c)
+        lower.values[c] += float(decay * upper.values[c]);
+    double sseTop = optimise::layerExposureError(upper, square, etar, reff).sse;
+    double sseLow = optimise::layerExposureError(lower, square, etar, reff).sse;
+    CHECK(json["top_layer"]["sse_mJ2_per_mm4"].get<double>() == Approx(sseTop).epsilon(1e-4));
+    CHECK(json["layers"][0]["sse_mJ2_per_mm4"].get<double>() == Approx(sseLow).epsilon(1e-3));
+    CHECK(json["sse_mJ2_per_mm4"].get<double>() == Approx(sseTop + sseLow).epsilon(1e-3));
+}

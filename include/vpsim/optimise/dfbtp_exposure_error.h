@@ -10,8 +10,12 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "vpsim/exposure/exposure_model.h"
 #include "vpsim/exposure/surface_grid.h"
 #include "vpsim/geometry/polygons.h"
+#include "vpsim/plan/scan_plan.h"
 
 namespace vpsim::optimise {
 
@@ -45,5 +49,23 @@ void writeErrorCurves(const std::string& path,
 /// @throw InputError when it cannot be written
 void writeExposurePicture(const std::string& path, const exposure::SurfaceGrid& exposure,
                           double targetDose, double contourLevel);
+
+}  // namespace vpsim::optimise
+
+namespace vpsim::optimise {
+
+/// Issue 11 item 6, `layer_exposure_error` of report.json: for every layer of `plan` (regions
+/// bottom first, same count), the metric above on the layer's total surface exposure (its own
+/// map plus what the layers above transmit, through `model`), then the total over layers and
+/// the seed-style single-layer figure (the top layer, which nothing above reaches):
+/// {"band_um", "target_dose_mJ_per_cm2", "sse_mJ2_per_mm4" (total), "rms_over_Etar" (all cells),
+///  "top_layer": {"sse_mJ2_per_mm4", "rms_over_Etar", "max_over_Etar"},
+///  "layers": [{"layer", "sse_mJ2_per_mm4", "rms_over_Etar", "max_over_Etar"}]}.
+/// `all` (optional) receives the metric over all cells of all layers, with the sorted |error|/Etar
+/// of all cells of all layers (Fig. 23).
+/// @throw InputError when the counts differ or Etar <= 0
+nlohmann::json planExposureError(exposure::ExposureModel& model, const plan::ScanPlan& plan,
+                                 const std::vector<geometry::PolygonSet>& regions,
+                                 double targetDose, double band, ExposureError* all = nullptr);
 
 }  // namespace vpsim::optimise
