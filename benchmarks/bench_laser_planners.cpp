@@ -2,9 +2,9 @@
 /// error of ACES (seed 5% edge rule and vpsim's cure-at-contour rule) and DFBTP on the default L
 /// part at 10 um, and the planning time of a 10 x 10 mm layer at 10 um with its error ratio to
 /// ACES. Prints one JSON object; the 1-minute load average tells how shared the 2 cores were.
+#include <cctype>
 #include <chrono>
 #include <cstdlib>
-#include <cctype>
 #include <ctime>
 #include <iostream>
 
@@ -80,14 +80,16 @@ nlohmann::json compare(const geometry::PolygonSet& region, const std::string& na
     double si = sse(inverse.plan.layers[0]);
     if (!gPictures.empty()) {
         std::vector<std::pair<std::string, optimise::ExposureError>> curves;
-        for (auto [label, layer] : {std::pair{"ACES 5%", &aces5}, {"ACES cure-at-contour", &acesC},
+        for (auto [label, layer] : {std::pair{"ACES 5%", &aces5},
+                                    {"ACES cure-at-contour", &acesC},
                                     {"DFBTP", &dfbtp.plan.layers[0]},
                                     {"inverse", &inverse.plan.layers[0]}}) {
             exposure::SurfaceGrid d = grid.surface();
             exposure::depositLayer(*layer, d);
             auto map = engine.exposureMap(d);
-            curves.push_back({label, optimise::layerExposureError(map, region, dfbtp.targetDose,
-                                                                  plan::effectiveRadius(BEAM.radius))});
+            curves.push_back(
+                {label, optimise::layerExposureError(map, region, dfbtp.targetDose,
+                                                     plan::effectiveRadius(BEAM.radius))});
             std::string file = std::string(label);
             for (char& ch : file)
                 if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
