@@ -2,6 +2,7 @@
 
 #include "vpsim/cure/fpp_law.h"
 #include "vpsim/cure/threshold_law.h"
+#include "vpsim/optimise/dfbtp_strategy.h"
 #include "vpsim/plan/aces_planner.h"
 #include "vpsim/plan/uniform_mask_planner.h"
 
@@ -11,6 +12,7 @@ void registerBuiltins(Builtins& b) {
     // Planners.
     plan::registerAcesPlanner(b.planners);
     plan::registerUniformMaskPlanner(b.planners);
+    optimise::registerLaserOptimisers(b.planners);  // dfbtp, inverse
     // Cure laws.
     cure::registerThresholdLaw(b.cureLaws);
     cure::registerFppLaw(b.cureLaws);
