@@ -170,6 +170,15 @@ std::vector<plan::LaserVector> modulatedHatch(const std::vector<plan::LaserVecto
 
 }  // namespace
 
+double targetWallShift(const plan::AcesParameters& a, double targetDose) {
+    const double rh =
+        0.05;  // a dense field: the continuous sheet's edge is rh/2 beyond its last line
+    double y =
+        plan::acesContourDistance(rh, a.criticalDose / targetDose,
+                                  (a.layerThickness - a.depthOfMaximum) / a.attenuationLength, 1.0);
+    return (0.5 * rh - y) * a.beamRadius;
+}
+
 exposure::ExposureGrid planningGrid(const std::vector<geometry::PolygonSet>& regions,
                                     double beamRadius, double pitch) {
     glm::dvec2 lo(1e300), hi(-1e300);
@@ -246,7 +255,10 @@ DfbtpResult planDfbtp(const std::vector<geometry::PolygonSet>& regions,
             plan::FeatureBlocks blocks =
                 plan::disassembleFeatures(region, c.roff, c.reff, beam.radius);
             layer = plan::planAcesLayer(region, design, p.aces.laserPower, tops[k]);
-            c.inside = insideMask(region, transmitted);
+            c.inside = insideMask(
+                p.wallOnContour ? region.offset(targetWallShift(acesParameters, design.targetDose))
+                                : region,
+                transmitted);
             c.middle = insideMask(blocks.middle, transmitted);
             c.goal = transmitted;
             LayerCompensation& rec = result.layers[k];

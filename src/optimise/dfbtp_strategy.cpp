@@ -43,20 +43,25 @@ public:
     plan::ScanPlan plan(const plan::PlannerInputs& in) override {
         DfbtpParameters p = mP;
         p.aces = plan::acesParameters(mOptions, in.beam, in.machine, in.criticalDose);
+        p.wallOnContour = mOptions.edge == plan::AcesEdge::CureAtContour;
         plan::ScanPlan empty = plan::emptyPlan(in.layers, in.machine);
         DfbtpResult r = planDfbtp(regionsOf(in), topsOf(empty), p, in.beam);
         r.plan.machine = empty.machine;
         int edges = 0, corners = 0, dots = 0;
         for (const auto& l : r.layers)
             edges += l.edgeBlocks, corners += l.cornerBlocks, dots += l.cornerDots;
-        mSummary = {{"dfbtp",
-                     {{"target_dose_mJ_per_cm2", r.targetDose * 100},
-                      {"edge_blocks", edges},
-                      {"corner_blocks", corners},
-                      {"corner_dots", dots},
-                      {"compensation", p.compensate},
-                      {"lifts", {mP.liftOutside, mP.liftEdge, mP.liftInside}},
-                      {"transmitted", compensationJson(r.layers)}}}};
+        mSummary = {
+            {"dfbtp",
+             {{"target_dose_mJ_per_cm2", r.targetDose * 100},
+              {"edge_blocks", edges},
+              {"corner_blocks", corners},
+              {"corner_dots", dots},
+              {"compensation", p.compensate},
+              {"target_wall_shift_um",
+               p.wallOnContour ? targetWallShift(p.aces, r.targetDose / in.beam.efficiency) * 1e3
+                               : 0.0},
+              {"lifts", {mP.liftOutside, mP.liftEdge, mP.liftInside}},
+              {"transmitted", compensationJson(r.layers)}}}};
         return r.plan;
     }
     nlohmann::json summary() const override { return mSummary; }
@@ -75,6 +80,7 @@ public:
     plan::ScanPlan plan(const plan::PlannerInputs& in) override {
         InverseParameters p = mP;
         p.base.aces = plan::acesParameters(mOptions, in.beam, in.machine, in.criticalDose);
+        p.base.wallOnContour = mOptions.edge == plan::AcesEdge::CureAtContour;
         plan::ScanPlan empty = plan::emptyPlan(in.layers, in.machine);
         InverseResult r = planInverse(regionsOf(in), topsOf(empty), p, in.beam);
         r.plan.machine = empty.machine;

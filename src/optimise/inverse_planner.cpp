@@ -151,7 +151,10 @@ InverseResult planInverse(const std::vector<geometry::PolygonSet>& regions,
         problem.model = model;
         problem.cellArea = cellArea;
         problem.counted = insideMask(region.offset(reff), transmitted);
-        const std::vector<char> inside = insideMask(region, transmitted);
+        const std::vector<char> inside = insideMask(
+            p.wallOnContour ? region.offset(targetWallShift(acesParameters, design.targetDose))
+                            : region,
+            transmitted);
         const std::vector<char> allowed = insideMask(region.offset(0.5 * ip.dotPitch), transmitted);
         problem.offset.assign(inside.size(), 0.0f);
         LayerCompensation& rec = result.compensation[k];

@@ -42,7 +42,17 @@ struct DfbtpParameters {
     double dotPitch = 0.02;   ///< mm, corner dot grid and edge row spacing
     double liftOutside = 0.15, liftEdge = 0.25, liftInside = 0.05;  ///< a_i (see file comment)
     bool compensate = true;  ///< subtract the exposure transmitted from the layers above
+    /// Target Etar on the region grown by targetWallShift() instead of the region itself, so that
+    /// the cured wall (not the half-exposure edge) lies on the contour on average over the
+    /// layer's depth; jobs with `edge: cure-at-contour` set it. Off: the seed's target map.
+    bool wallOnContour = false;
 };
+
+/// Outward growth (mm) of the target region that puts the cured wall on the contour on average
+/// over the layer's depth, for a plan that reproduces the target map's blurred step and
+/// compensates print-through: the continuous-field limit of plan::acesContourDistance() with the
+/// wall level Ec/Etar exp(d/De3D) and no print-through factor. Etar in `aces`'s dose units.
+double targetWallShift(const plan::AcesParameters& aces, double targetDose);
 
 /// Per-layer record of a DFBTP (or any top-down) plan.
 struct LayerCompensation {
