@@ -5,6 +5,7 @@
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
 #include "vpsim/optimise/dfbtp_config.h"
+#include "vpsim/optimise/dfbtp_planner.h"
 
 using namespace vpsim;
 
@@ -49,4 +50,17 @@ TEST_CASE("DFBTP and inverse read their job keys", "[optimise][dfbtp]") {
     optimise::setProcess(a, beam, 0.1, 0.05, 10.0);
     CHECK(a.depthOfMaximum == Approx(0.0495));  // capped below the layer thickness
     CHECK(a.criticalDose == Approx(0.05));
+}
+
+// The target growth for the cured wall: none when the wall level is half the plateau at every
+// depth (the blurred step's half point is the contour); outward when the wall level is higher.
+TEST_CASE("the target wall shift follows the wall level", "[optimise][dfbtp]") {
+    plan::AcesParameters a;
+    a.beamRadius = 0.05;
+    a.layerThickness = 1e-7;  // no depth: the wall level is Ec / Etar throughout
+    a.attenuationLength = 0.1;
+    a.criticalDose = 0.5;
+    CHECK(optimise::targetWallShift(a, 1.0) == Approx(0.0).margin(2e-4));
+    a.criticalDose = 0.7;  // 0.5 erfc(sqrt(2) u / W) = 0.7 at u = -0.2622 W: grow by 0.2622 W
+    CHECK(optimise::targetWallShift(a, 1.0) == Approx(0.2622 * 0.05).epsilon(0.02));
 }
