@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "vpsim/cure/threshold_law.h"
 #include "vpsim/exposure/deposit.h"
 #include "vpsim/exposure/exposure_engine.h"
 #include "vpsim/geometry/slicer.h"
@@ -137,7 +138,8 @@ nlohmann::json overhang() {
     grid.slicesPerLayer = 5;
     exposure::ExposureEngine engine(grid, beam, lt);
     auto evaluate = [&](const plan::ScanPlan& plan) {
-        validate::SliceValidator validator(part, grid, ec, lt / grid.slicesPerLayer);
+        const cure::ThresholdLaw law(ec);
+        validate::SliceValidator validator(part, grid, law, lt / grid.slicesPerLayer);
         engine.run(plan, [&](const exposure::ExposureSlice& s) { validator.add(s); });
         auto v = validator.summary();
         return nlohmann::json{
