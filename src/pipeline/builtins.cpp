@@ -3,6 +3,7 @@
 #include "vpsim/cure/fpp_law.h"
 #include "vpsim/cure/threshold_law.h"
 #include "vpsim/exporters/sl1_exporter.h"
+#include "vpsim/optimise/dfbtp_strategy.h"
 #include "vpsim/optimise/dlp_optimised_mask_planner.h"
 #include "vpsim/plan/aces_planner.h"
 #include "vpsim/plan/uniform_mask_planner.h"
@@ -14,6 +15,7 @@ void registerBuiltins(Builtins& b) {
     plan::registerAcesPlanner(b.planners);
     plan::registerUniformMaskPlanner(b.planners);
     optimise::registerOptimisedMaskPlanner(b.planners);
+    optimise::registerLaserOptimisers(b.planners);  // dfbtp, inverse
     // Cure laws.
     cure::registerThresholdLaw(b.cureLaws);
     cure::registerFppLaw(b.cureLaws);

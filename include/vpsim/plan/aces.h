@@ -12,6 +12,22 @@
 ///   deviation over one period must not exceed Srlt;
 /// - Roff: for a half-plane of lines the exposure falls from the plateau Ep to 5% Ep at a
 ///   distance y5 beyond the last line (App. A); Roff = y5, so the 5% Ep edge lies on the contour.
+/// The App. A and App. B fits do exist in the seed (tests/data/reference/seed000_slurry_case.json
+/// holds a = [0.81701, 0.50713, -0.15195] for Roff/W0 and c1..c4 for Srlt(rh)); vpsim keeps the
+/// numerical derivation because it is exact for any edge fraction (the cure-at-contour rule needs
+/// other fractions than 5%), and a test compares it with the seed's Roff fit.
+///
+/// Contour rule (AcesEdge::CureAtContour): the exposure falls by exp(-d/De3D) with depth d, so
+/// the cured wall of a layer is not vertical: at the top of the layer it lies where the surface
+/// exposure is Ec, at the bottom where it is Ec exp(lt/De3D) (less the print-through of the layers
+/// above). vpsim places the outermost line so that the wall position averaged over the layer's
+/// depth lies on the contour and reports the half peak-to-peak scallop of the wall.
+/// Border scans: `borderCount` loops along the contour (the first at the edge offset, the next
+/// ones one hatch spacing further in each) so curved and slanted walls follow the contour; the
+/// hatch field fills what is inside the last loop. Small features (parts of the region that the
+/// inward offset removes: strips narrower than two edge offsets, spikes, specks) get a single
+/// centred line or a spot, so every layer region is exposed; a layer that still gets nothing is
+/// logged as a warning.
 /// Units: mm, mW, mm/s, dose mJ/mm^2.
 
 #include <optional>
@@ -38,6 +54,12 @@ struct AcesParameters {
     double homogeneity = 0.01;        ///< Srlt: allowed relative standard deviation of the exposure
     AcesEdge edge = AcesEdge::SeedFivePercent;
     std::optional<double> direction;  ///< scan direction (rad from +x); default: longest edge
+    int borderCount = 1;              ///< border (contour) scan loops, >= 0
+    /// Inward offset of the first border loop (mm); default: the edge rule's offset.
+    std::optional<double> borderOffset;
+    /// Contour rule: count the print-through of identical layers above (steady state of a
+    /// vertical wall, factor 1/(1 - exp(-lt/De3D))); false for a single or top layer.
+    bool steadyPrintThrough = true;
 };
 
 /// The numbers of an ACES design for one region.
@@ -48,6 +70,20 @@ struct AcesDesign {
     double edgeOffset = 0;    ///< inward offset of the line field from the contour (mm)
     double direction = 0;     ///< rad from +x
     double ripple = 0;        ///< relative standard deviation of the exposure at hs (Eq. C.7)
+    double beamRadius = 0;    ///< We3D (mm), for the small-feature lines and spots
+    int borderCount = 0;      ///< border loops (see AcesParameters::borderCount)
+    /// Surface exposure at the contour relative to Etar (0.05 for the seed rule).
+    double wallLevel = 0;
+    /// Half peak-to-peak excursion of the cured wall over the layer's depth (mm); 0 for the seed
+    /// rule, which does not put the wall on the contour.
+    double scallop = 0;
+};
+
+/// What planAcesLayer() did beyond the hatch, for reports.
+struct AcesLayerInfo {
+    int smallFeatureLines = 0;  ///< small features planned as a single line
+    int smallFeatureSpots = 0;  ///< small features planned as a spot
+    bool unexposed = false;     ///< the region got no exposure at all (logged as a warning)
 };
 
 /// Etar = Ec / exp(-(lt - zmax)/De3D) (Eq. 14): the bottom of the layer still reaches Ec.
@@ -60,6 +96,12 @@ double acesHatchRatio(double homogeneity);
 /// Distance beyond the last line (in units of W) where a half-field's exposure is `fraction` of
 /// its plateau, for hatch ratio rh.
 double acesEdgeDistance(double hatchRatio, double fraction);
+/// Contour rule: distance (units of W) from the outermost line to the contour such that the cured
+/// wall, averaged over the layer's depth, lies on the contour. `surfaceFraction` is Ec/Etar,
+/// `depthRatio` lt/De3D, `printThrough` the factor on the layer's own exposure from the layers
+/// above (1 for none). Writes the half peak-to-peak wall excursion (units of W) to `scallop`.
+double acesContourDistance(double hatchRatio, double surfaceFraction, double depthRatio,
+                           double printThrough, double* scallop = nullptr);
 /// Direction (rad from +x, in [0, pi)) of the region's longest contour edge.
 double longestEdgeDirection(const geometry::PolygonSet& region);
 
@@ -67,12 +109,41 @@ double longestEdgeDirection(const geometry::PolygonSet& region);
 AcesDesign designAces(const AcesParameters& parameters, const geometry::PolygonSet& region);
 
 /// Parallel scan vectors at `spacing` along `direction`, clipped to the region (scan-line
-/// intersection with the contours, even-odd), alternating in direction line by line.
+/// intersection with the contours, even-odd), alternating in direction line by line. With
+/// `clip`, the lines' positions come from `region` and their ends from `clip`.
 std::vector<LaserVector> hatchRegion(const geometry::PolygonSet& region, double spacing,
-                                     double direction, double power, double speed);
+                                     double direction, double power, double speed,
+                                     const geometry::PolygonSet* clip = nullptr);
 
-/// The ACES plan of one layer: the region offset inward by design.edgeOffset, hatched.
+/// Closed scan loops along every contour of `region` (one vector per contour edge).
+std::vector<LaserVector> contourLoops(const geometry::PolygonSet& region, double power,
+                                      double speed);
+
+/// The ACES plan of one layer: design.borderCount border loops from design.edgeOffset inward,
+/// the hatch inside them, and a line or a spot for each small feature. Logs a warning when the
+/// non-empty region gets no exposure.
 LayerPlan planAcesLayer(const geometry::PolygonSet& region, const AcesDesign& design,
-                        double laserPower, double z);
+                        double laserPower, double z, AcesLayerInfo* info = nullptr);
+
+/// Parts of `region` the plan's line field misses: the region minus the opening of the region
+/// by `edgeOffset` grown by half a beam radius (so the rounded-off tips of ordinary convex
+/// corners do not count), keeping pieces larger than (W/10)^2.
+geometry::PolygonSet smallFeatures(const geometry::PolygonSet& region, double edgeOffset,
+                                   double beamRadius);
+
+}  // namespace vpsim::plan
+
+namespace vpsim {
+class ConfigNode;
+}
+
+namespace vpsim::plan {
+
+/// Reads the ACES keys of a job's `plan` section into `parameters` (the beam and process fields
+/// stay as they are): `homogeneity` (Srlt, default 0.01), `edge` ("seed-5-percent" or
+/// "cure-at-contour", default seed-5-percent), `border_count` (border loops, default 1),
+/// `border_offset` (length, default: the edge rule's), `direction` (degrees from +x, default:
+/// the longest edge). @throw InputError naming the key for bad values
+void readAcesKeys(const ConfigNode& plan, AcesParameters& parameters);
 
 }  // namespace vpsim::plan
