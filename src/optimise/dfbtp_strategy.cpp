@@ -57,7 +57,7 @@ public:
     plan::ScanPlan plan(const plan::PlannerInputs& in) override {
         DfbtpParameters p = mP;
         p.aces = plan::acesParameters(mOptions, in.beam, in.machine, in.criticalDose);
-        p.wallOnContour = mOptions.edge == plan::AcesEdge::CureAtContour;
+        p.wallOnContour = mOptions.aces.edge == plan::AcesEdge::CureAtContour;
         plan::ScanPlan empty = plan::emptyPlan(in.layers, in.machine);
         DfbtpResult r = planDfbtp(regionsOf(in), topsOf(empty), p, in.beam);
         r.plan.machine = empty.machine;
@@ -96,7 +96,7 @@ public:
     plan::ScanPlan plan(const plan::PlannerInputs& in) override {
         InverseParameters p = mP;
         p.base.aces = plan::acesParameters(mOptions, in.beam, in.machine, in.criticalDose);
-        p.base.wallOnContour = mOptions.edge == plan::AcesEdge::CureAtContour;
+        p.base.wallOnContour = mOptions.aces.edge == plan::AcesEdge::CureAtContour;
         plan::ScanPlan empty = plan::emptyPlan(in.layers, in.machine);
         InverseResult r = planInverse(regionsOf(in), topsOf(empty), p, in.beam);
         r.plan.machine = empty.machine;

@@ -25,12 +25,16 @@ public:
                     {"hatch_spacing_um", design.hatchSpacing * 1e3},
                     {"speed_mm_per_s", design.speed},
                     {"edge_offset_um", design.edgeOffset * 1e3},
-                    {"ripple", design.ripple}};
+                    {"ripple", design.ripple},
+                    {"wall_level", design.wallLevel},
+                    {"scallop_um", design.scallop * 1e3},
+                    {"border_loops", design.borderCount}};
         }
         return plan;
     }
 
-    /// {"aces": {target dose, hatch spacing, speed, edge offset, ripple}} of the first layer.
+    /// {"aces": {target dose, hatch spacing, speed, edge offset, ripple, wall level, scallop,
+    /// border loops}} of the first planned layer.
     nlohmann::json summary() const override {
         return mSummary.empty() ? nlohmann::json::object() : nlohmann::json{{"aces", mSummary}};
     }

@@ -6,34 +6,30 @@ namespace vpsim::plan {
 
 LaserPlanOptions readLaserPlanOptions(const ConfigNode& plan) {
     LaserPlanOptions options;
-    options.homogeneity = plan.numberInRange("homogeneity", 1e-6, 0.5, 0.01);
-    options.edge = plan.choice("edge", {"seed-5-percent", "cure-at-contour"},
-                               std::string("seed-5-percent")) == "seed-5-percent"
-                       ? AcesEdge::SeedFivePercent
-                       : AcesEdge::CureAtContour;
+    readAcesKeys(plan, options.aces);
     return options;
 }
 
 std::vector<ConfigKeyDoc> laserPlanKeys() {
     return {{"homogeneity",
-             "ACES Srlt: allowed relative standard deviation of the exposure "
-             "(default 0.01)"},
+             "ACES Srlt: allowed relative standard deviation of the exposure (default 0.01)"},
             {"edge",
              "seed-5-percent (default: the 5% Ep edge on the contour, seed 000 App. A) "
-             "| cure-at-contour (the surface exposure at the contour equals Ec)"}};
+             "| cure-at-contour (the cured wall on the contour on average over the layer depth)"},
+            {"border_count", "border (contour) scan loops (default 1)"},
+            {"border_offset", "inward offset of the first border loop (default: the edge rule's)"},
+            {"direction", "hatch direction in degrees from +x (default: the longest edge)"}};
 }
 
 AcesParameters acesParameters(const LaserPlanOptions& options, const kernel::FittedBeam& beam,
                               const Machine& machine, double criticalDose) {
-    AcesParameters aces;
+    AcesParameters aces = options.aces;
     aces.beamRadius = beam.radius;
     aces.attenuationLength = beam.attenuationLength;
     aces.depthOfMaximum = std::min(beam.depthOfMaximum, 0.99 * machine.layerThickness);
     aces.criticalDose = criticalDose / beam.efficiency;
     aces.layerThickness = machine.layerThickness;
     aces.laserPower = machine.laserPower;
-    aces.homogeneity = options.homogeneity;
-    aces.edge = options.edge;
     return aces;
 }
 

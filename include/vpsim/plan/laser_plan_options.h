@@ -14,8 +14,9 @@
 namespace vpsim::plan {
 
 struct LaserPlanOptions {
-    double homogeneity = 0.01;                  ///< ACES Srlt (relative standard deviation)
-    AcesEdge edge = AcesEdge::SeedFivePercent;  ///< where the outermost hatch line sits
+    /// The ACES keys (plan::readAcesKeys): homogeneity, edge, border_count, border_offset,
+    /// direction. The beam, machine and dose fields are filled by acesParameters().
+    AcesParameters aces;
 };
 
 /// @throw InputError naming the file and key
