@@ -101,8 +101,9 @@ int compare(const std::string& figuresFile, const std::string& job, const std::s
     const std::string update = "run `bash tools/update-golden.sh` and commit " + figuresFile +
                                " with a message saying why the figures changed";
     if (!stored["jobs"].contains(job)) {
-        std::cout << "golden: job '" << job << "' has no stored figures in " << figuresFile << ": "
-                  << update << "\n";
+        std::cout << "golden: job '" << job << "' has no stored figures in " << figuresFile
+                  << "; to add them, run `bash tools/update-golden.sh` and commit " << figuresFile
+                  << " (a new examples/*.json job needs its figures stored)\n";
         return 2;
     }
     const json& entry = stored["jobs"][job];
