@@ -193,6 +193,8 @@ check "$work/calibrate.json" ".n_points == 15" "(.penetration_depth_mm / $dp - 1
 check_files "$work/wc.svg"
 
 # --- run -------------------------------------------------------------------------------------------
+# A cache of its own: the first run computes its kernel (`vpsim kernel` above may share the cache).
+export VPSIM_CACHE_DIR="$work/run-cache"
 expect_no_output "$work/run_bad" run "$data/bad_job_unknown_key.json" --out "$work/run_bad"
 expect_error "bad_job_unknown_key.json: key 'simulation.voxl': unknown key" run "$data/bad_job_unknown_key.json" --out "$work/run_bad"
 expect_no_output "$work/run_bad" run "$data/missing_job.json" --out "$work/run_bad"
