@@ -103,7 +103,7 @@ TEST_CASE("exposure obeys superposition and linearity", "[exposure]") {
 // The shader path and the CPU path compile the same exposure.glsl; they may differ only by float
 // rounding and exp() implementations: 1e-5 relative.
 TEST_CASE("GPU and CPU exposure agree", "[exposure][gpu]") {
-    auto ctx = test::gpuContext();
+    VPSIM_GPU_CONTEXT_OR_SKIP(ctx);
     const double h = 0.05;
     plan::ScanPlan plan = test::randomPlan(4, h, 21);
     ExposureGrid grid = ExposureGrid::covering(-0.4, -0.4, 0.4, 0.4, 0.1, 0.01, 2);
@@ -132,7 +132,7 @@ TEST_CASE("impossible exposure parameters are refused clearly", "[exposure]") {
 
 // The beam efficiency scales the exposure once (linearity in the kernel amplitude), on both paths.
 TEST_CASE("the beam efficiency scales the exposure linearly", "[exposure][gpu]") {
-    auto ctx = test::gpuContext();
+    VPSIM_GPU_CONTEXT_OR_SKIP(ctx);
     plan::ScanPlan plan = test::randomPlan(2, 0.05, 5);
     ExposureGrid grid = ExposureGrid::covering(-0.4, -0.4, 0.4, 0.4, 0.1, 0.01, 1);
     kernel::FittedBeam scaled = BEAM;

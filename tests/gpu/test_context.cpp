@@ -8,9 +8,9 @@
 using namespace vpsim;
 
 TEST_CASE("a Vulkan device is found and describes its limits", "[gpu]") {
+    VPSIM_GPU_CONTEXT_OR_SKIP(ctx);
     auto devices = gpu::listDevices();
     REQUIRE(!devices.empty());
-    auto ctx = test::gpuContext();
     const auto& info = ctx->info();
     CHECK(!info.name.empty());
     CHECK(info.maxStorageBufferRange > 0);
@@ -21,7 +21,7 @@ TEST_CASE("a Vulkan device is found and describes its limits", "[gpu]") {
 }
 
 TEST_CASE("buffers round-trip data and refuse sizes beyond device limits", "[gpu]") {
-    auto ctx = test::gpuContext();
+    VPSIM_GPU_CONTEXT_OR_SKIP(ctx);
     gpu::Buffer buffer(ctx, 1000 * sizeof(uint32_t));
     std::vector<uint32_t> values(1000);
     for (uint32_t i = 0; i < 1000; ++i) values[i] = i * 2654435761u;
@@ -35,7 +35,14 @@ TEST_CASE("buffers round-trip data and refuse sizes beyond device limits", "[gpu
     VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
 }
 
+TEST_CASE("backend names parse and the CPU backend needs no device") {
+    CHECK(gpu::parseBackend("cpu") == gpu::Backend::Cpu);
+    CHECK(gpu::contextForBackend(gpu::Backend::Cpu) == nullptr);
+    CHECK_THROWS_AS(gpu::parseBackend("cuda"), InputError);
+}
+
 TEST_CASE("device selection by name and index, with clear errors", "[gpu]") {
+    VPSIM_GPU_CONTEXT_OR_SKIP(ctx);
     auto devices = gpu::listDevices();
     REQUIRE(!devices.empty());
     gpu::ContextOptions options;
@@ -48,7 +55,4 @@ TEST_CASE("device selection by name and index, with clear errors", "[gpu]") {
     auto first = gpu::Context::create(options);
     CHECK(first->info().name == devices[0].name);
     VPSIM_REQUIRE_VALIDATION_CLEAN(first);
-    CHECK(gpu::parseBackend("cpu") == gpu::Backend::Cpu);
-    CHECK(gpu::contextForBackend(gpu::Backend::Cpu) == nullptr);
-    CHECK_THROWS_AS(gpu::parseBackend("cuda"), InputError);
 }

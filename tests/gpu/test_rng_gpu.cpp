@@ -9,7 +9,7 @@ using namespace vpsim;
 // The one-source promise: the shader and the CPU compile the same rng.glsl, so every bit must
 // match, raw words and floats alike (tolerance: zero).
 TEST_CASE("GPU and CPU random streams are bit-identical", "[gpu][rng]") {
-    auto ctx = test::gpuContext();
+    VPSIM_GPU_CONTEXT_OR_SKIP(ctx);
     for (uint32_t mode : {0u, 1u}) {
         auto cpu = rngStreamsCpu(2024u, 1000u, 5000u, 16u, mode);
         auto gpu = gpu::rngStreamsGpu(ctx, 2024u, 1000u, 5000u, 16u, mode);
@@ -24,7 +24,7 @@ TEST_CASE("GPU and CPU random streams are bit-identical", "[gpu][rng]") {
 
 // More than 65535 workgroups of 64: dispatch1D folds into Y, and every stream is still written.
 TEST_CASE("large dispatches stay within the workgroup-count limit", "[gpu][rng]") {
-    auto ctx = test::gpuContext();
+    VPSIM_GPU_CONTEXT_OR_SKIP(ctx);
     const uint32_t streams = 65535u * 64u + 4097u;
     auto gpu = gpu::rngStreamsGpu(ctx, 5u, 0u, streams, 1u, 0u);
     auto cpuHead = rngStreamsCpu(5u, 0u, 100u, 1u, 0u);

@@ -33,7 +33,7 @@ bool agree(const Fraction& a, const Fraction& b, double sigmas) {
 }  // namespace
 
 TEST_CASE("GPU photon MC matches van de Hulst and the CPU path", "[transport][gpu]") {
-    auto ctx = test::gpuContext();
+    VPSIM_GPU_CONTEXT_OR_SKIP(ctx);
     McSetup s = matchedSlab(100000);
     s.depths = {0.05, 0.1};
     McResult gpu = runPhotonMcGpu(s, ctx);
@@ -57,7 +57,7 @@ TEST_CASE("GPU photon MC matches van de Hulst and the CPU path", "[transport][gp
 
 TEST_CASE("GPU photon MC with tabulated phase and Fresnel balances exactly and repeats",
           "[transport][gpu]") {
-    auto ctx = test::gpuContext();
+    VPSIM_GPU_CONTEXT_OR_SKIP(ctx);
     McSetup s = matchedSlab(40000);
     s.optics.refractiveIndex = 1.45;
     s.optics.mus = 30.0;
