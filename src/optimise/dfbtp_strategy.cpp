@@ -145,7 +145,7 @@ void registerLaserOptimisers(plan::PlannerRegistry& registry) {
                   "model's forward and adjoint, warm-started from ACES, top-down compensation",
                   inverseKeys, [](const ConfigNode& section) {
                       auto options = plan::readLaserPlanOptions(section);
-                      if (!section.has("edge")) options.edge = plan::AcesEdge::CureAtContour;
+                      if (!section.has("edge")) options.aces.edge = plan::AcesEdge::CureAtContour;
                       return std::make_unique<InversePlanner>(options, readInverseKeys(section));
                   }});
 }
