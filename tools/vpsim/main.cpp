@@ -7,6 +7,16 @@
 #include "vpsim/core/error.h"
 #include "vpsim/core/log.h"
 #include "vpsim/core/progress.h"
+#include "vpsim/core/text.h"
+
+namespace {
+
+/// Any message, whatever it quotes, as one printable line of bounded length.
+std::string oneLine(const std::string& message) {
+    return vpsim::escaped(message, 1200);
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     using namespace vpsim;
@@ -49,16 +59,16 @@ int main(int argc, char** argv) {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-        std::cerr << "vpsim: error: " << e.what() << " (see vpsim --help)" << std::endl;
+        std::cerr << "vpsim: error: " << oneLine(e.what()) << " (see vpsim --help)" << std::endl;
         return e.get_exit_code();
     } catch (const Error& e) {
-        std::cerr << "vpsim: error: " << e.what() << std::endl;
+        std::cerr << "vpsim: error: " << oneLine(e.what()) << std::endl;
         return 1;
     } catch (const std::bad_alloc&) {
         std::cerr << "vpsim: error: out of memory" << std::endl;
         return 1;
     } catch (const std::exception& e) {
-        std::cerr << "vpsim: internal error: " << e.what() << std::endl;
+        std::cerr << "vpsim: internal error: " << oneLine(e.what()) << std::endl;
         return 2;
     }
     return 0;
