@@ -12,8 +12,8 @@ namespace {
 
 using namespace vpsim;
 
-const Dimension DIMENSIONS[] = {dim::LENGTH, dim::DOSE, dim::POWER, dim::TIME, dim::INVERSE_LENGTH,
-                                dim::ANGLE, dim::DIMENSIONLESS, dim::SPEED};
+const Dimension DIMENSIONS[] = {dim::LENGTH,         dim::DOSE,  dim::POWER,         dim::TIME,
+                                dim::INVERSE_LENGTH, dim::ANGLE, dim::DIMENSIONLESS, dim::SPEED};
 
 /// Reads every key of an object with a getter of its type, as components would.
 void visit(const ConfigNode& node, const nlohmann::json& object, int depth) {
@@ -27,8 +27,7 @@ void visit(const ConfigNode& node, const nlohmann::json& object, int depth) {
                 visit(node.child(key), value, depth + 1);
             } else if (value.is_array()) {
                 if (!value.empty() && value[0].is_object()) {
-                    for (const ConfigNode& child : node.children(key))
-                        (void)child.keyPath("x");
+                    for (const ConfigNode& child : node.children(key)) (void)child.keyPath("x");
                 } else {
                     (void)node.raw(key);
                 }
@@ -41,8 +40,7 @@ void visit(const ConfigNode& node, const nlohmann::json& object, int depth) {
             } else {
                 (void)node.numberInRange(key, -1e6, 1e6);
             }
-        } catch (const Error&) {
-        }
+        } catch (const Error&) {}
     }
 }
 
@@ -53,17 +51,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     try {
         // The first line, when it holds an '=', is also tried as a --set override.
         const size_t newline = text.find('\n');
-        nlohmann::json document = parseJsonText(text.substr(newline == std::string::npos ? 0 : newline), "fuzz.json");
+        nlohmann::json document =
+            parseJsonText(text.substr(newline == std::string::npos ? 0 : newline), "fuzz.json");
         if (newline != std::string::npos && text.find('=') < newline)
             applyOverride(document, text.substr(0, newline));
         ConfigNode root(document, "fuzz.json");
         visit(root, document, 0);
         root.checkUnknownKeys();
-    } catch (const Error&) {
-    }
+    } catch (const Error&) {}
     try {
         (void)parseQuantity(text.substr(0, 256), dim::DOSE, "k", "fuzz");
-    } catch (const Error&) {
-    }
+    } catch (const Error&) {}
     return 0;
 }

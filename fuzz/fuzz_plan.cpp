@@ -16,7 +16,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const vpsim::plan::ScanPlan back =
             vpsim::plan::scanPlanFromJson(vpsim::plan::toJson(plan), "round-trip");
         if (back.layers.size() != plan.layers.size()) __builtin_trap();
-    } catch (const vpsim::Error&) {
-    }
+    } catch (const vpsim::Error&) {}
     return 0;
 }

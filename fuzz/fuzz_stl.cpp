@@ -16,7 +16,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         vpsim::geometry::MeshCheckOptions options;
         options.throwOnProblem = false;
         (void)vpsim::geometry::checkMesh(mesh, "fuzz.stl", options);
-    } catch (const vpsim::Error&) {
-    }
+    } catch (const vpsim::Error&) {}
     return 0;
 }

@@ -10,7 +10,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const std::string text(reinterpret_cast<const char*>(data), size);
     try {
         (void)vpsim::cure::parseWorkingCurveCsv(text, "fuzz.csv");
-    } catch (const vpsim::Error&) {
-    }
+    } catch (const vpsim::Error&) {}
     return 0;
 }

@@ -51,9 +51,9 @@ void checkNestingDepth(const std::string& text, const std::string& file) {
             inString = true;
         } else if (c == '{' || c == '[') {
             if (++depth > MAX_JSON_DEPTH)
-                throw InputError("JSON nested more than " + std::to_string(MAX_JSON_DEPTH) +
-                                     " levels deep",
-                                 file, "", lineOfByte(text, i));
+                throw InputError(
+                    "JSON nested more than " + std::to_string(MAX_JSON_DEPTH) + " levels deep",
+                    file, "", lineOfByte(text, i));
         } else if (c == '}' || c == ']') {
             --depth;
         }
@@ -97,20 +97,20 @@ private:
 
     void handle(Event event, const nlohmann::json& parsed) {
         switch (event) {
-        case Event::object_start:
-        case Event::array_start:
-            nextElement();
-            mFrames.push_back(Frame{event == Event::array_start, -1, {}, {}});
-            break;
-        case Event::object_end:
-        case Event::array_end:
-            if (!mFrames.empty()) mFrames.pop_back();
-            break;
-        case Event::key: onKey(parsed.get<std::string>()); break;
-        case Event::value:
-            nextElement();
-            checkValue(parsed);
-            break;
+            case Event::object_start:
+            case Event::array_start:
+                nextElement();
+                mFrames.push_back(Frame{event == Event::array_start, -1, {}, {}});
+                break;
+            case Event::object_end:
+            case Event::array_end:
+                if (!mFrames.empty()) mFrames.pop_back();
+                break;
+            case Event::key: onKey(parsed.get<std::string>()); break;
+            case Event::value:
+                nextElement();
+                checkValue(parsed);
+                break;
         }
     }
     void nextElement() {
@@ -118,8 +118,8 @@ private:
     }
     void onKey(const std::string& key) {
         if (key.size() > MAX_JSON_KEY)
-            throw InputError("key longer than " + std::to_string(MAX_JSON_KEY) + " characters: " +
-                                 quoteUser(key),
+            throw InputError("key longer than " + std::to_string(MAX_JSON_KEY) +
+                                 " characters: " + quoteUser(key),
                              mFile, currentPath());
         if (mFrames.empty()) return;
         Frame& frame = mFrames.back();
@@ -176,14 +176,19 @@ void applyOverride(nlohmann::json& document, const std::string& assignment) {
     std::string path = assignment.substr(0, equals);
     std::string valueText = assignment.substr(equals + 1);
     if (valueText.size() > MAX_JSON_STRING)
-        throw InputError("--set value longer than " + std::to_string(MAX_JSON_STRING) +
-                         " characters", "", path);
+        throw InputError(
+            "--set value longer than " + std::to_string(MAX_JSON_STRING) + " characters", "", path);
     nlohmann::json value;
     try {
-        value = parseJsonText(valueText, "--set " + path);
+        value = parseJsonText(valueText, "--set");
     } catch (const InputError& e) {
         // Not JSON: taken as a string ("50 um"). Valid JSON that breaks a limit stays an error.
-        if (e.reason().rfind("malformed JSON", 0) != 0) throw;
+        if (e.reason().rfind("malformed JSON", 0) != 0) {
+            const std::string inner = e.key();
+            const std::string key =
+                inner.empty() ? path : path + (inner[0] == '[' ? "" : ".") + inner;
+            throw InputError(e.reason(), "--set", key);
+        }
         value = valueText;
     }
     nlohmann::json* node = &document;

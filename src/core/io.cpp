@@ -28,9 +28,9 @@ void checkOutputPath(const std::string& path) {
         throw InputError("cannot write output: is a directory (give a file name)", path);
     const fs::path parent = fs::path(path).parent_path();
     if (!parent.empty() && !fs::is_directory(parent, ec))
-        throw InputError("cannot write output: directory " + quoteUser(parent.string()) +
-                             " does not exist",
-                         path);
+        throw InputError(
+            "cannot write output: directory " + quoteUser(parent.string()) + " does not exist",
+            path);
 }
 
 std::string errnoText(int error) {

@@ -240,7 +240,8 @@ OutputVerification verifyOutputDirectory(const std::string& dir, bool checkHashe
                 return out;
             }
             if (hash != entry.sha256) {
-                out.reason = quoteUser(entry.name) + ": contents differ from the manifest (SHA-256)";
+                out.reason =
+                    quoteUser(entry.name) + ": contents differ from the manifest (SHA-256)";
                 return out;
             }
         }

@@ -34,14 +34,14 @@ size_t utf8SequenceLength(std::string_view text, size_t i) {
 
 std::string escapeByte(unsigned char c) {
     switch (c) {
-    case '\n': return "\\n";
-    case '\r': return "\\r";
-    case '\t': return "\\t";
-    default: {
-        char hex[8];
-        std::snprintf(hex, sizeof hex, "\\x%02X", unsigned(c));
-        return hex;
-    }
+        case '\n': return "\\n";
+        case '\r': return "\\r";
+        case '\t': return "\\t";
+        default: {
+            char hex[8];
+            std::snprintf(hex, sizeof hex, "\\x%02X", unsigned(c));
+            return hex;
+        }
     }
 }
 
@@ -113,6 +113,38 @@ std::optional<double> parseDecimal(std::string_view text) {
     if (length == 0 || length != text.size()) return std::nullopt;
     const std::string copy(text);  // strtod needs a terminator
     return std::strtod(copy.c_str(), nullptr);
+}
+
+std::string htmlEscape(std::string_view text) {
+    std::string out;
+    out.reserve(text.size());
+    for (size_t i = 0; i < text.size();) {
+        const auto c = static_cast<unsigned char>(text[i]);
+        size_t consumed = 1;
+        switch (c) {
+            case '&': out += "&amp;"; break;
+            case '<': out += "&lt;"; break;
+            case '>': out += "&gt;"; break;
+            case '"': out += "&quot;"; break;
+            case '\'': out += "&#39;"; break;
+            default:
+                if (c >= 0x80) {
+                    const size_t length = utf8SequenceLength(text, i);
+                    if (length > 0) {
+                        out.append(text.substr(i, length));
+                        consumed = length;
+                    } else {
+                        out += "\xEF\xBF\xBD";
+                    }
+                } else if (c < 0x20 && c != '\n' && c != '\t') {
+                    out += "\xEF\xBF\xBD";
+                } else {
+                    out += char(c);
+                }
+        }
+        i += consumed;
+    }
+    return out;
 }
 
 std::string asciiLower(std::string_view text) {

@@ -150,7 +150,8 @@ Quantity parseQuantity(const std::string& rawText) {
     // Decimal only: strtod would also read "0x10" as 16, "inf" and "nan".
     const size_t length = decimalPrefixLength(text);
     if (length == 0)
-        throw InputError("expected a number with optional unit (decimal digits only), got " + quoteUser(text));
+        throw InputError("expected a number with optional unit (decimal digits only), got " +
+                         quoteUser(text));
     const double number = std::strtod(text.substr(0, length).c_str(), nullptr);
     if (!std::isfinite(number)) throw InputError("value is not finite: " + quoteUser(text));
     std::string units = trim(text.substr(length));

@@ -95,8 +95,8 @@ Column findColumn(const std::vector<std::string>& header, bool (*matches)(const 
                          file, "", line);
     Column column{found[0], unitFactor(header[found[0]], dimension), header[found[0]]};
     if (column.factor <= 0.0)
-        throw InputError("column " + quoteUser(column.name) + " carries no " + dimension.describe() +
-                             " unit (name it like '" + example + "')",
+        throw InputError("column " + quoteUser(column.name) + " carries no " +
+                             dimension.describe() + " unit (name it like '" + example + "')",
                          file, "", line);
     return column;
 }
@@ -107,13 +107,14 @@ double parseCell(const std::string& cell, const Column& column, const std::strin
     // Decimal only (strtod would read "0x10", "inf", "nan"); 1e400 overflows to inf.
     const std::optional<double> value = parseDecimal(cell);
     if (!value)
-        throw InputError("non-numeric cell " + quoteUser(cell) + " in column " + quoteUser(column.name),
-                         file, "", line);
+        throw InputError(
+            "non-numeric cell " + quoteUser(cell) + " in column " + quoteUser(column.name), file,
+            "", line);
     const double scaled = *value * column.factor;
     if (!(std::fabs(scaled) <= MAX_QUANTITY_MAGNITUDE))
-        throw InputError("cell " + quoteUser(cell) + " in column " + quoteUser(column.name) +
-                             " is out of range",
-                         file, "", line);
+        throw InputError(
+            "cell " + quoteUser(cell) + " in column " + quoteUser(column.name) + " is out of range",
+            file, "", line);
     return scaled;
 }
 

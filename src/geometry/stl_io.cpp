@@ -21,7 +21,7 @@
 namespace vpsim::geometry {
 namespace {
 
-constexpr size_t HEADER_BYTES = 84;    // 80-byte header + uint32 triangle count
+constexpr size_t HEADER_BYTES = 84;  // 80-byte header + uint32 triangle count
 constexpr size_t TRIANGLE_BYTES = 50;
 constexpr double MAX_COORDINATE = 1e7;  // mm  // normal + 3 vertices (12 floats) + uint16 attribute
 
@@ -37,8 +37,8 @@ void checkFinite(const Mesh& soup, size_t triangle, const std::string& path, int
         // 10 km: beyond it the file is not in mm (or is garbage), and volumes would overflow.
         if (std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}) > MAX_COORDINATE) {
             std::ostringstream s;
-            s << "triangle " << triangle + 1 << " has a coordinate beyond +-1e7 mm (" << v.x
-              << ", " << v.y << ", " << v.z << "): is the file in mm?";
+            s << "triangle " << triangle + 1 << " has a coordinate beyond +-1e7 mm (" << v.x << ", "
+              << v.y << ", " << v.z << "): is the file in mm?";
             throw InputError(s.str(), path, "", line);
         }
     }
@@ -89,8 +89,7 @@ constexpr std::string_view UTF8_BOM = "\xEF\xBB\xBF";
 class AsciiReader {
 public:
     AsciiReader(const std::string& data, const std::string& path) : mData(data), mPath(path) {
-        if (std::string_view(mData).substr(0, UTF8_BOM.size()) == UTF8_BOM)
-            mPos = UTF8_BOM.size();
+        if (std::string_view(mData).substr(0, UTF8_BOM.size()) == UTF8_BOM) mPos = UTF8_BOM.size();
     }
 
     bool atEnd() {
@@ -151,9 +150,9 @@ Mesh parseAscii(const std::string& data, const std::string& path, double scale) 
                 break;
             }
             if (!sameWord(word, "facet")) {
-                in.fail("expected 'facet' or 'endsolid', found " +
-                        (word.empty() ? std::string("end of file (truncated?)")
-                                      : quoteUser(word, 40)));
+                in.fail(
+                    "expected 'facet' or 'endsolid', found " +
+                    (word.empty() ? std::string("end of file (truncated?)") : quoteUser(word, 40)));
             }
             in.expect("normal");
             for (int k = 0; k < 3; ++k) in.number();  // stored normals are ignored

@@ -2,7 +2,7 @@
 # Table-driven bad-input test of the vpsim binary (tests/data/bad/cases.txt): each bad input ends
 # with exit code 1, exactly one "vpsim: error:" line naming the file/key and the reason (warnings
 # may precede it), no internal error, no signal or hang, and nothing written to the output location.
-# Usage: run_bad_inputs.sh VPSIM_BINARY SOURCE_DIR
+# Usage: run_bad_inputs.sh VPSIM_BINARY SOURCE_DIR   (VPSIM_BAD_INPUTS_PENDING=1: run pending too)
 set -uo pipefail
 vpsim="$1"; source="$2"
 cases="$source/tests/data/bad/cases.txt"
@@ -51,6 +51,8 @@ while IFS= read -r line; do
   args="${args//@EX@/$source/examples}"; args="${args//@OUT@/out}"; args="${args//@DIR@/dir}"
   args="${args//@LONGNAME@/$longname}"
   read -r -a argv <<<"$args"
+  # Pending cases run whole jobs (slow until fixed): only on request.
+  [[ $kind == pending && -z "${VPSIM_BAD_INPUTS_PENDING:-}" ]] && { pending=$((pending + 1)); continue; }
   check_case "$kind" "$pattern" "${argv[@]}"
 done <"$cases"
 

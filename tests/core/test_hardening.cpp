@@ -45,7 +45,7 @@ bool printable(const std::string& text) {
 TEST_CASE("messages escape control bytes and invalid UTF-8 and cut long text", "[core][text]") {
     CHECK(escaped("a\nb\tc\x01") == "a\\nb\\tc\\x01");
     CHECK(escaped("caf\xC3\xA9 \xB5m") == "caf\xC3\xA9 \\xB5m");  // valid UTF-8 kept
-    CHECK(escaped("\xC0\xAF") == "\\xC0\\xAF");                     // overlong form refused
+    CHECK(escaped("\xC0\xAF") == "\\xC0\\xAF");                   // overlong form refused
     CHECK(escaped(std::string(1000, 'x')).size() == MESSAGE_QUOTE_LIMIT + 3);
     CHECK(quoteUser("it") == "'it'");
     const InputError error("bad", std::string(1000, 'p') + "\n", "key\x1b[31m");
@@ -71,8 +71,8 @@ TEST_CASE("numbers are decimal only", "[core][units]") {
 
 TEST_CASE("the JSON reader refuses deep nesting, long strings, huge numbers, duplicates",
           "[core][config]") {
-    const std::string deep = writeTemp("deep.json", "{\"a\":" + std::string(100000, '[') + "1" +
-                                                        std::string(100000, ']') + "}");
+    const std::string deep = writeTemp(
+        "deep.json", "{\"a\":" + std::string(100000, '[') + "1" + std::string(100000, ']') + "}");
     CHECK_THAT(errorOf([&] { loadJsonFile(deep); }), Contains("nested more than 64"));
     const std::string deepObjects = [] {
         std::string text;
@@ -90,8 +90,8 @@ TEST_CASE("the JSON reader refuses deep nesting, long strings, huge numbers, dup
                Contains("key 'a[2]'") && Contains("out of range"));
     CHECK_THAT(errorOf([] { parseJsonText(R"({"m": {"x": 1, "x": 2}})", "j.json"); }),
                Contains("key 'm.x'") && Contains("duplicate key"));
-    CHECK_NOTHROW(parseJsonText(R"({"m": {"x": 1}, "n": {"x": 2}, "l": [{"x": 1}, {"x": 2}]})",
-                                "ok.json"));
+    CHECK_NOTHROW(
+        parseJsonText(R"({"m": {"x": 1}, "n": {"x": 2}, "l": [{"x": 1}, {"x": 2}]})", "ok.json"));
     const std::string longString = "{\"name\": \"" + std::string(10'000'000, 'x') + "\"}";
     const std::string message = errorOf([&] { parseJsonText(longString, "j.json"); });
     CHECK_THAT(message, Contains("key 'name'") && Contains("longer than the 4096"));
@@ -115,7 +115,8 @@ TEST_CASE("--set values obey the same limits", "[core][config]") {
 }
 
 TEST_CASE("config messages quoting user values are cut and escaped", "[core][config]") {
-    ConfigNode node(nlohmann::json{{"mode", std::string(5000, 'y') + "\n"}, {"n", "\x01"}}, "c.json");
+    ConfigNode node(nlohmann::json{{"mode", std::string(5000, 'y') + "\n"}, {"n", "\x01"}},
+                    "c.json");
     const std::string choice = errorOf([&] { node.choice("mode", {"a", "b"}); });
     CHECK(choice.size() < 250);
     CHECK(printable(choice));
@@ -124,13 +125,11 @@ TEST_CASE("config messages quoting user values are cut and escaped", "[core][con
 
 TEST_CASE("reads are bounded by size and refuse devices", "[core][io]") {
     CHECK_THAT(errorOf([] { readFile("/dev/zero"); }), Contains("not a regular file"));
-    CHECK_THAT(errorOf([] { readFile("/nonexistent/vpsim/file"); }),
-               Contains("cannot read file"));
+    CHECK_THAT(errorOf([] { readFile("/nonexistent/vpsim/file"); }), Contains("cannot read file"));
     const std::string path = writeTemp("big.txt", std::string(5000, 'b'));
     CHECK_THAT(errorOf([&] { readFile(path, 1000); }), Contains("larger than the"));
     CHECK(readFile(path, 5000).size() == 5000);
-    CHECK_THAT(errorOf([] { readFile(std::string(5000, 'n')); }),
-               Contains("File name too long"));
+    CHECK_THAT(errorOf([] { readFile(std::string(5000, 'n')); }), Contains("File name too long"));
     CHECK(errorOf([] { readFile(std::string(5000, 'n')); }).size() < 300);
 }
 
@@ -146,4 +145,10 @@ TEST_CASE("memory checks count bytes and name the fix", "[core][resources]") {
     CHECK_THROWS_AS(checkMemory(1e30, "a huge grid", "use a coarser voxel"), ResourceError);
     CHECK_THROWS_WITH(checkMemory(1e30, "a huge grid", "use a coarser voxel"),
                       Contains("a huge grid would need") && Contains("use a coarser voxel"));
+}
+
+TEST_CASE("HTML escaping leaves no markup and no control bytes", "[core][text]") {
+    CHECK(htmlEscape("<script>alert('x')</script> & \"q\"") ==
+          "&lt;script&gt;alert(&#39;x&#39;)&lt;/script&gt; &amp; &quot;q&quot;");
+    CHECK(htmlEscape("caf\xC3\xA9\x01\xff") == "caf\xC3\xA9\xEF\xBF\xBD\xEF\xBF\xBD");
 }

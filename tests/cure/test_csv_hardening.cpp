@@ -32,8 +32,8 @@ TEST_CASE("working-curve cells are decimal numbers in range", "[cure][csv]") {
                Contains("w.csv:3") && Contains("out of range"));
     CHECK_THAT(messageOf(std::string(HEADER) + "10,0.1\n20,\x01\xff\n40,0.3\n"),
                Contains("'\\x01\\xFF'"));
-    const std::string longCell = std::string(HEADER) + "10,0.1\n20," + std::string(5000, '9') +
-                                 "x\n40,0.3\n";
+    const std::string longCell =
+        std::string(HEADER) + "10,0.1\n20," + std::string(5000, '9') + "x\n40,0.3\n";
     CHECK(messageOf(longCell).size() < 300);
     CHECK_THAT(messageOf(std::string(HEADER) + "10,0.1\n20,0.2\n40,0.3\n"),
                Contains("no InputError"));

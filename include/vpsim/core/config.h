@@ -19,10 +19,10 @@ namespace vpsim {
 
 /// Limits on every JSON document vpsim reads (jobs, materials, plans, --set values): beyond them
 /// a document is refused with the file and key, never parsed into a crash or a silent overflow.
-constexpr int MAX_JSON_DEPTH = 64;                        ///< nesting of objects and arrays
-constexpr size_t MAX_JSON_STRING = 4096;                  ///< characters in a string value
-constexpr size_t MAX_JSON_KEY = 256;                      ///< characters in a key
-constexpr double MAX_JSON_NUMBER = 1e18;                  ///< magnitude of any number
+constexpr int MAX_JSON_DEPTH = 64;                           ///< nesting of objects and arrays
+constexpr size_t MAX_JSON_STRING = 4096;                     ///< characters in a string value
+constexpr size_t MAX_JSON_KEY = 256;                         ///< characters in a key
+constexpr double MAX_JSON_NUMBER = 1e18;                     ///< magnitude of any number
 constexpr uint64_t MAX_JSON_FILE_BYTES = uint64_t(1) << 30;  ///< 1 GiB (plans with DLP masks)
 
 /// Parses JSON text from `source` (a file name, used in messages) under the limits above;

@@ -28,6 +28,11 @@ size_t decimalPrefixLength(std::string_view text);
 /// one. A finite-range check is the caller's: 1e400 comes back as +inf.
 std::optional<double> parseDecimal(std::string_view text);
 
+/// Text for HTML element content or a quoted attribute: & < > " ' as entities, control bytes and
+/// invalid UTF-8 as U+FFFD. Everything the HTML report quotes (job name, file names) goes through
+/// it.
+std::string htmlEscape(std::string_view text);
+
 /// ASCII lower case.
 std::string asciiLower(std::string_view text);
 
