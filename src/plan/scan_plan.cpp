@@ -20,6 +20,15 @@ double positive(const ConfigNode& node, const std::string& key, Dimension dimens
     return value;
 }
 
+/// A machine length: positive and at most 10 mm (layers, beams and pixels are microns to a
+/// millimetre; larger values are unit mistakes that would make grids of one cell).
+double machineLength(const ConfigNode& node, const std::string& key) {
+    const double value = positive(node, key, dim::LENGTH);
+    if (value > 10.0)
+        throw node.error(key, "must be at most 10 mm, got " + std::to_string(value) + " mm");
+    return value;
+}
+
 double nonNegative(const ConfigNode& node, const std::string& key, Dimension dimension) {
     double value = node.quantity(key, dimension);
     if (!(value >= 0)) throw node.error(key, "must not be negative");
@@ -113,10 +122,10 @@ ScanPlan scanPlanFromJson(const nlohmann::json& json, const std::string& file) {
     root.string("units", std::string("mm, s, mW, mJ"));
     ScanPlan plan;
     ConfigNode machine = root.child("machine");
-    plan.machine.layerThickness = positive(machine, "layer_thickness", dim::LENGTH);
+    plan.machine.layerThickness = machineLength(machine, "layer_thickness");
     plan.machine.laserPower = nonNegative(machine, "laser_power", dim::POWER);
-    plan.machine.beamRadius = positive(machine, "beam_radius", dim::LENGTH);
-    plan.machine.pixelPitch = positive(machine, "pixel_pitch", dim::LENGTH);
+    plan.machine.beamRadius = machineLength(machine, "beam_radius");
+    plan.machine.pixelPitch = machineLength(machine, "pixel_pitch");
     for (const ConfigNode& node : root.children("layers")) {
         LayerPlan layer;
         layer.z = node.quantity("z", dim::LENGTH);

@@ -4,7 +4,7 @@
 # may precede it), no internal error, no signal or hang, and nothing written to the output location.
 # Usage: run_bad_inputs.sh VPSIM_BINARY SOURCE_DIR   (VPSIM_BAD_INPUTS_PENDING=1: run pending too)
 set -uo pipefail
-vpsim="$1"; source="$2"
+vpsim="$(realpath "$1")"; source="$(realpath "$2")"
 cases="$source/tests/data/bad/cases.txt"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 longname="$work/$(printf 'n%.0s' {1..300})/$(printf 'm%.0s' {1..700}).json"
@@ -21,13 +21,13 @@ check_case() {  # KIND PATTERN ARGS...
   local why=""
   if [[ $kind == ok ]]; then
     [[ $code -eq 0 ]] || why="exit $code"
-    grep -qE "$pattern" "$work/out" || why="$why; stdout does not match /$pattern/"
+    grep -qE -e "$pattern" "$work/out" || why="$why; stdout does not match /$pattern/"
   else
     [[ $code -eq 1 ]] || why="exit $code (expected 1)"
     [[ $errors -eq 1 ]] || why="$why; $errors 'vpsim: error:' lines"
     [[ $others -eq 0 ]] || why="$why; $others other stderr lines"
     grep -q 'internal error' "$work/err" && why="$why; internal error"
-    grep -E '^vpsim: error: ' "$work/err" | grep -qE "$pattern" || why="$why; no match for /$pattern/"
+    grep -E '^vpsim: error: ' "$work/err" | grep -qE -e "$pattern" || why="$why; no match for /$pattern/"
     [[ "$before" == "$after" ]] || why="$why; wrote files: $(diff <(echo "$before") <(echo "$after") | grep '^>' | head -3 | tr '\n' ' ')"
   fi
   if [[ -z $why ]]; then

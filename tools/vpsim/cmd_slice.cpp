@@ -114,6 +114,12 @@ void runSlice(const SliceCliOptions& o) {
     }
     options.planePosition = o.plane;
     if (!o.zStart.empty()) options.zStart = parseQuantity(o.zStart, dim::LENGTH, "--z-start");
+    const Bounds bounds = mesh.bounds();
+    if (options.layerThickness > bounds.hi.z - bounds.lo.z)
+        throw InputError("layer thickness " + std::to_string(options.layerThickness) +
+                             " mm is more than the part's height " +
+                             std::to_string(bounds.hi.z - bounds.lo.z) + " mm",
+                         "", "--layer");
     const int count = layerCount(mesh, options);
     const LayerStack stack = sliceToStack(mesh, options, o.file, o.layers);
     const std::vector<Layer>& layers = stack.layers;
