@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <string>
@@ -30,17 +31,20 @@ uint64_t memoryBudget() {
     }
     const long pages = ::sysconf(_SC_PHYS_PAGES), pageSize = ::sysconf(_SC_PAGESIZE);
     const uint64_t physical = pages > 0 && pageSize > 0 ? uint64_t(pages) * uint64_t(pageSize) : 0;
-    const uint64_t floor = uint64_t(256) << 20;
-    return physical / 2 > floor ? physical / 2 : floor;
+    // Half the memory, at most 16 GiB unless VPSIM_MEMORY_LIMIT says more: beyond that a user
+    // size is far more often a unit mistake than a wish, and the work would take hours.
+    const uint64_t floor = uint64_t(256) << 20, ceiling = uint64_t(16) << 30;
+    return std::max(floor, std::min(physical / 2, ceiling));
 }
 
 void checkMemory(double bytes, const std::string& what, const std::string& hint) {
     const double budget = double(memoryBudget());
     if (std::isfinite(bytes) && bytes <= budget) return;
-    throw ResourceError(what + " would need " +
-                        (std::isfinite(bytes) ? formatBytes(bytes) : std::string("unbounded")) +
-                        ", more than the " + formatBytes(budget) +
-                        " allowed (half the memory, or VPSIM_MEMORY_LIMIT): " + hint);
+    throw ResourceError(
+        what + " would need " +
+        (std::isfinite(bytes) ? formatBytes(bytes) : std::string("unbounded")) +
+        ", more than the " + formatBytes(budget) +
+        " allowed (half the memory, at most 16 GiB; VPSIM_MEMORY_LIMIT sets it): " + hint);
 }
 
 }  // namespace vpsim

@@ -10,7 +10,7 @@
 namespace vpsim {
 
 /// Bytes one command may allocate for its largest structures: VPSIM_MEMORY_LIMIT (bytes, or with
-/// a suffix K, M, G) when set, else half of the physical memory (at least 256 MiB).
+/// a suffix K, M, G) when set, else half of the physical memory, between 256 MiB and 16 GiB.
 uint64_t memoryBudget();
 
 /// @param bytes estimated size of what is about to be allocated
