@@ -110,8 +110,24 @@ public:
     double number() {
         const std::string_view t = token();
         const std::optional<double> v = parseDecimal(t);
-        if (!v) fail("expected a number, found " + describe(t));
-        return *v;
+        if (v) return *v;
+        // inf and nan are numbers some exporters write: the finite check names the triangle.
+        const std::string word = asciiLower(t.substr(t.size() > 0 && (t[0] == '-' || t[0] == '+')));
+        if (word == "inf" || word == "infinity") return HUGE_VAL;
+        if (word == "nan") return std::nan("");
+        fail("expected a number, found " + describe(t));
+    }
+    /// Skips the solid's name: the rest of the line, or up to the first facet when a whole file
+    /// is written on one line.
+    void skipName() {
+        while (mPos < mData.size() && mData[mPos] != '\n') {
+            while (mPos < mData.size() && mData[mPos] != '\n' && isSeparator(mData[mPos])) ++mPos;
+            size_t end = mPos;
+            while (end < mData.size() && !isSeparator(mData[end])) ++end;
+            const std::string_view word = std::string_view(mData).substr(mPos, end - mPos);
+            if (sameWord(word, "facet") || sameWord(word, "endsolid")) return;
+            mPos = end;
+        }
     }
     void skipLine() {
         while (mPos < mData.size() && mData[mPos] != '\n') ++mPos;
@@ -142,7 +158,7 @@ Mesh parseAscii(const std::string& data, const std::string& path, double scale) 
     Mesh soup;
     while (!in.atEnd()) {
         in.expect("solid");
-        in.skipLine();  // the solid's name, any text
+        in.skipName();
         for (;;) {
             const std::string_view word = in.token();
             if (sameWord(word, "endsolid")) {
