@@ -12,6 +12,7 @@
 #include "commands.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
+#include "vpsim/core/text.h"
 #include "vpsim/core/units.h"
 #include "vpsim/kernel/beam_kernel.h"
 #include "vpsim/transport/photon_mc.h"
@@ -49,7 +50,11 @@ void runKernel(const KernelOptions& o, const vpsim::cli::Globals& g) {
     const double power = quantity(o.power, vpsim::dim::POWER, "--power");
     const double thickness =
         o.thickness.empty() ? 0.0 : quantity(o.thickness, vpsim::dim::LENGTH, "--thickness");
-    McSetup s = kernelSetup(optics, quantity(o.w0, vpsim::dim::LENGTH, "--w0"), thickness);
+    const double w0 = quantity(o.w0, vpsim::dim::LENGTH, "--w0");
+    if (!(w0 > 0.0 && w0 <= 100.0))
+        throw vpsim::InputError("must be in (0, 100] mm, got " + vpsim::quoteUser(o.w0), "",
+                                "--w0");
+    McSetup s = kernelSetup(optics, w0, thickness);
     s.photons = vpsim::cli::parseCount(o.photons, MAX_PHOTONS, "--photons");
     s.seed = o.seed;
     s.nAbove = s.nBelow = o.nOutside;

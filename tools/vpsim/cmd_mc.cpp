@@ -12,6 +12,7 @@
 #include "commands.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/resources.h"
+#include "vpsim/core/text.h"
 #include "vpsim/core/units.h"
 #include "vpsim/transport/photon_mc.h"
 
@@ -51,6 +52,8 @@ McSetup setupFrom(const McOptions& o, const vpsim::cli::Globals& g) {
     s.nAbove = s.nBelow = o.nOutside;
     s.beam = o.beam == "gaussian" ? BeamShape::Gaussian : BeamShape::Pencil;
     s.w0 = length(o.w0, "--w0");
+    if (!(s.w0 > 0.0 && s.w0 <= 100.0))
+        throw InputError("must be in (0, 100] mm, got " + vpsim::quoteUser(o.w0), "", "--w0");
     for (const std::string& d : o.depths) s.depths.push_back(length(d, "--depths"));
     s.bins.rMax = length(o.rMax, "--r-max");
     s.bins.zMax = length(o.zMax, "--z-max");

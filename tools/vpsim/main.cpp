@@ -16,6 +16,24 @@ std::string oneLine(const std::string& message) {
     return vpsim::escaped(message, 1200);
 }
 
+/// Numeric options take decimal numbers only: CLI11's conversions would also read "0x10" as 16.
+void requireDecimalNumbers(CLI::App& app) {
+    const CLI::Validator decimal(
+        [](std::string& text) {
+            return vpsim::parseDecimal(text)
+                       ? std::string()
+                       : "expected a decimal number, got " + vpsim::quoteUser(text);
+        },
+        "", "");
+    for (CLI::Option* option : app.get_options()) {
+        const std::string type = option->get_type_name();
+        if (type == "FLOAT" || type == "INT" || type == "UINT" || type == "NUMBER")
+            option->check(decimal);
+    }
+    for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+        requireDecimalNumbers(*sub);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -54,6 +72,7 @@ int main(int argc, char** argv) {
         "-v,--verbose", [] { setLogLevel(LogLevel::Debug); }, "debug messages");
 
     for (auto& [name, setup] : cli::commandRegistry()) setup(app, globals);
+    requireDecimalNumbers(app);
 
     try {
         app.parse(argc, argv);
