@@ -6,6 +6,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 
 #include "vpsim/core/error.h"
@@ -37,6 +38,16 @@ std::string errnoText(int error) {
     return error == 0 ? std::string("unknown error") : std::string(std::strerror(error));
 }
 
+std::mutex& observerMutex() {
+    static std::mutex mutex;
+    return mutex;
+}
+
+WriteObserver& observer() {
+    static WriteObserver current;
+    return current;
+}
+
 void renameInto(const std::string& temporary, const std::string& path) {
     std::error_code ec;
     std::filesystem::rename(temporary, path, ec);
@@ -44,9 +55,18 @@ void renameInto(const std::string& temporary, const std::string& path) {
         std::filesystem::remove(temporary, ec);
         throw InputError("cannot write output: " + ec.message(), path);
     }
+    std::lock_guard<std::mutex> lock(observerMutex());
+    if (observer()) observer()(path);
 }
 
 }  // namespace
+
+WriteObserver setWriteObserver(WriteObserver next) {
+    std::lock_guard<std::mutex> lock(observerMutex());
+    WriteObserver previous = std::move(observer());
+    observer() = std::move(next);
+    return previous;
+}
 
 void writeStreamAtomic(const std::string& path, const std::function<void(std::ostream&)>& write) {
     checkOutputPath(path);

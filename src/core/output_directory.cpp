@@ -117,6 +117,26 @@ OutputDirectory::OutputDirectory(std::string dir, nlohmann::json runInfo)
         throw InputError("cannot remove the previous run's manifest: " + ec.message(),
                          (fs::path(mDir) / MANIFEST_NAME).string());
     removeStaleTemporaries(mDir);
+    mAbsolute = fs::absolute(mDir).lexically_normal().string();
+    if (!mAbsolute.empty() && mAbsolute.back() == '/') mAbsolute.pop_back();
+    mPrevious = setWriteObserver([this](const std::string& written) { noteWritten(written); });
+    mObserving = true;
+}
+
+OutputDirectory::~OutputDirectory() {
+    if (mObserving) setWriteObserver(mPrevious);
+}
+
+void OutputDirectory::noteWritten(const std::string& fullPath) {
+    const std::string absolute = fs::absolute(fullPath).lexically_normal().string();
+    if (absolute.size() <= mAbsolute.size() + 1 ||
+        absolute.compare(0, mAbsolute.size(), mAbsolute) != 0 || absolute[mAbsolute.size()] != '/')
+        return;  // outside the run's directory (a kernel cache, a --save elsewhere)
+    const std::string name = absolute.substr(mAbsolute.size() + 1);
+    if (name == MANIFEST_NAME || !safeRelativeName(name)) return;
+    for (const auto& known : mNames)
+        if (known == name) return;
+    mNames.push_back(name);
 }
 
 std::string OutputDirectory::path(const std::string& name) const {
@@ -126,26 +146,11 @@ std::string OutputDirectory::path(const std::string& name) const {
     return (fs::path(mDir) / name).string();
 }
 
-void OutputDirectory::recordEntry(const std::string& name) {
-    const std::string full = path(name);
-    std::error_code ec;
-    const uintmax_t bytes = fs::file_size(full, ec);
-    if (ec) throw InputError("output file missing after writing: " + ec.message(), full);
-    ManifestEntry entry{name, uint64_t(bytes), sha256OfFile(full)};
-    for (auto& existing : mEntries) {
-        if (existing.name == name) {
-            existing = entry;  // rewritten during the run: the last version counts
-            return;
-        }
-    }
-    mEntries.push_back(entry);
-}
-
 void OutputDirectory::writeFile(const std::string& name, const std::string& contents) {
     const std::string full = path(name);
     createDirectories(fs::path(full).parent_path().string());
     writeFileAtomic(full, contents);
-    recordEntry(name);
+    record(name);
 }
 
 void OutputDirectory::writeStream(const std::string& name,
@@ -153,7 +158,7 @@ void OutputDirectory::writeStream(const std::string& name,
     const std::string full = path(name);
     createDirectories(fs::path(full).parent_path().string());
     writeStreamAtomic(full, write);
-    recordEntry(name);
+    record(name);
 }
 
 void OutputDirectory::writePath(const std::string& name,
@@ -161,18 +166,30 @@ void OutputDirectory::writePath(const std::string& name,
     const std::string full = path(name);
     createDirectories(fs::path(full).parent_path().string());
     writePathAtomic(full, write);
-    recordEntry(name);
+    record(name);
 }
 
 void OutputDirectory::record(const std::string& name) {
-    recordEntry(name);
+    noteWritten(path(name));
 }
 
 void OutputDirectory::finish() {
     if (mFinished) throw Error("OutputDirectory::finish called twice for " + mDir);
+    if (mObserving) {
+        setWriteObserver(mPrevious);
+        mObserving = false;
+    }
+    mEntries.clear();
     nlohmann::json files = nlohmann::json::array();
-    for (const auto& e : mEntries)
-        files.push_back({{"name", e.name}, {"bytes", e.bytes}, {"sha256", e.sha256}});
+    for (const auto& name : mNames) {
+        const std::string full = (fs::path(mDir) / name).string();
+        std::error_code ec;
+        const uintmax_t bytes = fs::file_size(full, ec);
+        if (ec) continue;  // written, then removed by the run itself
+        mEntries.push_back({name, uint64_t(bytes), sha256OfFile(full)});
+        files.push_back(
+            {{"name", name}, {"bytes", mEntries.back().bytes}, {"sha256", mEntries.back().sha256}});
+    }
     const nlohmann::json manifest{
         {"format", MANIFEST_FORMAT}, {"complete", true}, {"files", files}, {"run", mRunInfo}};
     writeFileAtomic((fs::path(mDir) / MANIFEST_NAME).string(), manifest.dump(1) + "\n");

@@ -3,8 +3,14 @@
 // whose manifest matches (simulated interruptions included).
 #include <catch2/catch.hpp>
 
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
@@ -117,4 +123,61 @@ TEST_CASE("manifests and names cannot point outside the directory", "[core][outp
     CHECK_THAT(verifyOutputDirectory(dir.string()).reason, Contains("outside the directory"));
     writeFileAtomic((dir / MANIFEST_NAME).string(), "{\"format\": 1");
     CHECK_THAT(verifyOutputDirectory(dir.string()).reason, Contains("unreadable manifest"));
+}
+
+TEST_CASE("files written by any atomic writer inside the directory are recorded",
+          "[core][output]") {
+    const fs::path dir = freshDirectory("observed");
+    const fs::path outside = fs::temp_directory_path() / "vpsim_outdir_outside.json";
+    {
+        OutputDirectory out(dir.string(), {{"job", "observed"}});
+        createDirectories((dir / "kernel").string());
+        writeFileAtomic((dir / "plan.json").string(), "{}\n");  // code unaware of manifests
+        writeStreamAtomic((dir / "kernel" / "kernel.json").string(),
+                          [](std::ostream& s) { s << "{\"k\": 1}"; });
+        writeFileAtomic(outside.string(), "elsewhere");  // a cache outside the run: not listed
+        writeFileAtomic((dir / "plan.json").string(), "{\"v\": 2}\n");  // rewritten: listed once
+        writeFileAtomic((dir / "gone.txt").string(), "x");
+        fs::remove(dir / "gone.txt");  // removed by the run itself: not listed
+        out.finish();
+        REQUIRE(out.entries().size() == 2);
+        CHECK(out.entries()[0].name == "plan.json");
+        CHECK(out.entries()[0].bytes == 9);
+        CHECK(out.entries()[1].name == "kernel/kernel.json");
+    }
+    CHECK(verifyOutputDirectory(dir.string()).ok);
+    // After finish (and destruction) nothing is observed any more.
+    writeFileAtomic((dir / "late.txt").string(), "late");
+    CHECK(verifyOutputDirectory(dir.string()).entries.size() == 2);
+}
+
+TEST_CASE("a run killed with SIGKILL mid-write leaves nothing that verifies", "[core][output]") {
+    const fs::path dir = freshDirectory("killed");
+    runComplete(dir, "{\"old\": 1}\n");
+    REQUIRE(verifyOutputDirectory(dir.string()).ok);
+    const pid_t child = ::fork();
+    REQUIRE(child >= 0);
+    if (child == 0) {  // the run: rewrites plan.json, then dies while writing report.json
+        OutputDirectory out(dir.string());
+        out.writeFile("plan.json", "{\"new\": 2}\n");
+        std::ofstream partial(dir / ("report.json.tmp." + std::to_string(::getpid())));
+        partial << "{\"trunc" << std::flush;
+        for (;;) ::pause();
+    }
+    const fs::path marker = dir / ("report.json.tmp." + std::to_string(child));
+    for (int i = 0; i < 500 && !fs::exists(marker); ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    ::kill(child, SIGKILL);
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    REQUIRE(WIFSIGNALED(status));
+    CHECK(fs::exists(marker));
+    CHECK(readFile((dir / "plan.json").string()) == "{\"new\": 2}\n");  // new beside old...
+    CHECK_FALSE(verifyOutputDirectory(dir.string()).ok);                // ...and not trusted
+    {
+        OutputDirectory rerun(dir.string());
+        CHECK_FALSE(fs::exists(marker));  // the dead run's temporary is cleaned
+    }
+    runComplete(dir, "{\"new\": 3}\n");
+    CHECK(verifyOutputDirectory(dir.string()).ok);
 }

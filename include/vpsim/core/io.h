@@ -19,6 +19,12 @@ void writeStreamAtomic(const std::string& path, const std::function<void(std::os
 /// Calls write(tempPath) for libraries that write files themselves (OpenVDB, libpng), then
 /// renames tempPath to `path`.
 void writePathAtomic(const std::string& path, const std::function<void(const std::string&)>& write);
+/// Told the final path of every file the atomic writers above complete (after the rename).
+using WriteObserver = std::function<void(const std::string& path)>;
+/// Installs the process-wide observer (an empty function removes it); returns the previous one.
+/// OutputDirectory uses it to list a run's files without every writer knowing about manifests.
+WriteObserver setWriteObserver(WriteObserver observer);
+
 /// Largest input file read by default (STL parts, JSON jobs, CSV): 2 GiB.
 constexpr uint64_t DEFAULT_READ_LIMIT = uint64_t(2) << 30;
 /// Reads a whole regular file of at most `maxBytes`. Devices, FIFOs and directories are refused

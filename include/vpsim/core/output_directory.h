@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -33,36 +34,48 @@ struct ManifestEntry {
     std::string sha256;
 };
 
-/// Writer of one run's output directory.
+/// Writer of one run's output directory. While it exists, every file completed by the atomic
+/// writers of io.h inside the directory is recorded (see setWriteObserver), so code that writes
+/// with writeStl, writePng, saveScanPlan ... needs no change: open an OutputDirectory at the start
+/// of the run and call finish() at the end.
 class OutputDirectory {
 public:
     /// Begins a run in `dir`: creates it, removes manifest.json and every `*.tmp.PID` temporary
-    /// whose process is gone. Files of the previous run stay until replaced but are no longer
-    /// trusted. @throw InputError when the directory cannot be created or cleaned.
+    /// whose process is gone, and starts recording writes under it. Files of the previous run
+    /// stay until replaced but are no longer trusted.
+    /// @throw InputError when the directory cannot be created or cleaned.
     explicit OutputDirectory(std::string dir, nlohmann::json runInfo = nlohmann::json::object());
+    ~OutputDirectory();
+    OutputDirectory(const OutputDirectory&) = delete;
+    OutputDirectory& operator=(const OutputDirectory&) = delete;
 
     const std::string& directory() const { return mDir; }
     /// Full path of a file of the run. @throw InputError on an absolute name or one with "..".
     std::string path(const std::string& name) const;
 
-    /// Writes a file atomically (temporary + rename) and records it.
+    /// Writes a file atomically (temporary + rename) and records it; creates parent folders.
     void writeFile(const std::string& name, const std::string& contents);
     void writeStream(const std::string& name, const std::function<void(std::ostream&)>& write);
     /// For libraries that write files themselves (OpenVDB, libpng): write(temporaryPath).
     void writePath(const std::string& name, const std::function<void(const std::string&)>& write);
-    /// Records a file already written inside the directory by other code (hashes it from disk).
+    /// Records a file written inside the directory by code that bypasses io.h's writers.
     void record(const std::string& name);
 
-    /// Writes manifest.json (atomically, last). Call once, after every file of the run.
+    /// Stops recording, hashes every recorded file that still exists and writes manifest.json
+    /// (atomically, last). Call once, after every file of the run. @throw InputError on failure.
     void finish();
+    /// The manifest's entries (filled by finish()).
     const std::vector<ManifestEntry>& entries() const { return mEntries; }
 
 private:
-    void recordEntry(const std::string& name);
+    void noteWritten(const std::string& fullPath);
     std::string mDir;
+    std::string mAbsolute;  ///< normalised absolute directory, to match written paths
     nlohmann::json mRunInfo;
+    std::vector<std::string> mNames;  ///< recorded files, in first-write order
     std::vector<ManifestEntry> mEntries;
-    bool mFinished = false;
+    std::function<void(const std::string&)> mPrevious;  ///< observer restored on finish
+    bool mFinished = false, mObserving = false;
 };
 
 /// Outcome of checking an output directory against its manifest.
