@@ -45,7 +45,7 @@ if "$vpsim" mie --help >/dev/null 2>&1; then
 fi
 
 if "$vpsim" calibrate --help >/dev/null 2>&1; then
-  table1="$source/../shared/reference/seed001_table1_working_curve.csv"
+  table1="$source/tests/data/reference/seed001_table1_working_curve.csv"
   if [[ -f "$table1" ]]; then
     expect_ok '"penetration_depth_mm": 0.3659' calibrate --working-curve "$table1" --gel-point 0.276 --json
   fi

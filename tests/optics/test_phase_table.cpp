@@ -18,7 +18,7 @@ using Catch::Matchers::WithinRel;
 namespace {
 constexpr double PI = 3.14159265358979323846;
 
-/// Seed 000 Section II-C / shared/reference/seed000_slurry_case.json, in mm.
+/// Seed 000 Section II-C / tests/data/reference/seed000_slurry_case.json, in mm.
 SlurrySpec seedSlurry() {
     SlurrySpec s;
     s.wavelength = 405e-6;
