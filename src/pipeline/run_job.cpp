@@ -2,8 +2,10 @@
 
 #include <chrono>
 
+#include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
 #include "vpsim/core/log.h"
+#include "vpsim/core/output_directory.h"
 #include "vpsim/geometry/stl_io.h"
 #include "vpsim/gpu/context.h"
 #include "vpsim/report/figures.h"
@@ -45,9 +47,15 @@ struct Front {
 
 Front runFront(const Job& job, const std::string& outDir, const RunContext& context,
                report::JobResult& result, StageTimer& timer) {
-    createDirectories(outDir);
     Front f;
     f.part = partStage(job);
+    // Checked before anything is written or the kernel is computed (sliceStage checks it too).
+    if (!(job.machine.layerThickness <= f.part.bounds().hi.z))
+        throw InputError("layer thickness " + std::to_string(job.machine.layerThickness) +
+                             " mm is more than the part's height " +
+                             std::to_string(f.part.bounds().hi.z) + " mm: no layer to print",
+                         job.file, "machine.layer_thickness");
+    createDirectories(outDir);
     geometry::writeStl(outDir + "/part.stl", f.part);
     f.bounds = f.part.bounds();
     result.part = {f.part.volume(),
@@ -74,12 +82,16 @@ Front runFront(const Job& job, const std::string& outDir, const RunContext& cont
 }  // namespace
 
 PlanResult planJob(const Job& job, const std::string& outDir, const RunContext& context) {
+    // Removes the previous manifest and dead runs' temporaries; manifest.json is written last.
+    OutputDirectory output(outDir,
+                           {{"command", "plan"}, {"job", job.name}, {"job_file", job.file}});
     report::JobResult result;
     StageTimer timer(result.stageSeconds);
     Front f = runFront(job, outDir, context, result, timer);
     PlanResult plan = planStage(job, f.layers, f.bounds, f.beam, context);
     plan::saveScanPlan(plan.plan, outDir + "/plan.json");
     timer.finish("plan");
+    output.finish();
     return plan;
 }
 
@@ -88,6 +100,9 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     // A saved plan is read before anything in outDir is replaced (it may live there).
     std::optional<plan::ScanPlan> saved;
     if (!options.planFile.empty()) saved = plan::loadScanPlan(options.planFile);
+    // From here the directory is untrusted until manifest.json, written last, lists every file
+    // of this run with its size and SHA-256 (core/output_directory.h).
+    OutputDirectory output(outDir, {{"command", "run"}, {"job", job.name}, {"job_file", job.file}});
 
     report::JobResult result;
     result.jobFile = job.file;
@@ -149,6 +164,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     timer.finish("report");
     writeFileAtomic(outDir + "/report.json", report::toJson(result).dump(2));
     report::writeHtmlReport(outDir, result);
+    output.finish();
     return result;
 }
 
