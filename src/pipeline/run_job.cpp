@@ -45,16 +45,22 @@ struct Front {
     geometry::LayerStack layers;
 };
 
-Front runFront(const Job& job, const std::string& outDir, const RunContext& context,
-               report::JobResult& result, StageTimer& timer) {
-    Front f;
-    f.part = partStage(job);
-    // Checked before anything is written or the kernel is computed (sliceStage checks it too).
-    if (!(job.machine.layerThickness <= f.part.bounds().hi.z))
+/// The part, checked against the layer thickness before anything is written or the kernel is
+/// computed (sliceStage checks it too).
+geometry::Mesh checkedPart(const Job& job) {
+    geometry::Mesh part = partStage(job);
+    if (!(job.machine.layerThickness <= part.bounds().hi.z))
         throw InputError("layer thickness " + std::to_string(job.machine.layerThickness) +
                              " mm is more than the part's height " +
-                             std::to_string(f.part.bounds().hi.z) + " mm: no layer to print",
+                             std::to_string(part.bounds().hi.z) + " mm: no layer to print",
                          job.file, "machine.layer_thickness");
+    return part;
+}
+
+Front runFront(const Job& job, geometry::Mesh part, const std::string& outDir,
+               const RunContext& context, report::JobResult& result, StageTimer& timer) {
+    Front f;
+    f.part = std::move(part);
     createDirectories(outDir);
     geometry::writeStl(outDir + "/part.stl", f.part);
     f.bounds = f.part.bounds();
@@ -82,12 +88,13 @@ Front runFront(const Job& job, const std::string& outDir, const RunContext& cont
 }  // namespace
 
 PlanResult planJob(const Job& job, const std::string& outDir, const RunContext& context) {
+    geometry::Mesh part = checkedPart(job);
     // Removes the previous manifest and dead runs' temporaries; manifest.json is written last.
     OutputDirectory output(outDir,
                            {{"command", "plan"}, {"job", job.name}, {"job_file", job.file}});
     report::JobResult result;
     StageTimer timer(result.stageSeconds);
-    Front f = runFront(job, outDir, context, result, timer);
+    Front f = runFront(job, std::move(part), outDir, context, result, timer);
     PlanResult plan = planStage(job, f.layers, f.bounds, f.beam, context);
     plan::saveScanPlan(plan.plan, outDir + "/plan.json");
     timer.finish("plan");
@@ -100,6 +107,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     // A saved plan is read before anything in outDir is replaced (it may live there).
     std::optional<plan::ScanPlan> saved;
     if (!options.planFile.empty()) saved = plan::loadScanPlan(options.planFile);
+    geometry::Mesh part = checkedPart(job);
     // From here the directory is untrusted until manifest.json, written last, lists every file
     // of this run with its size and SHA-256 (core/output_directory.h).
     OutputDirectory output(outDir, {{"command", "run"}, {"job", job.name}, {"job_file", job.file}});
@@ -110,7 +118,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     result.backend = deviceName(context);
     result.cure = job.cure->toJson();
     StageTimer timer(result.stageSeconds);
-    Front f = runFront(job, outDir, context, result, timer);
+    Front f = runFront(job, std::move(part), outDir, context, result, timer);
 
     PlanResult planned;
     if (saved) {
