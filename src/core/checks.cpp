@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "vpsim/core/error.h"
+#include "vpsim/core/text.h"
 
 namespace vpsim {
 
@@ -25,9 +26,20 @@ double positiveQuantity(const ConfigNode& node, const std::string& key, Dimensio
 }
 
 std::string resolvePath(const ConfigNode& node, const std::string& key) {
-    std::filesystem::path path = node.string(key);
-    if (path.is_relative()) path = std::filesystem::path(node.file()).parent_path() / path;
-    if (!std::filesystem::exists(path)) throw node.error(key, "file not found: " + path.string());
+    namespace fs = std::filesystem;
+    fs::path path = node.string(key);
+    if (path.empty()) throw node.error(key, "empty file name");
+    if (path.is_relative()) path = fs::path(node.file()).parent_path() / path;
+    // The error_code forms: a 1000-character name must be a message, not a filesystem_error.
+    std::error_code ec;
+    const fs::file_status status = fs::status(path, ec);
+    if (ec || !fs::exists(status))
+        throw node.error(
+            key, "file not found: " + quoteUser(path.string()) +
+                     (ec && ec != std::errc::no_such_file_or_directory ? " (" + ec.message() + ")"
+                                                                       : ""));
+    if (!fs::is_regular_file(status))
+        throw node.error(key, "not a regular file: " + quoteUser(path.string()));
     return path.string();
 }
 

@@ -6,6 +6,7 @@
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
+#include "vpsim/core/text.h"
 
 namespace vpsim {
 namespace {
@@ -21,31 +22,173 @@ std::string joinPath(const std::string& parent, const std::string& key) {
     return parent.empty() ? key : parent + "." + key;
 }
 
+/// A JSON value for a message: scalars as written (escaped, cut), containers by their type.
+std::string describeValue(const nlohmann::json& value) {
+    if (value.is_structured()) return std::string("an ") + value.type_name();
+    if (value.is_string()) return quoteUser(value.get_ref<const std::string&>());
+    return escaped(value.dump());
+}
+
+std::string formatLimit(double value) {
+    std::ostringstream s;
+    s << value;
+    return s.str();
+}
+
+/// Refuses documents nested deeper than MAX_JSON_DEPTH before parsing: a job nested 1e5 levels
+/// deep would otherwise overflow the stack in the recursive code that walks it.
+void checkNestingDepth(const std::string& text, const std::string& file) {
+    int depth = 0;
+    bool inString = false;
+    for (size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (inString) {
+            if (c == '\\')
+                ++i;
+            else if (c == '"')
+                inString = false;
+        } else if (c == '"') {
+            inString = true;
+        } else if (c == '{' || c == '[') {
+            if (++depth > MAX_JSON_DEPTH)
+                throw InputError(
+                    "JSON nested more than " + std::to_string(MAX_JSON_DEPTH) + " levels deep",
+                    file, "", lineOfByte(text, i));
+        } else if (c == '}' || c == ']') {
+            --depth;
+        }
+    }
+}
+
+/// Parser callback that follows the key path and refuses, while parsing, what JSON allows but a
+/// config must not have: duplicate keys (JSON keeps the last silently), huge strings or keys, and
+/// numbers beyond MAX_JSON_NUMBER.
+class JsonChecker {
+public:
+    explicit JsonChecker(std::string file) : mFile(std::move(file)) {}
+
+    nlohmann::json::parser_callback_t callback() {
+        return [this](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+            handle(event, parsed);
+            return true;
+        };
+    }
+    /// Dotted path of the value being parsed ("" at the top level).
+    std::string currentPath() const {
+        std::string path;
+        for (const Frame& frame : mFrames) {
+            if (frame.array) {
+                if (frame.index >= 0) path += "[" + std::to_string(frame.index) + "]";
+            } else if (!frame.key.empty()) {
+                path = joinPath(path, frame.key);
+            }
+        }
+        return path;
+    }
+
+private:
+    struct Frame {
+        bool array = false;
+        long long index = -1;
+        std::string key;
+        std::set<std::string> keys;
+    };
+    using Event = nlohmann::json::parse_event_t;
+
+    void handle(Event event, const nlohmann::json& parsed) {
+        switch (event) {
+            case Event::object_start:
+            case Event::array_start:
+                nextElement();
+                mFrames.push_back(Frame{event == Event::array_start, -1, {}, {}});
+                break;
+            case Event::object_end:
+            case Event::array_end:
+                if (!mFrames.empty()) mFrames.pop_back();
+                break;
+            case Event::key: onKey(parsed.get<std::string>()); break;
+            case Event::value:
+                nextElement();
+                checkValue(parsed);
+                break;
+        }
+    }
+    void nextElement() {
+        if (!mFrames.empty() && mFrames.back().array) ++mFrames.back().index;
+    }
+    void onKey(const std::string& key) {
+        if (key.size() > MAX_JSON_KEY)
+            throw InputError("key longer than " + std::to_string(MAX_JSON_KEY) +
+                                 " characters: " + quoteUser(key),
+                             mFile, currentPath());
+        if (mFrames.empty()) return;
+        Frame& frame = mFrames.back();
+        frame.key = key;
+        if (!frame.keys.insert(key).second)
+            throw InputError("duplicate key (JSON would silently keep the last)", mFile,
+                             currentPath());
+    }
+    void checkValue(const nlohmann::json& value) const {
+        if (value.is_string() && value.get_ref<const std::string&>().size() > MAX_JSON_STRING)
+            throw InputError("string of " +
+                                 std::to_string(value.get_ref<const std::string&>().size()) +
+                                 " characters is longer than the " +
+                                 std::to_string(MAX_JSON_STRING) + " accepted",
+                             mFile, currentPath());
+        if (value.is_number() && !(std::fabs(value.get<double>()) <= MAX_JSON_NUMBER))
+            throw InputError("number " + formatLimit(value.get<double>()) +
+                                 " out of range (beyond +-" + formatLimit(MAX_JSON_NUMBER) + ")",
+                             mFile, currentPath());
+    }
+
+    std::string mFile;
+    std::vector<Frame> mFrames;
+};
+
 }  // namespace
 
-nlohmann::json loadJsonFile(const std::string& path) {
-    std::string text = readFile(path);
+nlohmann::json parseJsonText(const std::string& text, const std::string& file) {
+    checkNestingDepth(text, file);
+    JsonChecker checker(file);
     try {
-        return nlohmann::json::parse(text);
+        return nlohmann::json::parse(text, checker.callback());
     } catch (const nlohmann::json::parse_error& e) {
         std::string reason = e.what();
         size_t colon = reason.find("]");
         reason =
             "malformed JSON: " + (colon == std::string::npos ? reason : reason.substr(colon + 2));
-        throw InputError(reason, path, "", lineOfByte(text, e.byte > 0 ? e.byte - 1 : 0));
+        throw InputError(reason, file, "", lineOfByte(text, e.byte > 0 ? e.byte - 1 : 0));
+    } catch (const nlohmann::json::out_of_range&) {
+        // The lexer read a number beyond double (1e400); the checker knows which key it was.
+        throw InputError("number out of range (beyond +-" + formatLimit(MAX_JSON_NUMBER) + ")",
+                         file, checker.currentPath());
     }
+}
+
+nlohmann::json loadJsonFile(const std::string& path) {
+    return parseJsonText(readFile(path, MAX_JSON_FILE_BYTES), path);
 }
 
 void applyOverride(nlohmann::json& document, const std::string& assignment) {
     size_t equals = assignment.find('=');
     if (equals == std::string::npos || equals == 0)
-        throw InputError("--set expects key.path=value, got '" + assignment + "'");
+        throw InputError("--set expects key.path=value, got " + quoteUser(assignment));
     std::string path = assignment.substr(0, equals);
     std::string valueText = assignment.substr(equals + 1);
+    if (valueText.size() > MAX_JSON_STRING)
+        throw InputError(
+            "--set value longer than " + std::to_string(MAX_JSON_STRING) + " characters", "", path);
     nlohmann::json value;
     try {
-        value = nlohmann::json::parse(valueText);
-    } catch (const nlohmann::json::parse_error&) {
+        value = parseJsonText(valueText, "--set");
+    } catch (const InputError& e) {
+        // Not JSON: taken as a string ("50 um"). Valid JSON that breaks a limit stays an error.
+        if (e.reason().rfind("malformed JSON", 0) != 0) {
+            const std::string inner = e.key();
+            const std::string key =
+                inner.empty() ? path : path + (inner[0] == '[' ? "" : ".") + inner;
+            throw InputError(e.reason(), "--set", key);
+        }
         value = valueText;
     }
     nlohmann::json* node = &document;
@@ -54,11 +197,11 @@ void applyOverride(nlohmann::json& document, const std::string& assignment) {
         size_t dot = path.find('.', start);
         std::string key =
             path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
-        if (key.empty()) throw InputError("--set: empty key in '" + path + "'");
+        if (key.empty()) throw InputError("--set: empty key in " + quoteUser(path));
         if (node->is_null()) *node = nlohmann::json::object();
         if (!node->is_object())
-            throw InputError("--set: '" + path.substr(0, start ? start - 1 : 0) +
-                             "' is not an object");
+            throw InputError("--set: " + quoteUser(path.substr(0, start ? start - 1 : 0)) +
+                             " is not an object");
         if (dot == std::string::npos) {
             (*node)[key] = value;
             return;
@@ -152,21 +295,22 @@ long long ConfigNode::integer(const std::string& key, std::optional<long long> f
     if (!has(key) && fallback) return *fallback;
     const nlohmann::json& value = require(key);
     if (!value.is_number_integer())
-        throw error(key, std::string("expected an integer, got ") + value.dump());
+        throw error(key, "expected an integer, got " + describeValue(value));
     return value.get<long long>();
 }
 
 bool ConfigNode::boolean(const std::string& key, std::optional<bool> fallback) const {
     if (!has(key) && fallback) return *fallback;
     const nlohmann::json& value = require(key);
-    if (!value.is_boolean()) throw error(key, "expected true or false, got " + value.dump());
+    if (!value.is_boolean())
+        throw error(key, "expected true or false, got " + describeValue(value));
     return value.get<bool>();
 }
 
 std::string ConfigNode::string(const std::string& key, std::optional<std::string> fallback) const {
     if (!has(key) && fallback) return *fallback;
     const nlohmann::json& value = require(key);
-    if (!value.is_string()) throw error(key, "expected a string, got " + value.dump());
+    if (!value.is_string()) throw error(key, "expected a string, got " + describeValue(value));
     return value.get<std::string>();
 }
 
@@ -177,7 +321,7 @@ std::string ConfigNode::choice(const std::string& key, const std::vector<std::st
         if (c == value) return value;
     std::string list;
     for (const auto& c : choices) list += (list.empty() ? "" : ", ") + c;
-    throw error(key, "'" + value + "' is not one of: " + list);
+    throw error(key, quoteUser(value) + " is not one of: " + list);
 }
 
 ConfigNode ConfigNode::child(const std::string& key) const {

@@ -2,11 +2,19 @@
 
 #include <cstdio>
 
+#include "vpsim/core/text.h"
+
 namespace vpsim {
 namespace {
 
-std::string composeInputMessage(const std::string& reason, const std::string& file,
-                                const std::string& key, int line) {
+// File names and keys come from the user: escaped and cut, so that a 1000-character path or a
+// key with a newline still gives one readable line. The reason quotes its own user text.
+constexpr size_t FILE_LIMIT = 160, KEY_LIMIT = 120, REASON_LIMIT = 800;
+
+std::string composeInputMessage(const std::string& rawReason, const std::string& rawFile,
+                                const std::string& rawKey, int line) {
+    const std::string reason = escaped(rawReason, REASON_LIMIT);
+    const std::string file = escaped(rawFile, FILE_LIMIT), key = escaped(rawKey, KEY_LIMIT);
     std::string where = file;
     if (line > 0) where += (where.empty() ? "line " : ":") + std::to_string(line);
     if (!key.empty()) where += (where.empty() ? "" : ": ") + std::string("key '") + key + "'";

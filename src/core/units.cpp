@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "vpsim/core/error.h"
+#include "vpsim/core/text.h"
 
 namespace vpsim {
 namespace {
@@ -85,12 +86,12 @@ void applyFactor(const std::string& token, int sign, const std::string& text, do
         char* end = nullptr;
         long parsed = std::strtol(exponentText.c_str(), &end, 10);
         if (*end != '\0' || parsed == 0 || std::abs(parsed) > 4)
-            throw InputError("bad unit exponent in '" + text + "'");
+            throw InputError("bad unit exponent in " + quoteUser(text));
         exponent = static_cast<int>(parsed);
     }
     auto it = unitTable().find(symbol);
     if (it == unitTable().end())
-        throw InputError("unknown unit '" + symbol + "' in '" + text + "'");
+        throw InputError("unknown unit " + quoteUser(symbol) + " in " + quoteUser(text));
     factor *= std::pow(it->second.toBase, sign * exponent);
     dimension = combined(dimension, scaled(it->second.dimension, sign * exponent));
 }
@@ -146,14 +147,20 @@ std::string Dimension::baseUnit() const {
 
 Quantity parseQuantity(const std::string& rawText) {
     std::string text = trim(rawText);
-    const char* begin = text.c_str();
-    char* end = nullptr;
-    double number = std::strtod(begin, &end);
-    if (end == begin) throw InputError("expected a number with optional unit, got '" + text + "'");
-    if (!std::isfinite(number)) throw InputError("value is not finite: '" + text + "'");
-    std::string units = trim(std::string(end));
+    // Decimal only: strtod would also read "0x10" as 16, "inf" and "nan".
+    const size_t length = decimalPrefixLength(text);
+    if (length == 0)
+        throw InputError("expected a number with optional unit (decimal digits only), got " +
+                         quoteUser(text));
+    const double number = std::strtod(text.substr(0, length).c_str(), nullptr);
+    if (!std::isfinite(number)) throw InputError("value is not finite: " + quoteUser(text));
+    std::string units = trim(text.substr(length));
     Quantity quantity{number, dim::DIMENSIONLESS};
-    if (units.empty()) return quantity;
+    if (units.empty()) {
+        if (!(std::fabs(number) <= MAX_QUANTITY_MAGNITUDE))
+            throw InputError("value " + quoteUser(text) + " is out of range (beyond +-1e18)");
+        return quantity;
+    }
     double factor = 1.0;
     Dimension dimension;
     size_t slash = units.find('/');
@@ -167,6 +174,9 @@ Quantity parseQuantity(const std::string& rawText) {
     }
     quantity.value = number * factor;
     quantity.dimension = dimension;
+    if (!(std::fabs(quantity.value) <= MAX_QUANTITY_MAGNITUDE))
+        throw InputError("value " + quoteUser(text) + " is out of range (beyond +-1e18 " +
+                         dimension.baseUnit() + ")");
     return quantity;
 }
 
@@ -178,12 +188,12 @@ double parseQuantity(const std::string& text, Dimension expected, const std::str
     } catch (const InputError& e) {
         throw InputError(e.reason(), file, key);
     }
-    bool bareNumber = trim(text).find_first_not_of("0123456789.eE+- ") == std::string::npos;
+    const bool bareNumber = parseDecimal(trim(text)).has_value();
     if (bareNumber) return quantity.value;
     if (quantity.dimension != expected)
         throw InputError("expected " + expected.describe() + " (e.g. in " + expected.baseUnit() +
-                             "), got " + quantity.dimension.describe() + " from '" + trim(text) +
-                             "'",
+                             "), got " + quantity.dimension.describe() + " from " +
+                             quoteUser(trim(text)),
                          file, key);
     return quantity.value;
 }

@@ -2,15 +2,19 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 #include <sstream>
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
+#include "vpsim/core/text.h"
 #include "vpsim/core/units.h"
 #include "vpsim/cure/calibration.h"
 
 namespace vpsim::cure {
 namespace {
+
+constexpr uint64_t MAX_CSV_BYTES = uint64_t(64) << 20;  // a working curve has tens of rows
 
 std::string trim(const std::string& text) {
     size_t begin = text.find_first_not_of(" \t\r\"'");
@@ -86,27 +90,32 @@ Column findColumn(const std::vector<std::string>& header, bool (*matches)(const 
                              " column in the header (expected a name like '" + example + "')",
                          file, "", line);
     if (found.size() > 1)
-        throw InputError(std::string("more than one ") + what + " column: '" + header[found[0]] +
-                             "' and '" + header[found[1]] + "'",
+        throw InputError(std::string("more than one ") + what + " column: " +
+                             quoteUser(header[found[0]]) + " and " + quoteUser(header[found[1]]),
                          file, "", line);
     Column column{found[0], unitFactor(header[found[0]], dimension), header[found[0]]};
     if (column.factor <= 0.0)
-        throw InputError("column '" + column.name + "' carries no " + dimension.describe() +
-                             " unit (name it like '" + example + "')",
+        throw InputError("column " + quoteUser(column.name) + " carries no " +
+                             dimension.describe() + " unit (name it like '" + example + "')",
                          file, "", line);
     return column;
 }
 
 double parseCell(const std::string& cell, const Column& column, const std::string& file, int line) {
     if (cell.empty())
-        throw InputError("empty cell in column '" + column.name + "'", file, "", line);
-    const char* begin = cell.c_str();
-    char* end = nullptr;
-    double value = std::strtod(begin, &end);
-    if (end == begin || *end != '\0' || !std::isfinite(value))
-        throw InputError("non-numeric cell '" + cell + "' in column '" + column.name + "'", file,
-                         "", line);
-    return value * column.factor;
+        throw InputError("empty cell in column " + quoteUser(column.name), file, "", line);
+    // Decimal only (strtod would read "0x10", "inf", "nan"); 1e400 overflows to inf.
+    const std::optional<double> value = parseDecimal(cell);
+    if (!value)
+        throw InputError(
+            "non-numeric cell " + quoteUser(cell) + " in column " + quoteUser(column.name), file,
+            "", line);
+    const double scaled = *value * column.factor;
+    if (!(std::fabs(scaled) <= MAX_QUANTITY_MAGNITUDE))
+        throw InputError(
+            "cell " + quoteUser(cell) + " in column " + quoteUser(column.name) + " is out of range",
+            file, "", line);
+    return scaled;
 }
 
 }  // namespace
@@ -142,14 +151,14 @@ WorkingCurveData parseWorkingCurveCsv(const std::string& text, const std::string
         double cd = parseCell(cells[depth.index], depth, file, lineNumber);
         if (!(e0 > 0.0))
             throw InputError(
-                "dose must be positive (the working curve is fitted against ln E0), got '" +
-                    cells[dose.index] + "'",
+                "dose must be positive (the working curve is fitted against ln E0), got " +
+                    quoteUser(cells[dose.index]),
                 file, "", lineNumber);
         if (!(cd > 0.0))
             throw InputError(
                 "cure depth must be positive (uncured samples do not lie on the working curve), "
-                "got '" +
-                    cells[depth.index] + "'",
+                "got " +
+                    quoteUser(cells[depth.index]),
                 file, "", lineNumber);
         data.dose.push_back(e0);
         data.cureDepth.push_back(cd);
@@ -167,7 +176,7 @@ WorkingCurveData parseWorkingCurveCsv(const std::string& text, const std::string
 }
 
 WorkingCurveData loadWorkingCurveCsv(const std::string& path) {
-    return parseWorkingCurveCsv(readFile(path), path);
+    return parseWorkingCurveCsv(readFile(path, MAX_CSV_BYTES), path);
 }
 
 }  // namespace vpsim::cure

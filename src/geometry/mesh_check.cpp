@@ -338,8 +338,13 @@ MeshReport checkMesh(Mesh& mesh, const std::string& name, const MeshCheckOptions
         shell.volume = shellVolume(mesh, shell, flip);
     }
     for (const auto& shell : shells) {
+        // A flat shell's volume is round-off, at most ~1e-16 x area x diagonal (the sum of triple
+        // products about the centre). Compare with that, not with diagonal^3, which calls a
+        // 1 x 1 x 1e6 mm column flat.
         const double diagonal = glm::length(shell.bounds.size());
-        if (!(std::abs(shell.volume) > 1e-12 * diagonal * diagonal * diagonal)) {
+        double area = 0.0;
+        for (uint32_t t : shell.triangles) area += 0.5 * glm::length(mesh.triangleNormal(t));
+        if (!(std::abs(shell.volume) > 1e-9 * area * diagonal)) {
             report.problems.push_back("mesh encloses no volume (a shell of " +
                                       std::to_string(shell.triangles.size()) + " triangles near " +
                                       formatPoint(shell.bounds.lo) + " is flat)");

@@ -1,10 +1,12 @@
 #include "vpsim/geometry/stl_io.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <ostream>
 #include <sstream>
 #include <string_view>
@@ -14,12 +16,14 @@
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
 #include "vpsim/core/log.h"
+#include "vpsim/core/text.h"
 
 namespace vpsim::geometry {
 namespace {
 
-constexpr size_t HEADER_BYTES = 84;    // 80-byte header + uint32 triangle count
-constexpr size_t TRIANGLE_BYTES = 50;  // normal + 3 vertices (12 floats) + uint16 attribute
+constexpr size_t HEADER_BYTES = 84;  // 80-byte header + uint32 triangle count
+constexpr size_t TRIANGLE_BYTES = 50;
+constexpr double MAX_COORDINATE = 1e7;  // mm  // normal + 3 vertices (12 floats) + uint16 attribute
 
 void checkFinite(const Mesh& soup, size_t triangle, const std::string& path, int line) {
     for (int k = 0; k < 3; ++k) {
@@ -28,6 +32,13 @@ void checkFinite(const Mesh& soup, size_t triangle, const std::string& path, int
             std::ostringstream s;
             s << "triangle " << triangle + 1 << " has a non-finite coordinate (" << v.x << ", "
               << v.y << ", " << v.z << ")";
+            throw InputError(s.str(), path, "", line);
+        }
+        // 10 km: beyond it the file is not in mm (or is garbage), and volumes would overflow.
+        if (std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}) > MAX_COORDINATE) {
+            std::ostringstream s;
+            s << "triangle " << triangle + 1 << " has a coordinate beyond +-1e7 mm (" << v.x << ", "
+              << v.y << ", " << v.z << "): is the file in mm?";
             throw InputError(s.str(), path, "", line);
         }
     }
@@ -59,10 +70,27 @@ Mesh parseBinary(const std::string& data, const std::string& path, double scale)
     return soup;
 }
 
+/// Separators in an ASCII STL: whitespace, and NUL bytes, which some exporters pad files with.
+bool isSeparator(char c) {
+    return c == '\0' || std::isspace(static_cast<unsigned char>(c));
+}
+
+/// Keywords compare case-insensitively: admesh and others write "SOLID", "FACET NORMAL".
+bool sameWord(std::string_view token, std::string_view word) {
+    if (token.size() != word.size()) return false;
+    for (size_t i = 0; i < token.size(); ++i)
+        if (std::tolower(static_cast<unsigned char>(token[i])) != word[i]) return false;
+    return true;
+}
+
+constexpr std::string_view UTF8_BOM = "\xEF\xBB\xBF";
+
 /// Whitespace tokenizer over an ASCII STL that tracks line numbers for messages.
 class AsciiReader {
 public:
-    AsciiReader(const std::string& data, const std::string& path) : mData(data), mPath(path) {}
+    AsciiReader(const std::string& data, const std::string& path) : mData(data), mPath(path) {
+        if (std::string_view(mData).substr(0, UTF8_BOM.size()) == UTF8_BOM) mPos = UTF8_BOM.size();
+    }
 
     bool atEnd() {
         skipSpace();
@@ -72,22 +100,34 @@ public:
     std::string_view token() {
         skipSpace();
         const size_t start = mPos;
-        while (mPos < mData.size() && !std::isspace(static_cast<unsigned char>(mData[mPos])))
-            ++mPos;
+        while (mPos < mData.size() && !isSeparator(mData[mPos])) ++mPos;
         return std::string_view(mData).substr(start, mPos - start);
     }
     void expect(const char* word) {
         const std::string_view t = token();
-        if (t != word) fail(std::string("expected '") + word + "', found " + describe(t));
+        if (!sameWord(t, word)) fail(std::string("expected '") + word + "', found " + describe(t));
     }
     double number() {
         const std::string_view t = token();
-        char* end = nullptr;
-        // strtod stops at the whitespace (or the file's terminating NUL) after the token.
-        const double v = std::strtod(t.data(), &end);
-        if (t.empty() || end != t.data() + t.size())
-            fail("expected a number, found " + describe(t));
-        return v;
+        const std::optional<double> v = parseDecimal(t);
+        if (v) return *v;
+        // inf and nan are numbers some exporters write: the finite check names the triangle.
+        const std::string word = asciiLower(t.substr(t.size() > 0 && (t[0] == '-' || t[0] == '+')));
+        if (word == "inf" || word == "infinity") return HUGE_VAL;
+        if (word == "nan") return std::nan("");
+        fail("expected a number, found " + describe(t));
+    }
+    /// Skips the solid's name: the rest of the line, or up to the first facet when a whole file
+    /// is written on one line.
+    void skipName() {
+        while (mPos < mData.size() && mData[mPos] != '\n') {
+            while (mPos < mData.size() && mData[mPos] != '\n' && isSeparator(mData[mPos])) ++mPos;
+            size_t end = mPos;
+            while (end < mData.size() && !isSeparator(mData[end])) ++end;
+            const std::string_view word = std::string_view(mData).substr(mPos, end - mPos);
+            if (sameWord(word, "facet") || sameWord(word, "endsolid")) return;
+            mPos = end;
+        }
     }
     void skipLine() {
         while (mPos < mData.size() && mData[mPos] != '\n') ++mPos;
@@ -99,11 +139,10 @@ public:
 
 private:
     static std::string describe(std::string_view t) {
-        return t.empty() ? std::string("end of file (truncated?)")
-                         : "'" + std::string(t.substr(0, 40)) + "'";
+        return t.empty() ? std::string("end of file (truncated?)") : quoteUser(t, 40);
     }
     void skipSpace() {
-        while (mPos < mData.size() && std::isspace(static_cast<unsigned char>(mData[mPos]))) {
+        while (mPos < mData.size() && isSeparator(mData[mPos])) {
             if (mData[mPos] == '\n') ++mLine;
             ++mPos;
         }
@@ -119,16 +158,17 @@ Mesh parseAscii(const std::string& data, const std::string& path, double scale) 
     Mesh soup;
     while (!in.atEnd()) {
         in.expect("solid");
-        in.skipLine();  // the solid's name, any text
+        in.skipName();
         for (;;) {
             const std::string_view word = in.token();
-            if (word == "endsolid") {
+            if (sameWord(word, "endsolid")) {
                 in.skipLine();
                 break;
             }
-            if (word != "facet") {
-                in.fail("expected 'facet' or 'endsolid', found '" +
-                        std::string(word.substr(0, 40)) + "'");
+            if (!sameWord(word, "facet")) {
+                in.fail(
+                    "expected 'facet' or 'endsolid', found " +
+                    (word.empty() ? std::string("end of file (truncated?)") : quoteUser(word, 40)));
             }
             in.expect("normal");
             for (int k = 0; k < 3; ++k) in.number();  // stored normals are ignored
@@ -149,12 +189,23 @@ Mesh parseAscii(const std::string& data, const std::string& path, double scale) 
     return soup;
 }
 
+/// An ASCII STL starts (after a BOM and space) with "solid", a name line, then "facet" or
+/// "endsolid". Binary headers often begin with "solid" too, but are not followed by a facet.
 bool looksLikeAscii(const std::string& data) {
+    std::string_view view(data);
+    if (view.substr(0, UTF8_BOM.size()) == UTF8_BOM) view.remove_prefix(UTF8_BOM.size());
     size_t i = 0;
-    while (i < data.size() && std::isspace(static_cast<unsigned char>(data[i]))) ++i;
-    if (data.compare(i, 5, "solid") != 0) return false;
-    const size_t probe = std::min<size_t>(data.size(), 4096);
-    return std::memchr(data.data(), '\0', probe) == nullptr;
+    while (i < view.size() && isSeparator(view[i])) ++i;
+    if (!sameWord(view.substr(i, 5), "solid")) return false;
+    const size_t lineEnd = view.find('\n', i);
+    if (lineEnd == std::string_view::npos)  // all on one line
+        return asciiLower(view.substr(0, 4096)).find("facet normal") != std::string::npos;
+    i = lineEnd + 1;
+    while (i < view.size() && isSeparator(view[i])) ++i;
+    size_t end = i;
+    while (end < view.size() && !isSeparator(view[end])) ++end;
+    const std::string_view word = view.substr(i, end - i);
+    return sameWord(word, "facet") || sameWord(word, "endsolid");
 }
 
 }  // namespace
@@ -163,7 +214,13 @@ Mesh readStlSoup(const std::string& path, double scale) {
     if (!(scale > 0.0) || !std::isfinite(scale)) {
         throw InputError("STL scale must be a positive number, got " + std::to_string(scale), path);
     }
-    const std::string data = readFile(path);
+    return parseStlSoup(readFile(path), path, scale);
+}
+
+Mesh parseStlSoup(const std::string& data, const std::string& path, double scale) {
+    if (!(scale > 0.0) || !std::isfinite(scale)) {
+        throw InputError("STL scale must be a positive number, got " + std::to_string(scale), path);
+    }
     Mesh soup;
     uint32_t count = 0;
     if (data.size() >= HEADER_BYTES) std::memcpy(&count, data.data() + 80, 4);

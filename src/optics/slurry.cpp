@@ -80,6 +80,14 @@ void validateSlurrySpec(const SlurrySpec& s) {
     if (s.phaseTableSize < 2 || s.phaseTableSize > (1 << 22))
         throw InputError("phase table size must be in [2, 4194304], got " +
                          std::to_string(s.phaseTableSize));
+    // Particles index-matched to the resin are invisible: Mie theory gives Qsca = 0 and there is
+    // no phase function. Say so instead of failing later on an empty phase table.
+    const Complex relative = s.particleIndex / s.resinIndex;
+    if (std::abs(relative - Complex(1.0, 0.0)) < 1e-9)
+        throw InputError("particle refractive index " + formatRefractiveIndex(s.particleIndex) +
+                         " equals the resin's (" + describe(s.resinIndex) +
+                         "): the particles do not scatter, so there is no slurry to model "
+                         "(give the resin alone as bulk optics with mus = 0)");
     const double k = 2.0 * PI * s.resinIndex / s.wavelength;
     double largest = s.radius;
     for (const auto& node : radiusNodes(s)) largest = std::max(largest, node.radius);
@@ -120,6 +128,10 @@ SlurryOptics computeSlurryOptics(const SlurrySpec& spec) {
         for (size_t i = 0; i < kj.size(); ++i) kAverage[i] += w * kj[i];
     }
 
+    if (!(csca > 0.0) || !std::isfinite(csca))
+        throw InputError("particles of index " + formatRefractiveIndex(spec.particleIndex) +
+                         " in resin of index " + describe(spec.resinIndex) +
+                         " scatter no light (Qsca = 0): nothing to model as a slurry");
     SlurryOptics out;
     out.x = k * spec.radius;
     out.m = m;

@@ -55,6 +55,27 @@ void createExporters(const ConfigNode& root, const Builtins& builtins, Job& job)
     }
 }
 
+/// Lengths that must resolve against each other: light that dies within one voxel slice cannot
+/// be sampled (the exposure overflows to +inf), and a voxel coarser than the beam cannot draw it.
+void checkScales(const ConfigNode& root, const Job& job) {
+    const double voxelHeight = job.machine.layerThickness / job.simulation.slicesPerLayer;
+    const double depth = job.cure->penetrationDepth();
+    if (depth > 0.0 && depth < voxelHeight)
+        throw root.error("cure.penetration_depth",
+                         "penetration depth " + std::to_string(depth * 1000.0) +
+                             " um is shorter than a voxel slice (" +
+                             std::to_string(voxelHeight * 1000.0) +
+                             " um = layer thickness / slices_per_layer): raise slices_per_layer "
+                             "or check the unit");
+    if (job.simulation.voxel > 10.0)
+        throw root.error("simulation.voxel", "must be at most 10 mm, got " +
+                                                 std::to_string(job.simulation.voxel) + " mm");
+    if (job.machine.layerThickness > 10.0)
+        throw root.error(
+            "machine.layer_thickness",
+            "must be at most 10 mm, got " + std::to_string(job.machine.layerThickness) + " mm");
+}
+
 }  // namespace
 
 Job loadJob(const std::string& path, const Builtins& builtins,
@@ -79,6 +100,7 @@ Job loadJob(const std::string& path, const Builtins& builtins,
     createPlanner(root, builtins, job);
     job.simulation = simulationFromConfig(sectionOrEmpty(root, "simulation"));
     createExporters(root, builtins, job);
+    checkScales(root, job);
     if (root.has("features"))
         job.features = validate::featureProbesFromConfig(root.children("features"));
     root.checkUnknownKeys();

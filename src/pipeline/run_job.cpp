@@ -2,8 +2,10 @@
 
 #include <chrono>
 
+#include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
 #include "vpsim/core/log.h"
+#include "vpsim/core/output_directory.h"
 #include "vpsim/geometry/stl_io.h"
 #include "vpsim/gpu/context.h"
 #include "vpsim/report/figures.h"
@@ -43,11 +45,23 @@ struct Front {
     geometry::LayerStack layers;
 };
 
-Front runFront(const Job& job, const std::string& outDir, const RunContext& context,
-               report::JobResult& result, StageTimer& timer) {
-    createDirectories(outDir);
+/// The part, checked against the layer thickness before anything is written or the kernel is
+/// computed (sliceStage checks it too).
+geometry::Mesh checkedPart(const Job& job) {
+    geometry::Mesh part = partStage(job);
+    if (!(job.machine.layerThickness <= part.bounds().hi.z))
+        throw InputError("layer thickness " + std::to_string(job.machine.layerThickness) +
+                             " mm is more than the part's height " +
+                             std::to_string(part.bounds().hi.z) + " mm: no layer to print",
+                         job.file, "machine.layer_thickness");
+    return part;
+}
+
+Front runFront(const Job& job, geometry::Mesh part, const std::string& outDir,
+               const RunContext& context, report::JobResult& result, StageTimer& timer) {
     Front f;
-    f.part = partStage(job);
+    f.part = std::move(part);
+    createDirectories(outDir);
     geometry::writeStl(outDir + "/part.stl", f.part);
     f.bounds = f.part.bounds();
     result.part = {f.part.volume(),
@@ -81,13 +95,18 @@ Front runFront(const Job& job, const std::string& outDir, const RunContext& cont
 }  // namespace
 
 PlanResult planJob(const Job& job, const std::string& outDir, const RunContext& context) {
+    geometry::Mesh part = checkedPart(job);
+    // Removes the previous manifest and dead runs' temporaries; manifest.json is written last.
+    OutputDirectory output(outDir,
+                           {{"command", "plan"}, {"job", job.name}, {"job_file", job.file}});
     report::JobResult result;
     StageTimer timer(result.stageSeconds);
-    Front f = runFront(job, outDir, context, result, timer);
+    Front f = runFront(job, std::move(part), outDir, context, result, timer);
     PlanResult plan = planStage(job, f.layers, f.bounds, f.beam, context);
     plan::saveScanPlan(plan.plan, outDir + "/plan.json");
     exportStage(job, plan.plan, outDir);
     timer.finish("plan");
+    output.finish();
     return plan;
 }
 
@@ -96,6 +115,10 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     // A saved plan is read before anything in outDir is replaced (it may live there).
     std::optional<plan::ScanPlan> saved;
     if (!options.planFile.empty()) saved = plan::loadScanPlan(options.planFile);
+    geometry::Mesh part = checkedPart(job);
+    // From here the directory is untrusted until manifest.json, written last, lists every file
+    // of this run with its size and SHA-256 (core/output_directory.h).
+    OutputDirectory output(outDir, {{"command", "run"}, {"job", job.name}, {"job_file", job.file}});
 
     report::JobResult result;
     result.jobFile = job.file;
@@ -103,7 +126,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     result.backend = deviceName(context);
     result.cure = job.cure->toJson();
     StageTimer timer(result.stageSeconds);
-    Front f = runFront(job, outDir, context, result, timer);
+    Front f = runFront(job, std::move(part), outDir, context, result, timer);
 
     PlanResult planned;
     if (saved) {
@@ -160,6 +183,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     timer.finish("report");
     writeFileAtomic(outDir + "/report.json", report::toJson(result).dump(2));
     report::writeHtmlReport(outDir, result);
+    output.finish();
     return result;
 }
 

@@ -40,6 +40,14 @@ BeamResult beamStage(const Job& job, const RunContext& context) {
 }
 
 geometry::LayerStack sliceStage(const Job& job, const geometry::Mesh& part) {
+    // A layer thicker than the part leaves no slicing plane inside it: zero layers, and every
+    // later stage would index an empty stack.
+    const double height = part.bounds().hi.z;
+    if (!(job.machine.layerThickness <= height))
+        throw InputError("layer thickness " + std::to_string(job.machine.layerThickness) +
+                             " mm is more than the part's height " + std::to_string(height) +
+                             " mm: no layer to print",
+                         job.file, "machine.layer_thickness");
     geometry::SliceOptions options;
     options.layerThickness = job.machine.layerThickness;
     options.zStart = 0.0;

@@ -1,6 +1,7 @@
 #include "vpsim/plan/scan_plan.h"
 
 #include <cmath>
+#include <limits>
 
 #include <nlohmann/json.hpp>
 
@@ -11,9 +12,20 @@
 namespace vpsim::plan {
 namespace {
 
+constexpr long long MAX_MASK_SIDE = 1 << 16;  // pixels; a DLP chip has a few thousand
+
 double positive(const ConfigNode& node, const std::string& key, Dimension dimension) {
     double value = node.quantity(key, dimension);
     if (!(value > 0)) throw node.error(key, "must be positive");
+    return value;
+}
+
+/// A machine length: positive and at most 10 mm (layers, beams and pixels are microns to a
+/// millimetre; larger values are unit mistakes that would make grids of one cell).
+double machineLength(const ConfigNode& node, const std::string& key) {
+    const double value = positive(node, key, dim::LENGTH);
+    if (value > 10.0)
+        throw node.error(key, "must be at most 10 mm, got " + std::to_string(value) + " mm");
     return value;
 }
 
@@ -23,12 +35,30 @@ double nonNegative(const ConfigNode& node, const std::string& key, Dimension dim
     return value;
 }
 
+/// Reads an array of `count` finite numbers ([x, y, energy] ...) or throws naming the key and
+/// element; json's own get<double>() would throw a type_error with no file or key.
+bool readNumbers(const nlohmann::json& array, size_t count, double* out) {
+    if (!array.is_array() || array.size() != count) return false;
+    for (size_t i = 0; i < count; ++i) {
+        if (!array[i].is_number()) return false;
+        out[i] = array[i].get<double>();
+        if (!std::isfinite(out[i])) return false;
+    }
+    return true;
+}
+
+int maskSide(const ConfigNode& node, const std::string& key) {
+    const long long side = node.integer(key);
+    if (side <= 0 || side > MAX_MASK_SIDE)
+        throw node.error(key, "mask size must be in [1, " + std::to_string(MAX_MASK_SIDE) +
+                                  "] pixels, got " + std::to_string(side));
+    return int(side);
+}
+
 MaskImage maskFromConfig(const ConfigNode& node) {
     MaskImage mask;
-    mask.width = int(node.integer("width"));
-    mask.height = int(node.integer("height"));
-    if (mask.width <= 0 || mask.height <= 0)
-        throw node.error("width", "mask size must be positive");
+    mask.width = maskSide(node, "width");
+    mask.height = maskSide(node, "height");
     mask.originX = node.quantity("origin_x", dim::LENGTH);
     mask.originY = node.quantity("origin_y", dim::LENGTH);
     mask.pixelPitch = positive(node, "pixel_pitch", dim::LENGTH);
@@ -36,7 +66,8 @@ MaskImage maskFromConfig(const ConfigNode& node) {
     if (!dose.is_array() || dose.size() != size_t(mask.width) * mask.height)
         throw node.error("dose_mJ_per_mm2", "expected width*height numbers");
     for (const auto& value : dose) {
-        if (!value.is_number() || !(value.get<double>() >= 0))
+        if (!value.is_number() || !(value.get<double>() >= 0) ||
+            !(value.get<double>() <= double(std::numeric_limits<float>::max())))
             throw node.error("dose_mJ_per_mm2", "doses must be non-negative numbers");
         mask.dose.push_back(value.get<float>());
     }
@@ -94,25 +125,31 @@ ScanPlan scanPlanFromJson(const nlohmann::json& json, const std::string& file) {
     ConfigNode machine = root.child("machine");
     plan.machine.process =
         processFromName(machine.choice("process", {"laser", "dlp"}, std::string("laser")));
-    plan.machine.layerThickness = positive(machine, "layer_thickness", dim::LENGTH);
+    plan.machine.layerThickness = machineLength(machine, "layer_thickness");
     plan.machine.laserPower = nonNegative(machine, "laser_power", dim::POWER);
-    plan.machine.beamRadius = positive(machine, "beam_radius", dim::LENGTH);
-    plan.machine.pixelPitch = positive(machine, "pixel_pitch", dim::LENGTH);
+    plan.machine.beamRadius = machineLength(machine, "beam_radius");
+    plan.machine.pixelPitch = machineLength(machine, "pixel_pitch");
     for (const ConfigNode& node : root.children("layers")) {
         LayerPlan layer;
         layer.z = node.quantity("z", dim::LENGTH);
-        for (const auto& p : node.raw("points_x_y_energy")) {
-            if (!p.is_array() || p.size() != 3 || !(p[2].get<double>() >= 0))
-                throw node.error("points_x_y_energy", "each point is [x, y, energy >= 0]");
-            layer.points.push_back({p[0].get<double>(), p[1].get<double>(), p[2].get<double>()});
+        const nlohmann::json& points = node.raw("points_x_y_energy");
+        if (!points.is_array()) throw node.error("points_x_y_energy", "expected an array");
+        for (size_t i = 0; i < points.size(); ++i) {
+            double p[3];
+            if (!readNumbers(points[i], 3, p) || !(p[2] >= 0))
+                throw node.error("points_x_y_energy[" + std::to_string(i) + "]",
+                                 "each point is [x, y, energy >= 0]");
+            layer.points.push_back({p[0], p[1], p[2]});
         }
-        for (const auto& v : node.raw("vectors_x0_y0_x1_y1_power_speed")) {
-            if (!v.is_array() || v.size() != 6 || !(v[4].get<double>() >= 0) ||
-                !(v[5].get<double>() > 0))
-                throw node.error("vectors_x0_y0_x1_y1_power_speed",
+        const nlohmann::json& vectors = node.raw("vectors_x0_y0_x1_y1_power_speed");
+        if (!vectors.is_array())
+            throw node.error("vectors_x0_y0_x1_y1_power_speed", "expected an array");
+        for (size_t i = 0; i < vectors.size(); ++i) {
+            double v[6];
+            if (!readNumbers(vectors[i], 6, v) || !(v[4] >= 0) || !(v[5] > 0))
+                throw node.error("vectors_x0_y0_x1_y1_power_speed[" + std::to_string(i) + "]",
                                  "each vector is [x0, y0, x1, y1, power >= 0, speed > 0]");
-            layer.vectors.push_back({v[0].get<double>(), v[1].get<double>(), v[2].get<double>(),
-                                     v[3].get<double>(), v[4].get<double>(), v[5].get<double>()});
+            layer.vectors.push_back({v[0], v[1], v[2], v[3], v[4], v[5]});
         }
         for (const ConfigNode& mask : node.children("masks"))
             layer.masks.push_back(maskFromConfig(mask));

@@ -13,6 +13,7 @@
 #include "commands.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
+#include "vpsim/core/text.h"
 #include "vpsim/core/units.h"
 #include "vpsim/kernel/beam_kernel.h"
 #include "vpsim/kernel/kernel_cache.h"
@@ -46,9 +47,13 @@ void runKernel(const KernelOptions& o, const vpsim::cli::Globals& g) {
     const double power = quantity(o.power, vpsim::dim::POWER, "--power");
     const double thickness =
         o.thickness.empty() ? 0.0 : quantity(o.thickness, vpsim::dim::LENGTH, "--thickness");
+    const double w0 = quantity(o.w0, vpsim::dim::LENGTH, "--w0");
+    if (!(w0 > 0.0 && w0 <= 100.0))
+        throw vpsim::InputError("must be in (0, 100] mm, got " + vpsim::quoteUser(o.w0), "",
+                                "--w0");
     KernelRequest request = kernelRequest(
-        o.material, power, quantity(o.w0, vpsim::dim::LENGTH, "--w0"),
-        vpsim::cli::parseCount(o.photons, MAX_PHOTONS, "--photons"), o.seed, g.overrides);
+        o.material, power, w0, vpsim::cli::parseCount(o.photons, MAX_PHOTONS, "--photons"), o.seed,
+        g.overrides);
     McSetup& s = request.setup;
     if (thickness > 0) {  // a slab, as kernelSetup(optics, w0, thickness) bins it
         s.thickness = thickness;

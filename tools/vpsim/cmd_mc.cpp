@@ -11,6 +11,8 @@
 
 #include "commands.h"
 #include "vpsim/core/error.h"
+#include "vpsim/core/resources.h"
+#include "vpsim/core/text.h"
 #include "vpsim/core/units.h"
 #include "vpsim/transport/photon_mc.h"
 
@@ -54,6 +56,8 @@ McSetup setupFrom(const McOptions& o, const vpsim::cli::Globals& g) {
     s.nAbove = s.nBelow = o.nOutside;
     s.beam = o.beam == "gaussian" ? BeamShape::Gaussian : BeamShape::Pencil;
     s.w0 = length(o.w0, "--w0");
+    if (!(s.w0 > 0.0 && s.w0 <= 100.0))
+        throw InputError("must be in (0, 100] mm, got " + vpsim::quoteUser(o.w0), "", "--w0");
     for (const std::string& d : o.depths) s.depths.push_back(length(d, "--depths"));
     s.bins.rMax = length(o.rMax, "--r-max");
     s.bins.zMax = length(o.zMax, "--z-max");
@@ -61,8 +65,17 @@ McSetup setupFrom(const McOptions& o, const vpsim::cli::Globals& g) {
     if (!o.vdb.empty()) {
         s.grid.voxel = length(o.voxel, "--voxel");
         if (!(s.grid.voxel > 0)) throw InputError("--voxel: must be > 0");
-        s.grid.nxy = uint32_t(std::ceil(2 * s.bins.rMax / s.grid.voxel));
-        s.grid.nz = uint32_t(std::ceil(s.bins.zMax / s.grid.voxel));
+        // Sized in double and checked in bytes before the uint32 casts could wrap.
+        const double nxy = std::ceil(2 * s.bins.rMax / s.grid.voxel);
+        const double nz = std::ceil(s.bins.zMax / s.grid.voxel);
+        vpsim::checkMemory(nxy * nxy * nz * 8.0, "the --vdb absorption grid at --voxel " + o.voxel,
+                           "use a coarser --voxel or a smaller --r-max/--z-max");
+        if (nxy > 65536 || nz > 65536)
+            throw vpsim::ResourceError(
+                "the --vdb absorption grid needs more than 65536 voxels "
+                "along an axis: use a coarser --voxel");
+        s.grid.nxy = uint32_t(nxy);
+        s.grid.nz = uint32_t(nz);
     }
     return s;
 }

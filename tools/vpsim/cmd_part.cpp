@@ -2,6 +2,7 @@
 // `vpsim part check FILE.stl`: the mesh checks and safe repairs every reader applies
 // (geometry/mesh_check.h), printed as a table or JSON; exits non-zero on an unrepairable defect.
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -9,6 +10,7 @@
 
 #include "commands.h"
 #include "vpsim/core/error.h"
+#include "vpsim/core/text.h"
 #include "vpsim/core/units.h"
 #include "vpsim/geometry/level_set.h"
 #include "vpsim/geometry/stl_io.h"
@@ -37,9 +39,24 @@ struct CheckOptions {
     bool noRepair = false, json = false;
 };
 
+/// Test-part sizes: 0.1 um to 1 km. Outside that the mesh is degenerate in float or the size is
+/// a unit mistake.
 std::optional<double> lengthOption(const std::string& text, const std::string& option) {
     if (text.empty()) return std::nullopt;
-    return parseQuantity(text, dim::LENGTH, option);
+    const double value = parseQuantity(text, dim::LENGTH, option);
+    if (!(value >= 1e-4 && value <= 1e6))
+        throw InputError("must be between 0.1 um and 1 km, got " + quoteUser(text), "", option);
+    return value;
+}
+
+/// Counts that size the mesh (pillars, cylinder sides), bounded so a typo cannot hang the
+/// command: 100000 pillars or sides is already far beyond any test part.
+int countOption(int value, int lo, const std::string& option) {
+    if (value < lo || value > 100000)
+        throw InputError(
+            "must be from " + std::to_string(lo) + " to 100000, got " + std::to_string(value), "",
+            option);
+    return value;
 }
 
 nlohmann::json boundsJson(const Bounds& b) {
@@ -53,8 +70,8 @@ void runMake(const MakeOptions& o) {
     p.topSize = lengthOption(o.topSize, "--top-size");
     p.depth = lengthOption(o.depth, "--depth");
     p.spacing = lengthOption(o.spacing, "--spacing");
-    if (o.count != -1) p.count = o.count;
-    if (o.segments != -1) p.segments = o.segments;
+    if (o.count != -1) p.count = countOption(o.count, 1, "--count");
+    if (o.segments != -1) p.segments = countOption(o.segments, 3, "--segments");
     const Mesh mesh = makeTestPart(o.name, p);
     if (o.ascii) {
         writeStlAscii(o.out, mesh, o.name);
@@ -116,6 +133,12 @@ void runLevelSet(const LevelSetCliOptions& o) {
     const Mesh mesh = readStl(o.file, read);
     LevelSetOptions options;
     options.voxelSize = parseQuantity(o.voxel, dim::LENGTH, "--voxel");
+    const Bounds b = mesh.bounds();
+    const double largest = std::max({b.hi.x - b.lo.x, b.hi.y - b.lo.y, b.hi.z - b.lo.z});
+    if (options.voxelSize > largest)
+        throw InputError("voxel " + std::to_string(options.voxelSize) +
+                             " mm is larger than the part (" + std::to_string(largest) + " mm)",
+                         "", "--voxel");
     options.halfWidthVoxels = o.halfWidth;
     const LevelSet levelSet = LevelSet::fromMesh(mesh, options);
     levelSet.save(o.out);

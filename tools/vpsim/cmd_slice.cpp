@@ -3,6 +3,7 @@
 // anti-aliased coverage PNG, binary mask PNG and a signed-distance heat map.
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -13,6 +14,7 @@
 #include "vpsim/core/image.h"
 #include "vpsim/core/io.h"
 #include "vpsim/core/log.h"
+#include "vpsim/core/resources.h"
 #include "vpsim/core/units.h"
 #include "vpsim/geometry/layer_stack.h"
 #include "vpsim/geometry/raster.h"
@@ -23,6 +25,12 @@ namespace {
 
 using namespace vpsim;
 using namespace vpsim::geometry;
+
+std::string formatCount(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.0f", value);
+    return text;
+}
 
 struct SliceCliOptions {
     std::string file, layer = "50um", pitch = "10um", zStart, outDir, save;
@@ -78,6 +86,28 @@ void writePictures(const std::vector<Layer>& layers, const RasterGrid& grid,
             std::to_string(grid.origin.x) + ", " + std::to_string(grid.origin.y) + ") mm)");
 }
 
+/// Bytes per pixel while one layer's pictures are made: coverage (float) and its grey image,
+/// mask and flipped mask, signed distance (float) with its flipped copy, the RGB heat map, and
+/// the PNG encoder's row copies.
+constexpr double PICTURE_BYTES_PER_PIXEL = 4 + 1 + 1 + 1 + 4 + 4 + 3 + 4;
+constexpr double MAX_PICTURE_PIXELS = 16384.0 * 16384.0;
+
+/// Refuses, by bytes and before allocating, pictures too large for memory: the raster's own limit
+/// counts pixels (2^31), which at 22 bytes each is 47 GB.
+void checkPictureMemory(const Bounds& b, double pitch) {
+    const double width = std::ceil((b.hi.x - b.lo.x) / pitch) + 5;
+    const double height = std::ceil((b.hi.y - b.lo.y) / pitch) + 5;
+    const std::string what = "layer pictures of " + formatCount(width) + " x " +
+                             formatCount(height) + " pixels at --pitch " +
+                             std::to_string(pitch * 1000.0) + " um";
+    checkMemory(width * height * PICTURE_BYTES_PER_PIXEL, what, "use a coarser --pitch");
+    // A picture beyond 16384^2 pixels is more than any viewer shows and takes minutes per layer.
+    if (width * height > MAX_PICTURE_PIXELS)
+        throw ResourceError(what +
+                            " exceed the 16384 x 16384 pixels of a picture: use a coarser "
+                            "--pitch");
+}
+
 void runSlice(const SliceCliOptions& o) {
     StlReadOptions read;
     read.scale = o.scale;
@@ -90,6 +120,18 @@ void runSlice(const SliceCliOptions& o) {
     }
     options.planePosition = o.plane;
     if (!o.zStart.empty()) options.zStart = parseQuantity(o.zStart, dim::LENGTH, "--z-start");
+    const Bounds bounds = mesh.bounds();
+    double pitch = 0.0;
+    if (!o.outDir.empty()) {  // pictures refused by size before any slicing
+        pitch = parseQuantity(o.pitch, dim::LENGTH, "--pitch");
+        if (!(pitch > 0.0)) throw InputError("must be positive", "", "--pitch");
+        checkPictureMemory(bounds, pitch);
+    }
+    if (options.layerThickness > bounds.hi.z - bounds.lo.z)
+        throw InputError("layer thickness " + std::to_string(options.layerThickness) +
+                             " mm is more than the part's height " +
+                             std::to_string(bounds.hi.z - bounds.lo.z) + " mm",
+                         "", "--layer");
     const int count = layerCount(mesh, options);
     const LayerStack stack = sliceToStack(mesh, options, o.file, o.layers);
     const std::vector<Layer>& layers = stack.layers;
@@ -103,7 +145,6 @@ void runSlice(const SliceCliOptions& o) {
     for (const Layer& layer : layers) out["layers"].push_back(layerJson(layer));
 
     if (!o.outDir.empty()) {
-        const double pitch = parseQuantity(o.pitch, dim::LENGTH, "--pitch");
         const Bounds b = mesh.bounds();
         const RasterGrid grid = RasterGrid::covering({b.lo.x, b.lo.y}, {b.hi.x, b.hi.y}, pitch, 2);
         std::vector<Layer> chosen;

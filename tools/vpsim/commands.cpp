@@ -3,11 +3,13 @@
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/log.h"
+#include "vpsim/core/text.h"
 #include "vpsim/kernel/kernel_cache.h"
 
 namespace vpsim::cli {
@@ -57,17 +59,12 @@ std::shared_ptr<gpu::Context> Globals::gpu() const {
 }
 
 uint64_t parseCount(const std::string& text, uint64_t max, const std::string& option) {
-    double n = 0;
-    size_t used = 0;
-    try {
-        n = std::stod(text, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used != text.size() || !(n >= 1) || n > double(max) || n != std::floor(n))
+    // Decimal only ("1e6" is fine; "0x10", "inf" and "nan" are not counts).
+    const std::optional<double> n = parseDecimal(text);
+    if (!n || !(*n >= 1) || *n > double(max) || *n != std::floor(*n))
         throw InputError(option + ": expected a whole number from 1 to " + std::to_string(max) +
-                         ", got '" + text + "'");
-    return uint64_t(n);
+                         ", got " + quoteUser(text));
+    return uint64_t(*n);
 }
 
 void printJson(const nlohmann::json& value) {

@@ -7,6 +7,34 @@
 #include "vpsim/core/error.h"
 #include "vpsim/core/log.h"
 #include "vpsim/core/progress.h"
+#include "vpsim/core/text.h"
+
+namespace {
+
+/// Any message, whatever it quotes, as one printable line of bounded length.
+std::string oneLine(const std::string& message) {
+    return vpsim::escaped(message, 1200);
+}
+
+/// Numeric options take decimal numbers only: CLI11's conversions would also read "0x10" as 16.
+void requireDecimalNumbers(CLI::App& app) {
+    const CLI::Validator decimal(
+        [](std::string& text) {
+            return vpsim::parseDecimal(text)
+                       ? std::string()
+                       : "expected a decimal number, got " + vpsim::quoteUser(text);
+        },
+        "", "");
+    for (CLI::Option* option : app.get_options()) {
+        const std::string type = option->get_type_name();
+        if (type == "FLOAT" || type == "INT" || type == "UINT" || type == "NUMBER")
+            option->check(decimal);
+    }
+    for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+        requireDecimalNumbers(*sub);
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     using namespace vpsim;
@@ -44,21 +72,22 @@ int main(int argc, char** argv) {
         "-v,--verbose", [] { setLogLevel(LogLevel::Debug); }, "debug messages");
 
     for (auto& [name, setup] : cli::commandRegistry()) setup(app, globals);
+    requireDecimalNumbers(app);
 
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-        std::cerr << "vpsim: error: " << e.what() << " (see vpsim --help)" << std::endl;
+        std::cerr << "vpsim: error: " << oneLine(e.what()) << " (see vpsim --help)" << std::endl;
         return e.get_exit_code();
     } catch (const Error& e) {
-        std::cerr << "vpsim: error: " << e.what() << std::endl;
+        std::cerr << "vpsim: error: " << oneLine(e.what()) << std::endl;
         return 1;
     } catch (const std::bad_alloc&) {
         std::cerr << "vpsim: error: out of memory" << std::endl;
         return 1;
     } catch (const std::exception& e) {
-        std::cerr << "vpsim: internal error: " << e.what() << std::endl;
+        std::cerr << "vpsim: internal error: " << oneLine(e.what()) << std::endl;
         return 2;
     }
     return 0;

@@ -3,6 +3,7 @@
 /// JSON configuration (jobs, materials, machines) with unit-aware getters, unknown-key errors
 /// and `--set key.path=value` overrides.
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <set>
@@ -16,8 +17,20 @@
 
 namespace vpsim {
 
-/// Reads a JSON file. @throw InputError naming the file and line on a missing file or a syntax
-/// error.
+/// Limits on every JSON document vpsim reads (jobs, materials, plans, --set values): beyond them
+/// a document is refused with the file and key, never parsed into a crash or a silent overflow.
+constexpr int MAX_JSON_DEPTH = 64;                           ///< nesting of objects and arrays
+constexpr size_t MAX_JSON_STRING = 4096;                     ///< characters in a string value
+constexpr size_t MAX_JSON_KEY = 256;                         ///< characters in a key
+constexpr double MAX_JSON_NUMBER = 1e18;                     ///< magnitude of any number
+constexpr uint64_t MAX_JSON_FILE_BYTES = uint64_t(1) << 30;  ///< 1 GiB (plans with DLP masks)
+
+/// Parses JSON text from `source` (a file name, used in messages) under the limits above;
+/// duplicate keys are errors. @throw InputError naming the source, line or key and the reason.
+nlohmann::json parseJsonText(const std::string& text, const std::string& source);
+
+/// Reads a JSON file with parseJsonText. @throw InputError naming the file and line on a missing
+/// file, a syntax error or a broken limit.
 nlohmann::json loadJsonFile(const std::string& path);
 
 /// Applies "a.b.c=value" to a document: the value is parsed as JSON when it is valid JSON

@@ -40,6 +40,10 @@ constexpr Dimension ACCELERATION{1, -2, 0, 0};    ///< mm/s^2
 constexpr Dimension ANGLE{0, 0, 0, 1};            ///< rad
 }  // namespace dim
 
+/// Largest magnitude of any quantity in base units: nothing physical in mm, s, mJ comes near it,
+/// and it keeps products of a few quantities far from overflow.
+constexpr double MAX_QUANTITY_MAGNITUDE = 1e18;
+
 /// A parsed value in base units with its dimension.
 struct Quantity {
     double value = 0.0;

@@ -22,6 +22,8 @@ struct StlReadOptions {
 ///        count that disagrees with the file size, malformed ASCII (with line number), NaN or
 ///        infinite coordinates (with triangle number), zero triangles
 Mesh readStlSoup(const std::string& path, double scale = 1.0);
+/// The same from the bytes of an STL file; `name` names it in messages (the fuzz target's entry).
+Mesh parseStlSoup(const std::string& data, const std::string& name, double scale = 1.0);
 
 /// Reads an STL file, merges vertices and checks/repairs the mesh (see mesh_check.h).
 /// Repairs are logged with logWarn and returned in `report` when given.
