@@ -72,7 +72,8 @@ BeamKernel cachedKernel(const KernelRequest& request, const RunContext& context,
     const std::string dir = context.cacheDirectory;
     const std::string path = dir.empty() ? "" : dir + "/" + cacheKey(request);
     fromCache = false;
-    if (!path.empty() && std::filesystem::exists(path)) {
+    std::error_code unreadable;
+    if (!path.empty() && std::filesystem::exists(path, unreadable)) {
         try {
             BeamKernel cached = BeamKernel::load(path);
             fromCache = true;

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "vpsim/core/io.h"
+#include "vpsim/core/text.h"
 
 namespace vpsim::report {
 namespace {
@@ -17,9 +18,10 @@ std::string number(double value, int digits = 4) {
 
 void figure(std::ostringstream& html, const std::string& outDir, const std::string& file,
             const std::string& caption) {
-    if (!std::filesystem::exists(outDir + "/" + file)) return;
-    html << "<figure><img src='" << escapeHtml(file) << "' alt='" << escapeHtml(caption)
-         << "'><figcaption>" << escapeHtml(caption) << "</figcaption></figure>\n";
+    std::error_code missing;
+    if (!std::filesystem::exists(outDir + "/" + file, missing)) return;
+    html << "<figure><img src='" << htmlEscape(file) << "' alt='" << htmlEscape(caption)
+         << "'><figcaption>" << htmlEscape(caption) << "</figcaption></figure>\n";
 }
 
 void row(std::ostringstream& html, const std::string& name, const std::string& value) {
@@ -28,25 +30,9 @@ void row(std::ostringstream& html, const std::string& name, const std::string& v
 
 }  // namespace
 
-std::string escapeHtml(const std::string& text) {
-    std::string out;
-    out.reserve(text.size());
-    for (char c : text) {
-        switch (c) {
-            case '&': out += "&amp;"; break;
-            case '<': out += "&lt;"; break;
-            case '>': out += "&gt;"; break;
-            case '"': out += "&quot;"; break;
-            case '\'': out += "&#39;"; break;
-            default: out += c;
-        }
-    }
-    return out;
-}
-
 void writeHtmlReport(const std::string& outDir, const JobResult& r) {
     std::ostringstream html;
-    const std::string name = escapeHtml(r.name);
+    const std::string name = htmlEscape(r.name);
     html << "<!doctype html><html><head><meta charset='utf-8'><title>vpsim: " << name
          << "</title><style>body{font-family:sans-serif;margin:2em;max-width:1100px}"
             "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px "
@@ -54,9 +40,9 @@ void writeHtmlReport(const std::string& outDir, const JobResult& r) {
             "figure{display:inline-block;margin:1em;vertical-align:top}img{max-width:520px;border:"
             "1px solid #ddd}"
             "</style></head><body>\n";
-    html << "<h1>vpsim run: " << name << "</h1>\n<p>Job <code>" << escapeHtml(r.jobFile)
-         << "</code>, plan <code>" << escapeHtml(r.plan.strategy) << "</code>, backend "
-         << escapeHtml(r.backend) << ".</p>\n";
+    html << "<h1>vpsim run: " << name << "</h1>\n<p>Job <code>" << htmlEscape(r.jobFile)
+         << "</code>, plan <code>" << htmlEscape(r.plan.strategy) << "</code>, backend "
+         << htmlEscape(r.backend) << ".</p>\n";
     const validate::SurfaceDeviation& dev = r.validation.deviation;
     const validate::SliceValidationSummary& slices = r.validation.slices;
     html << "<h2>Cured part against the model</h2>\n<table>\n";
@@ -79,7 +65,7 @@ void writeHtmlReport(const std::string& outDir, const JobResult& r) {
             const validate::FeatureProbe& p = f.probes[i];
             double mean = 0;
             for (double m : p.measured) mean += m / double(p.measured.size());
-            html << "<tr><th>" << escapeHtml(p.name) << "</th><td>" << number(p.objective)
+            html << "<tr><th>" << htmlEscape(p.name) << "</th><td>" << number(p.objective)
                  << "</td><td>" << number(f.simulated[i]) << "</td><td>"
                  << (p.measured.empty() ? "" : number(mean)) << "</td></tr>\n";
         }
@@ -104,7 +90,7 @@ void writeHtmlReport(const std::string& outDir, const JobResult& r) {
             "href='part.stl'>part.stl</a>, <a href='cured.stl'>cured.stl</a>, <a "
             "href='plan.json'>plan.json</a>, exposure.vdb, reference.vdb";
     for (const std::string& file : r.exports)
-        html << ", <a href='" << escapeHtml(file) << "'>" << escapeHtml(file) << "</a>";
+        html << ", <a href='" << htmlEscape(file) << "'>" << htmlEscape(file) << "</a>";
     html << "</p>\n</body></html>\n";
     writeFileAtomic(outDir + "/index.html", html.str());
 }
