@@ -74,7 +74,8 @@ double scanDirection(const geometry::PolygonSet& region, const DirectionRule& ru
             if (e.x == 0 && e.y == 0) continue;
             const double angle = wrapHalfTurn(std::atan2(e.y, e.x));
             const double sum = edgeProjectionSum(region, angle);
-            if (sum < bestSum - 1e-12 * (1.0 + bestSum)) best = angle, bestSum = sum;
+            if (std::isinf(bestSum) || sum < bestSum - 1e-12 * (1.0 + bestSum))
+                best = angle, bestSum = sum;
         }
     return best;
 }

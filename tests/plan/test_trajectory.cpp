@@ -1,0 +1,148 @@
+// Trajectories (parts, borders, jumps, point rows) and the seed-002 build-time model (Eq. 1-4).
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+
+#include "vpsim/core/config.h"
+#include "vpsim/core/error.h"
+#include "vpsim/plan/aces.h"
+#include "vpsim/plan/build_time.h"
+#include "vpsim/plan/part_grouping.h"
+#include "vpsim/plan/trajectory.h"
+
+using namespace vpsim;
+using namespace vpsim::plan;
+using geometry::PolygonSet;
+
+TEST_CASE("delays and times of a hand-counted layer (seed 002 Eq. 1-4)", "[plan]") {
+    // A 2-vector polyline, then a separate vector: 3 marks, 1 polygon delay, 1 jump (jump
+    // delay), 2 mark delays (before the jump and at the end of the layer).
+    LayerPlan layer;
+    layer.vectors = {{0, 0, 3, 0, 10, 300}, {3, 0, 3, 3, 10, 300}, {10, 3, 10, 0, 10, 150}};
+    BuildTimeOptions options;
+    LayerTime t = layerMoveTime(buildLayerTrajectory(layer, 10, {}).moves, options);
+    CHECK(t.marks == 3);
+    CHECK(t.polygonDelays == 1);
+    CHECK(t.jumps == 1);
+    CHECK(t.jumpDelays == 1);
+    CHECK(t.markDelays == 2);
+    CHECK(t.mark == Approx(3.0 / 300 + 3.0 / 300 + 3.0 / 150));
+    CHECK(t.delays == Approx(250e-6 + 2 * 100e-6 + 50e-6));
+    // The jump (3,3) -> (10,3) leaves with +y 300 mm/s: x needs 7 mm from rest, y stops and
+    // comes back 2.25 mm.
+    CHECK(t.jump == Approx(jumpTime({3, 3}, {10, 3}, {0, 300}, options.scanner.machine)));
+    CHECK(t.total() == Approx(t.mark + t.jump + t.delays));
+
+    ScanPlan plan;
+    plan.layers = {layer, layer};
+    options.recoatTime = 5.0;
+    BuildTime whole = estimateBuildTime(plan, options);
+    CHECK(whole.sum.recoat == Approx(10.0));
+    CHECK(whole.total() == Approx(2 * t.total() + 10.0));
+    nlohmann::json json = whole.toJson();
+    for (const char* key : {"total", "mark", "jump", "delays", "recoat"})
+        CHECK(json.contains(key));
+    CHECK(json["total"].get<double>() == Approx(whole.total()));
+}
+
+TEST_CASE("parts are grouped by proximity or by region, borders first", "[plan]") {
+    PolygonSet region = PolygonSet::rectangle({0, 0}, {1, 1})
+                            .unite(PolygonSet::rectangle({3, 0}, {4, 1}))
+                            .unite(PolygonSet::rectangle({0, 3}, {1, 4}));
+    LayerPlan layer;
+    layer.vectors = hatchRegion(region, 0.05, 0.0, 10, 300);  // rows cross all parts
+    // A closed border around the first square, listed after the hatches.
+    const double b[5][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0, 0}};
+    for (int k = 0; k < 4; ++k)
+        layer.vectors.push_back({b[k][0], b[k][1], b[k + 1][0], b[k + 1][1], 10, 300});
+    PartGroups byGap = groupLayerParts(layer, 0.2), byRegion = groupLayerParts(layer, 0.2, &region);
+    CHECK(byGap.vectors.size() == 3);
+    CHECK(byRegion.vectors.size() == 3);
+    LayerTrajectory t = buildLayerTrajectory(layer, 10, {}, &region);
+    CHECK(t.parts == 3);
+    CHECK(t.order.provenOptimal);
+    CHECK(t.order.cost <= t.order.nearestNeighbourCost + 1e-12);
+    size_t marks = 0;
+    for (const ScanMove& m : t.moves) marks += m.laserOn;
+    // The border is split once at the point closest to its part's first hatch start (a dummy
+    // vertex, seed 002 Fig. 7) unless that point is a vertex.
+    CHECK((marks == layer.vectors.size() || marks == layer.vectors.size() + 1));
+    // Each part is scanned in one go, and moves join end to start.
+    int switches = 0;
+    for (size_t i = 1; i < t.moves.size(); ++i) {
+        switches += t.moves[i].part != t.moves[i - 1].part;
+        CHECK(t.moves[i].x0 == Approx(t.moves[i - 1].x1).margin(1e-9));
+        CHECK(t.moves[i].y0 == Approx(t.moves[i - 1].y1).margin(1e-9));
+    }
+    CHECK(switches == 2);
+}
+
+TEST_CASE("points: modulated rows give each point its energy; dwell is the alternative",
+          "[plan]") {
+    LayerPlan layer;
+    const double power = 10, energy = 0.004;  // 0.4 ms per point: 250 mm/s over 0.1 mm
+    for (int i = 0; i < 5; ++i) layer.points.push_back({0.1 * i, 0.0, energy});
+    for (int i = 0; i < 5; ++i) layer.points.push_back({0.1 * i, 0.1, 2 * energy});
+    TrajectoryOptions modulated;
+    LayerTrajectory m = buildLayerTrajectory(layer, power, modulated);
+    double delivered = 0;
+    for (const ScanMove& move : m.moves)
+        if (move.laserOn)
+            delivered += move.power * (std::hypot(move.x1 - move.x0, move.y1 - move.y0) /
+                                           move.speed + move.dwell);
+    CHECK(m.overexposedPoints == 0);
+    CHECK(delivered == Approx(15 * energy));
+    TrajectoryOptions dwell;
+    dwell.points = PointStrategy::Dwell;
+    LayerTrajectory d = buildLayerTrajectory(layer, power, dwell);
+    BuildTimeOptions options;
+    LayerTime tm = layerMoveTime(m.moves, options), td = layerMoveTime(d.moves, options);
+    CHECK(tm.mark == Approx(15 * energy / power));
+    CHECK(td.mark == Approx(15 * energy / power));
+    CHECK(td.jumps == 9);
+    CHECK(tm.jumps == 1);  // one row change
+    CHECK(td.total() > tm.total());
+    // Too little energy for the process speed: the speed is capped, the point overexposed.
+    LayerPlan fast;
+    for (int i = 0; i < 3; ++i) fast.points.push_back({0.1 * i, 0, 1e-7});
+    CHECK(buildLayerTrajectory(fast, power, modulated).overexposedPoints == 3);
+}
+
+TEST_CASE("trajectories are saved with the plan", "[plan]") {
+    ScanPlan plan;
+    LayerPlan layer;
+    layer.z = 0.05;
+    layer.vectors = hatchRegion(PolygonSet::rectangle({0, 0}, {1, 1}), 0.1, 0.0, 10, 300);
+    plan.layers.push_back(layer);
+    attachTrajectories(plan, buildTrajectories(plan, {}));
+    const size_t moves = plan.layers[0].trajectory.size();
+    REQUIRE(moves > layer.vectors.size());
+    auto path = (std::filesystem::temp_directory_path() / "vpsim_traj_plan.json").string();
+    saveScanPlan(plan, path);
+    ScanPlan loaded = loadScanPlan(path);
+    REQUIRE(loaded.layers[0].trajectory.size() == moves);
+    CHECK(loaded.layers[0].trajectory[1].laserOn == plan.layers[0].trajectory[1].laserOn);
+    CHECK(loaded.layers[0].trajectory[2].x1 == plan.layers[0].trajectory[2].x1);
+    BuildTimeOptions options;
+    CHECK(estimateBuildTime(loaded, options).total() ==
+          Approx(estimateBuildTime(plan, options).total()));
+    std::filesystem::remove(path);
+}
+
+TEST_CASE("DLP build time from mask exposure and recoat", "[plan]") {
+    ScanPlan plan;
+    LayerPlan layer;
+    MaskImage mask;
+    mask.width = 2, mask.height = 1, mask.pixelPitch = 0.05, mask.dose = {0.5f, 1.0f};
+    layer.masks.push_back(mask);
+    plan.layers = {layer, layer, layer};
+    ConfigNode machine(nlohmann::json{{"recoat_time", "4 s"}, {"projector_irradiance", "0.2 mW/mm^2"}},
+                       "machine.json");
+    BuildTimeOptions options = buildTimeOptionsFromConfig(machine);
+    BuildTime t = estimateBuildTime(plan, options);
+    CHECK(t.sum.exposure == Approx(3 * 1.0 / 0.2));
+    CHECK(t.total() == Approx(15.0 + 12.0));
+    options.projectorIrradiance = 0;
+    CHECK_THROWS_WITH(estimateBuildTime(plan, options), Catch::Contains("projector_irradiance"));
+}
