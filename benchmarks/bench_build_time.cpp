@@ -59,28 +59,27 @@ int main() {
     BuildTime ordered = estimateBuildTime(plan, options);
     const double orderedSeconds = since(t0);
 
-    nlohmann::json out = {
-        {"benchmark", "build_time"},
-        {"scan_vectors", vectors},
-        {"layers", plan.layers.size()},
-        {"estimate_plan_order_s", planOrderSeconds},
-        {"estimate_trajectories_s", orderedSeconds},
-        {"target_s", 1.0},
-        {"floor_sum_lengths_s", floorSeconds},
-        {"estimate_over_floor", planOrderSeconds / floorSeconds},
-        {"mark_time_check_s", {{"floor", floor}, {"model", planOrder.sum.mark}}},
-        {"build_time_plan_order", planOrder.toJson()["total"]},
-        {"build_time_ordered", ordered.toJson()["total"]},
-        {"breakdown_ordered",
-         {{"mark", ordered.sum.mark},
-          {"jump", ordered.sum.jump},
-          {"delays", ordered.sum.delays},
-          {"recoat", ordered.sum.recoat}}},
-        {"trajectory_one_layer",
-         {{"vectors", plan.layers[0].vectors.size()},
-          {"parts", one.parts},
-          {"method", one.order.method},
-          {"build_s", trajectorySeconds}}}};
+    nlohmann::json out = {{"benchmark", "build_time"},
+                          {"scan_vectors", vectors},
+                          {"layers", plan.layers.size()},
+                          {"estimate_plan_order_s", planOrderSeconds},
+                          {"estimate_trajectories_s", orderedSeconds},
+                          {"target_s", 1.0},
+                          {"floor_sum_lengths_s", floorSeconds},
+                          {"estimate_over_floor", planOrderSeconds / floorSeconds},
+                          {"mark_time_check_s", {{"floor", floor}, {"model", planOrder.sum.mark}}},
+                          {"build_time_plan_order", planOrder.toJson()["total"]},
+                          {"build_time_ordered", ordered.toJson()["total"]},
+                          {"breakdown_ordered",
+                           {{"mark", ordered.sum.mark},
+                            {"jump", ordered.sum.jump},
+                            {"delays", ordered.sum.delays},
+                            {"recoat", ordered.sum.recoat}}},
+                          {"trajectory_one_layer",
+                           {{"vectors", plan.layers[0].vectors.size()},
+                            {"parts", one.parts},
+                            {"method", one.order.method},
+                            {"build_s", trajectorySeconds}}}};
     std::cout << out.dump(2) << "\n";
     return 0;
 }

@@ -20,8 +20,8 @@ struct Segment {
 struct Block {
     bool polyline = false;
     int direction = 2;
-    std::vector<glm::dvec2> points;   // polyline
-    std::vector<Segment> lines;       // hatches
+    std::vector<glm::dvec2> points;  // polyline
+    std::vector<Segment> lines;      // hatches
 };
 
 bool chained(const Segment& a, const Segment& b) {
@@ -107,12 +107,13 @@ std::string header(const plan::ScanPlan& plan, const CliOptions& options) {
         for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
     };
     for (const auto& layer : plan.layers)
-        for (const Segment& s : layerMarks(layer)) grow(s.x0, s.y0, layer.z), grow(s.x1, s.y1, layer.z);
+        for (const Segment& s : layerMarks(layer))
+            grow(s.x0, s.y0, layer.z), grow(s.x1, s.y1, layer.z);
     if (!std::isfinite(lo[0])) std::fill(lo, lo + 3, 0.0), std::fill(hi, hi + 3, 0.0);
     char units[64], dimension[256];
     std::snprintf(units, sizeof units, "%.8f", options.units);
-    std::snprintf(dimension, sizeof dimension, "%.6f,%.6f,%.6f,%.6f,%.6f,%.6f", lo[0], lo[1],
-                  lo[2], hi[0], hi[1], hi[2]);
+    std::snprintf(dimension, sizeof dimension, "%.6f,%.6f,%.6f,%.6f,%.6f,%.6f", lo[0], lo[1], lo[2],
+                  hi[0], hi[1], hi[2]);
     std::string h = "$$HEADERSTART\n";
     h += options.binary ? "$$BINARY\n" : "$$ASCII\n";
     h += std::string("$$UNITS/") + units + "\n$$VERSION/200\n$$LABEL/1,vpsim\n";

@@ -119,14 +119,15 @@ void readAscii(CliFile& file, const std::string& data, size_t pos, const std::st
     size_t at = data.find("$$", start + 2);
     while (at != std::string::npos) {
         size_t next = data.find("$$", at + 2);
-        std::string command = trim(data.substr(at + 2, next == std::string::npos ? std::string::npos
-                                                                                  : next - at - 2));
+        std::string command = trim(
+            data.substr(at + 2, next == std::string::npos ? std::string::npos : next - at - 2));
         at = next;
         if (command == "GEOMETRYEND") return;
         const size_t slash = command.find('/');
         const std::string name = command.substr(0, slash);
-        const std::vector<double> v =
-            slash == std::string::npos ? std::vector<double>{} : numbers(command.substr(slash + 1), path);
+        const std::vector<double> v = slash == std::string::npos
+                                          ? std::vector<double>{}
+                                          : numbers(command.substr(slash + 1), path);
         if (name == "LAYER") {
             if (v.size() != 1) throw InputError("CLI: $$LAYER needs one z", path);
             file.layers.push_back({});
@@ -136,7 +137,8 @@ void readAscii(CliFile& file, const std::string& data, size_t pos, const std::st
                 throw InputError("CLI: $$POLYLINE point count does not match", path);
             CliPolyline line;
             line.id = int(v[0]), line.direction = int(v[1]);
-            for (size_t k = 3; k < v.size(); k += 2) line.points.push_back({v[k] * u, v[k + 1] * u});
+            for (size_t k = 3; k < v.size(); k += 2)
+                line.points.push_back({v[k] * u, v[k + 1] * u});
             currentLayer(file, path).polylines.push_back(std::move(line));
         } else if (name == "HATCHES") {
             if (v.size() < 2 || v.size() != 2 + 4 * size_t(v[1]))
@@ -166,9 +168,12 @@ CliFile readCli(const std::string& path) {
     std::string line;
     while (std::getline(header, line)) {
         line = trim(line);
-        if (line == "$$BINARY" || line == "$$ASCII") file.binary = line == "$$BINARY", formatSeen = true;
-        else if (line.rfind("$$UNITS/", 0) == 0) file.units = numbers(line.substr(8), path).at(0);
-        else if (line.rfind("$$VERSION/", 0) == 0) file.version = int(numbers(line.substr(10), path).at(0));
+        if (line == "$$BINARY" || line == "$$ASCII")
+            file.binary = line == "$$BINARY", formatSeen = true;
+        else if (line.rfind("$$UNITS/", 0) == 0)
+            file.units = numbers(line.substr(8), path).at(0);
+        else if (line.rfind("$$VERSION/", 0) == 0)
+            file.version = int(numbers(line.substr(10), path).at(0));
         else if (line.rfind("$$LAYERS/", 0) == 0)
             file.declaredLayers = int(numbers(line.substr(9), path).at(0));
     }

@@ -118,8 +118,7 @@ BuildTimeOptions buildTimeOptionsFromConfig(const ConfigNode& machine) {
     if (machine.has("scanner")) options.scanner = scannerFromConfig(machine.child("scanner"));
     options.recoatTime = machine.quantity("recoat_time", dim::TIME, 0.0);
     if (!(options.recoatTime >= 0)) throw machine.error("recoat_time", "must not be negative");
-    options.projectorIrradiance =
-        machine.quantity("projector_irradiance", dim::IRRADIANCE, 0.0);
+    options.projectorIrradiance = machine.quantity("projector_irradiance", dim::IRRADIANCE, 0.0);
     if (!(options.projectorIrradiance >= 0))
         throw machine.error("projector_irradiance", "must not be negative");
     return options;

@@ -109,8 +109,8 @@ int regionPart(const geometry::PolygonSet& region, const glm::dvec2& p) {
         for (const auto& hole : part.holes) inside = inside && !insideContour(hole, p);
         if (inside) return int(k);
         for (size_t i = 0; i < part.outer.size(); ++i) {
-            double d = pointSegmentDistance(
-                p, {part.outer[i], part.outer[(i + 1) % part.outer.size()]});
+            double d =
+                pointSegmentDistance(p, {part.outer[i], part.outer[(i + 1) % part.outer.size()]});
             if (d < nearestDistance) nearestDistance = d, nearest = int(k);
         }
     }
@@ -119,8 +119,7 @@ int regionPart(const geometry::PolygonSet& region, const glm::dvec2& p) {
 
 }  // namespace
 
-PartGroups groupLayerParts(const LayerPlan& layer, double gap,
-                           const geometry::PolygonSet* region) {
+PartGroups groupLayerParts(const LayerPlan& layer, double gap, const geometry::PolygonSet* region) {
     const std::vector<Segment> segments = layerSegments(layer);
     std::vector<int> labels(segments.size());
     if (region && !region->empty()) {

@@ -149,11 +149,11 @@ OrderMethod parseOrderMethod(const std::string& text, const std::string& key,
 
 std::string toString(OrderMethod method) {
     switch (method) {
-    case OrderMethod::Auto: return "auto";
-    case OrderMethod::Exact: return "exact";
-    case OrderMethod::Heuristic: return "heuristic";
-    case OrderMethod::NearestNeighbour: return "nearest-neighbour";
-    case OrderMethod::AsSliced: return "as-sliced";
+        case OrderMethod::Auto: return "auto";
+        case OrderMethod::Exact: return "exact";
+        case OrderMethod::Heuristic: return "heuristic";
+        case OrderMethod::NearestNeighbour: return "nearest-neighbour";
+        case OrderMethod::AsSliced: return "as-sliced";
     }
     return "auto";
 }
@@ -254,19 +254,19 @@ OrderResult orderParts(const CostMatrix& cost, OrderMethod method) {
     OrderResult nn = nearestNeighbourOrder(cost);
     OrderResult result;
     switch (method) {
-    case OrderMethod::AsSliced:
-        result.order.resize(size_t(cost.n));
-        std::iota(result.order.begin(), result.order.end(), 0);
-        result.cost = pathCost(cost, result.order);
-        result.method = "as-sliced";
-        result.provenOptimal = cost.n <= 1;
-        break;
-    case OrderMethod::NearestNeighbour: result = nn; break;
-    case OrderMethod::Exact: result = exactOrder(cost); break;
-    case OrderMethod::Heuristic: result = heuristicOrder(cost); break;
-    case OrderMethod::Auto:
-        result = cost.n <= AUTO_EXACT_LIMIT ? exactOrder(cost) : heuristicOrder(cost);
-        break;
+        case OrderMethod::AsSliced:
+            result.order.resize(size_t(cost.n));
+            std::iota(result.order.begin(), result.order.end(), 0);
+            result.cost = pathCost(cost, result.order);
+            result.method = "as-sliced";
+            result.provenOptimal = cost.n <= 1;
+            break;
+        case OrderMethod::NearestNeighbour: result = nn; break;
+        case OrderMethod::Exact: result = exactOrder(cost); break;
+        case OrderMethod::Heuristic: result = heuristicOrder(cost); break;
+        case OrderMethod::Auto:
+            result = cost.n <= AUTO_EXACT_LIMIT ? exactOrder(cost) : heuristicOrder(cost);
+            break;
     }
     result.nearestNeighbourCost = nn.cost;
     return result;

@@ -40,9 +40,9 @@ DirectionRule parseDirectionRule(const std::string& text, const std::string& key
 
 std::string toString(const DirectionRule& rule) {
     switch (rule.kind) {
-    case DirectionRule::Kind::MinEdgeProjection: return "min-edge-projection";
-    case DirectionRule::Kind::LongestEdge: return "longest-edge";
-    case DirectionRule::Kind::Fixed: break;
+        case DirectionRule::Kind::MinEdgeProjection: return "min-edge-projection";
+        case DirectionRule::Kind::LongestEdge: return "longest-edge";
+        case DirectionRule::Kind::Fixed: break;
     }
     char text[32];
     std::snprintf(text, sizeof text, "%.6g deg", rule.angle * 180.0 / M_PI);

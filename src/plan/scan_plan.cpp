@@ -49,7 +49,8 @@ const char* const TRAJECTORY_KEY = "trajectory_on_x0_y0_x1_y1_power_speed_dwell_
 nlohmann::json trajectoryJson(const std::vector<ScanMove>& moves) {
     nlohmann::json rows = nlohmann::json::array();
     for (const ScanMove& m : moves)
-        rows.push_back({m.laserOn ? 1 : 0, m.x0, m.y0, m.x1, m.y1, m.power, m.speed, m.dwell, m.part});
+        rows.push_back(
+            {m.laserOn ? 1 : 0, m.x0, m.y0, m.x1, m.y1, m.power, m.speed, m.dwell, m.part});
     return rows;
 }
 
@@ -60,16 +61,16 @@ std::vector<ScanMove> trajectoryFromJson(const ConfigNode& node) {
         for (size_t i = 0; ok && i < 9; ++i) ok = r[i].is_number();
         if (!ok || !(r[5].get<double>() >= 0) || !(r[6].get<double>() >= 0) ||
             !(r[7].get<double>() >= 0))
-            throw node.error(TRAJECTORY_KEY, "each move is [on 0|1, x0, y0, x1, y1, power >= 0, "
-                                             "speed >= 0, dwell >= 0, part]");
+            throw node.error(TRAJECTORY_KEY,
+                             "each move is [on 0|1, x0, y0, x1, y1, power >= 0, "
+                             "speed >= 0, dwell >= 0, part]");
         ScanMove m;
         m.laserOn = r[0].get<double>() != 0;
         m.x0 = r[1].get<double>(), m.y0 = r[2].get<double>();
         m.x1 = r[3].get<double>(), m.y1 = r[4].get<double>();
         m.power = r[5].get<double>(), m.speed = r[6].get<double>(), m.dwell = r[7].get<double>();
         m.part = r[8].get<int>();
-        if (m.laserOn && !(m.speed > 0) && !(m.dwell > 0) &&
-            (m.x0 != m.x1 || m.y0 != m.y1))
+        if (m.laserOn && !(m.speed > 0) && !(m.dwell > 0) && (m.x0 != m.x1 || m.y0 != m.y1))
             throw node.error(TRAJECTORY_KEY, "a mark that moves needs a positive speed");
         moves.push_back(m);
     }

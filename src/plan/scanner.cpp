@@ -26,11 +26,11 @@ double delayOr(const ConfigNode& node, const std::string& key, double fallback) 
 ScannerConfig scannerFromConfig(const ConfigNode& section) {
     ScannerConfig config;
     config.machine.speed = positiveOr(section, "machine_speed", dim::SPEED, config.machine.speed);
-    config.machine.acceleration = positiveOr(section, "machine_acceleration", dim::ACCELERATION,
-                                             config.machine.acceleration);
+    config.machine.acceleration =
+        positiveOr(section, "machine_acceleration", dim::ACCELERATION, config.machine.acceleration);
     config.process.speed = positiveOr(section, "process_speed", dim::SPEED, config.process.speed);
-    config.process.acceleration = positiveOr(section, "process_acceleration", dim::ACCELERATION,
-                                             config.process.acceleration);
+    config.process.acceleration =
+        positiveOr(section, "process_acceleration", dim::ACCELERATION, config.process.acceleration);
     if (config.process.speed > config.machine.speed)
         throw section.error("process_speed", "must not exceed machine_speed");
     if (config.process.acceleration > config.machine.acceleration)
@@ -50,7 +50,7 @@ ScannerConfig scannerFromConfig(const ConfigNode& section) {
 double restToRestTime(double distance, const AxisLimits& limits) {
     const double d = std::abs(distance), a = limits.acceleration, v = limits.speed;
     if (d <= v * v / a) return 2.0 * std::sqrt(d / a);  // triangular: peak sqrt(a d) <= v
-    return d / v + v / a;                                // trapezoidal: cruise at v
+    return d / v + v / a;                               // trapezoidal: cruise at v
 }
 
 double axisMoveTime(double distance, double v0, const AxisLimits& limits) {
@@ -70,7 +70,8 @@ double axisMoveTime(double distance, double v0, const AxisLimits& limits) {
         // (vp^2 - v0^2)/2a + vp^2/2a = d  =>  vp = sqrt(a d + v0^2/2).
         const double vp = std::sqrt(a * distance + 0.5 * v0 * v0);
         if (vp <= vmax) return t + (vp - v0) / a + vp / a;
-        const double cruise = distance - (vmax * vmax - v0 * v0) / (2.0 * a) - vmax * vmax / (2.0 * a);
+        const double cruise =
+            distance - (vmax * vmax - v0 * v0) / (2.0 * a) - vmax * vmax / (2.0 * a);
         return t + (vmax - v0) / a + vmax / a + cruise / vmax;
     }
     // Overshoot (target closer than the braking distance) or reversal: brake to rest, then move

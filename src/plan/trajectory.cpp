@@ -42,8 +42,8 @@ std::vector<ScanMove> rotateLoop(std::vector<ScanMove> loop, const glm::dvec2& t
     double bestDistance = INFINITY, bestT = 0;
     for (size_t i = 0; i < loop.size(); ++i) {
         double t;
-        glm::dvec2 q = closestOnSegment({loop[i].x0, loop[i].y0}, {loop[i].x1, loop[i].y1},
-                                        target, t);
+        glm::dvec2 q =
+            closestOnSegment({loop[i].x0, loop[i].y0}, {loop[i].x1, loop[i].y1}, target, t);
         double d = std::hypot(q.x - target.x, q.y - target.y);
         if (d < bestDistance) best = i, bestDistance = d, bestT = t;
     }
@@ -51,8 +51,8 @@ std::vector<ScanMove> rotateLoop(std::vector<ScanMove> loop, const glm::dvec2& t
     ScanMove first = loop[best], second = loop[best];
     const double sx = first.x0 + bestT * (first.x1 - first.x0);
     const double sy = first.y0 + bestT * (first.y1 - first.y0);
-    first.x1 = sx, first.y1 = sy;   // the piece before the split point, scanned last
-    second.x0 = sx, second.y0 = sy; // the piece after it, scanned first
+    first.x1 = sx, first.y1 = sy;    // the piece before the split point, scanned last
+    second.x0 = sx, second.y0 = sy;  // the piece after it, scanned first
     if (!samePoint(second.x0, second.y0, second.x1, second.y1)) out.push_back(second);
     for (size_t k = 1; k < loop.size(); ++k) out.push_back(loop[(best + k) % loop.size()]);
     if (!samePoint(first.x0, first.y0, first.x1, first.y1)) out.push_back(first);
@@ -100,8 +100,7 @@ std::vector<std::vector<const LaserPoint*>> pointRows(const std::vector<LaserPoi
     });
     std::vector<std::vector<const LaserPoint*>> rows;
     for (const LaserPoint* p : sorted) {
-        if (rows.empty() || std::abs(p->y - rows.back().back()->y) > 1e-6)
-            rows.emplace_back();
+        if (rows.empty() || std::abs(p->y - rows.back().back()->y) > 1e-6) rows.emplace_back();
         rows.back().push_back(p);
     }
     for (size_t r = 1; r < rows.size(); r += 2) std::reverse(rows[r].begin(), rows[r].end());

@@ -8,7 +8,9 @@
 namespace vpsim::plan {
 namespace {
 
-glm::dvec2 perp(const glm::dvec2& v) { return {-v.y, v.x}; }
+glm::dvec2 perp(const glm::dvec2& v) {
+    return {-v.y, v.x};
+}
 
 glm::dvec2 rotate(const glm::dvec2& v, double angle) {
     const double c = std::cos(angle), s = std::sin(angle);
@@ -17,8 +19,8 @@ glm::dvec2 rotate(const glm::dvec2& v, double angle) {
 
 /// Angle swept from p to q around `centre` turning the way `turn` says, in [0, 2 pi).
 double sweep(const glm::dvec2& centre, const glm::dvec2& p, const glm::dvec2& q, int turn) {
-    double delta = std::atan2(q.y - centre.y, q.x - centre.x) -
-                   std::atan2(p.y - centre.y, p.x - centre.x);
+    double delta =
+        std::atan2(q.y - centre.y, q.x - centre.x) - std::atan2(p.y - centre.y, p.x - centre.x);
     delta *= turn;
     delta = std::fmod(delta, 2.0 * M_PI);
     if (delta < 0) delta += 2.0 * M_PI;

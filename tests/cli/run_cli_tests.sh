@@ -53,5 +53,15 @@ if "$vpsim" calibrate --help >/dev/null 2>&1; then
   expect_error "bad_wc.csv:3: .*'x'" calibrate --working-curve "$work/bad_wc.csv"
 fi
 
+if "$vpsim" export --help >/dev/null 2>&1; then
+  expect_ok '"vectors": 24' export "$data/plan_two_parts.json" -o "$work/scan.cli" --json
+  expect_ok '"proven_optimal": true' export "$data/plan_two_parts.json" -o "$work/scan_bin.cli" \
+    --format binary --trajectories --machine "$data/machine_scanner.json" --json
+  expect_error "machine_bad_scanner.json: key 'machine.scanner.process_speed'" export \
+    "$data/plan_two_parts.json" -o "$work/bad.cli" --machine "$data/machine_bad_scanner.json"
+  [[ -e "$work/bad.cli" ]] && { failed=$((failed + 1)); echo "FAILED: bad input wrote bad.cli"; }
+  expect_error "missing_plan.json: cannot read" export "$data/missing_plan.json" -o "$work/x.cli"
+fi
+
 echo "cli: $passed passed, $failed failed"
 [[ $failed -eq 0 ]]

@@ -62,10 +62,10 @@ void checkRoundTrip(const plan::ScanPlan& plan, const CliOptions& options, doubl
             for (const auto& l : h.lines) {
                 bool found = false;
                 for (const auto& v : layer.vectors)
-                    found = found || (std::abs(v.x0 - l[0]) <= tolerance &&
-                                      std::abs(v.y0 - l[1]) <= tolerance &&
-                                      std::abs(v.x1 - l[2]) <= tolerance &&
-                                      std::abs(v.y1 - l[3]) <= tolerance);
+                    found =
+                        found ||
+                        (std::abs(v.x0 - l[0]) <= tolerance && std::abs(v.y0 - l[1]) <= tolerance &&
+                         std::abs(v.x1 - l[2]) <= tolerance && std::abs(v.y1 - l[3]) <= tolerance);
                 CHECK(found);
             }
         // The border is closed and counter-clockwise.
@@ -100,8 +100,9 @@ TEST_CASE("CLI exporter options, registry and refusals", "[exporters]") {
     CHECK_FALSE(exporter->accepts(dlp, reason));
     CHECK_THAT(reason, Catch::Contains("CLI"));
     auto path = (std::filesystem::temp_directory_path() / "vpsim_bad.cli").string();
-    writeFileAtomic(path, "$$HEADERSTART\n$$ASCII\n$$UNITS/1\n$$HEADEREND\n$$GEOMETRYSTART\n"
-                          "$$LAYER/1\n$$HATCHES/1,2,0,0,1,1\n$$GEOMETRYEND\n");
+    writeFileAtomic(path,
+                    "$$HEADERSTART\n$$ASCII\n$$UNITS/1\n$$HEADEREND\n$$GEOMETRYSTART\n"
+                    "$$LAYER/1\n$$HATCHES/1,2,0,0,1,1\n$$GEOMETRYEND\n");
     CHECK_THROWS_WITH(readCli(path), Catch::Contains("HATCHES"));
     std::filesystem::remove(path);
 }

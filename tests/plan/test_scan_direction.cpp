@@ -45,8 +45,8 @@ TEST_CASE("the edge-projection rule finds the exhaustive minimum", "[plan]") {
             const double spacing = 0.05;
             size_t ruleCount = hatchRegion(shape, spacing, rule, 10, 100).size(), bestCount = ~0u;
             for (int k = 0; k < 180; ++k)
-                bestCount =
-                    std::min(bestCount, hatchRegion(shape, spacing, k * M_PI / 180.0, 10, 100).size());
+                bestCount = std::min(bestCount,
+                                     hatchRegion(shape, spacing, k * M_PI / 180.0, 10, 100).size());
             CHECK(ruleCount <= bestCount + 1);
         }
         // A bar is scanned along its length.
@@ -71,8 +71,7 @@ TEST_CASE("the direction rule saves build time on a long bar at an angle", "[pla
 }
 
 TEST_CASE("plan.direction values", "[plan]") {
-    CHECK(parseDirectionRule("min-edge-projection").kind ==
-          DirectionRule::Kind::MinEdgeProjection);
+    CHECK(parseDirectionRule("min-edge-projection").kind == DirectionRule::Kind::MinEdgeProjection);
     DirectionRule fixed = parseDirectionRule("30 deg");
     CHECK(fixed.kind == DirectionRule::Kind::Fixed);
     CHECK(fixed.angle == Approx(M_PI / 6));

@@ -44,13 +44,11 @@ TEST_CASE("a jump starting with the mark velocity keeps going, overshoots or rev
     }
     SECTION("overshoot (seed 002 Fig. 6 scenario 1): brake past the target, come back") {
         // 1 mm ahead: brake 0.015 s to 2.25 mm, then 1.25 mm back from rest to rest.
-        CHECK(axisMoveTime(1.0, v0, MACHINE) ==
-              Approx(0.015 + 2.0 * std::sqrt(1.25 / 20000.0)));
+        CHECK(axisMoveTime(1.0, v0, MACHINE) == Approx(0.015 + 2.0 * std::sqrt(1.25 / 20000.0)));
     }
     SECTION("reversal (scenario 3): brake, then move the other way") {
         // 10 mm behind: brake 0.015 s (2.25 mm further), then 12.25 mm rest to rest.
-        CHECK(axisMoveTime(-10.0, v0, MACHINE) ==
-              Approx(0.015 + 2.0 * std::sqrt(12.25 / 20000.0)));
+        CHECK(axisMoveTime(-10.0, v0, MACHINE) == Approx(0.015 + 2.0 * std::sqrt(12.25 / 20000.0)));
         CHECK(axisMoveTime(10.0, -v0, MACHINE) == Approx(axisMoveTime(-10.0, v0, MACHINE)));
     }
     SECTION("an axis at rest on its target with a velocity still has to stop and return") {

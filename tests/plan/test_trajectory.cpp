@@ -41,8 +41,7 @@ TEST_CASE("delays and times of a hand-counted layer (seed 002 Eq. 1-4)", "[plan]
     CHECK(whole.sum.recoat == Approx(10.0));
     CHECK(whole.total() == Approx(2 * t.total() + 10.0));
     nlohmann::json json = whole.toJson();
-    for (const char* key : {"total", "mark", "jump", "delays", "recoat"})
-        CHECK(json.contains(key));
+    for (const char* key : {"total", "mark", "jump", "delays", "recoat"}) CHECK(json.contains(key));
     CHECK(json["total"].get<double>() == Approx(whole.total()));
 }
 
@@ -78,8 +77,7 @@ TEST_CASE("parts are grouped by proximity or by region, borders first", "[plan]"
     CHECK(switches == 2);
 }
 
-TEST_CASE("points: modulated rows give each point its energy; dwell is the alternative",
-          "[plan]") {
+TEST_CASE("points: modulated rows give each point its energy; dwell is the alternative", "[plan]") {
     LayerPlan layer;
     const double power = 10, energy = 0.004;  // 0.4 ms per point: 250 mm/s over 0.1 mm
     for (int i = 0; i < 5; ++i) layer.points.push_back({0.1 * i, 0.0, energy});
@@ -89,8 +87,9 @@ TEST_CASE("points: modulated rows give each point its energy; dwell is the alter
     double delivered = 0;
     for (const ScanMove& move : m.moves)
         if (move.laserOn)
-            delivered += move.power * (std::hypot(move.x1 - move.x0, move.y1 - move.y0) /
-                                           move.speed + move.dwell);
+            delivered +=
+                move.power *
+                (std::hypot(move.x1 - move.x0, move.y1 - move.y0) / move.speed + move.dwell);
     CHECK(m.overexposedPoints == 0);
     CHECK(delivered == Approx(15 * energy));
     TrajectoryOptions dwell;
@@ -137,8 +136,9 @@ TEST_CASE("DLP build time from mask exposure and recoat", "[plan]") {
     mask.width = 2, mask.height = 1, mask.pixelPitch = 0.05, mask.dose = {0.5f, 1.0f};
     layer.masks.push_back(mask);
     plan.layers = {layer, layer, layer};
-    ConfigNode machine(nlohmann::json{{"recoat_time", "4 s"}, {"projector_irradiance", "0.2 mW/mm^2"}},
-                       "machine.json");
+    ConfigNode machine(
+        nlohmann::json{{"recoat_time", "4 s"}, {"projector_irradiance", "0.2 mW/mm^2"}},
+        "machine.json");
     BuildTimeOptions options = buildTimeOptionsFromConfig(machine);
     BuildTime t = estimateBuildTime(plan, options);
     CHECK(t.sum.exposure == Approx(3 * 1.0 / 0.2));

@@ -12,8 +12,12 @@ using namespace vpsim::plan;
 
 namespace {
 
-glm::dvec2 unit(const glm::dvec2& v) { return v / std::hypot(v.x, v.y); }
-double len(const glm::dvec2& v) { return std::hypot(v.x, v.y); }
+glm::dvec2 unit(const glm::dvec2& v) {
+    return v / std::hypot(v.x, v.y);
+}
+double len(const glm::dvec2& v) {
+    return std::hypot(v.x, v.y);
+}
 
 /// Direction of travel at p on a circle around c turning `turn`.
 glm::dvec2 circleTangent(const glm::dvec2& c, const glm::dvec2& p, int turn) {

@@ -26,7 +26,8 @@ namespace vpsim::exporters {
 
 struct CliOptions {
     bool binary = false;  ///< `format`: "ascii" (default) | "binary"
-    double units = 1e-3;  ///< mm per coordinate unit (`units`, e.g. "1 um"); ASCII writes 3 decimals
+    double units =
+        1e-3;  ///< mm per coordinate unit (`units`, e.g. "1 um"); ASCII writes 3 decimals
 };
 
 /// Reads `format` and `units` from an exporter's options section. @throw InputError naming the key
@@ -48,7 +49,7 @@ private:
 void registerCliExporter(ExporterRegistry& registry);
 
 struct CliPolyline {
-    int id = 1, direction = 2;  ///< 0 clockwise, 1 counter-clockwise, 2 open
+    int id = 1, direction = 2;       ///< 0 clockwise, 1 counter-clockwise, 2 open
     std::vector<glm::dvec2> points;  ///< mm
 };
 struct CliHatches {
@@ -64,9 +65,9 @@ struct CliLayer {
 };
 struct CliFile {
     bool binary = false;
-    double units = 1;  ///< mm per unit
-    int version = 0;   ///< e.g. 200
-    int declaredLayers = -1;  ///< $$LAYERS, -1 when absent
+    double units = 1;              ///< mm per unit
+    int version = 0;               ///< e.g. 200
+    int declaredLayers = -1;       ///< $$LAYERS, -1 when absent
     std::vector<CliLayer> layers;  ///< coordinates converted to mm
 };
 

@@ -34,11 +34,11 @@ struct CostMatrix {
 };
 
 struct OrderResult {
-    std::vector<int> order;          ///< part indices in scan order
-    double cost = 0;                 ///< s, sum of the jumps along `order`
-    std::string method;              ///< the method that ran ("exact", "heuristic", ...)
-    bool provenOptimal = false;      ///< true for the exact DP (and for n <= 2)
-    double nearestNeighbourCost = 0; ///< s, best-start nearest neighbour on the same costs
+    std::vector<int> order;           ///< part indices in scan order
+    double cost = 0;                  ///< s, sum of the jumps along `order`
+    std::string method;               ///< the method that ran ("exact", "heuristic", ...)
+    bool provenOptimal = false;       ///< true for the exact DP (and for n <= 2)
+    double nearestNeighbourCost = 0;  ///< s, best-start nearest neighbour on the same costs
 };
 
 /// Largest layer `auto` solves exactly (2^16 x 16 states: milliseconds).

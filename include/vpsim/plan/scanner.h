@@ -20,9 +20,9 @@ namespace vpsim::plan {
 struct ScannerDelays {
     double laserOn = 100e-6;
     double laserOff = 100e-6;
-    double jump = 250e-6;     ///< after a jump vector
-    double mark = 100e-6;     ///< between a mark vector and a jump vector
-    double polygon = 50e-6;   ///< between two mark vectors
+    double jump = 250e-6;    ///< after a jump vector
+    double mark = 100e-6;    ///< between a mark vector and a jump vector
+    double polygon = 50e-6;  ///< between two mark vectors
 };
 
 /// Per-axis limits of one kind of motion.

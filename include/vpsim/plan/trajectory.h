@@ -37,8 +37,8 @@ struct TrajectoryOptions {
 struct LayerTrajectory {
     std::vector<ScanMove> moves;
     int parts = 0;
-    OrderResult order;        ///< over the parts; cost = jump time between parts (s)
-    int overexposedPoints = 0; ///< modulated points whose speed hit process_speed (more energy)
+    OrderResult order;          ///< over the parts; cost = jump time between parts (s)
+    int overexposedPoints = 0;  ///< modulated points whose speed hit process_speed (more energy)
 };
 
 /// Velocity (mm/s) at the end of a move: a moving mark's direction times its speed, else zero.

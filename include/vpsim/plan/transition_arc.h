@@ -23,9 +23,9 @@ struct ArcTransition {
     int turn1 = 0, turn2 = 0;  ///< +1 counter-clockwise, -1 clockwise
     double radius = 0;         ///< mm
     glm::dvec2 centre1{}, centre2{};
-    glm::dvec2 a{}, b{}, c{}, e{};  ///< mm
+    glm::dvec2 a{}, b{}, c{}, e{};                             ///< mm
     double arc1Length = 0, segmentLength = 0, arc2Length = 0;  ///< mm
-    double time = 0;           ///< s (infinite when not feasible)
+    double time = 0;                                           ///< s (infinite when not feasible)
 };
 
 /// R = 3 v^2 / a (mm).
