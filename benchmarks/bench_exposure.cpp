@@ -46,7 +46,7 @@ double seconds(std::chrono::steady_clock::time_point start) {
 
 int main() {
     const double h = 0.05, pitch = 0.01, side = 10.0, hs = 0.025, power = 10.0, speed = 400.0;
-    const exposure::SeparableBeam beam{0.05, 0.12};
+    const kernel::FittedBeam beam{0.05, 0.12};
     nlohmann::json out{{"benchmark", "exposure"}, {"part_mm", {side, side, 5.0}}, {"voxel_um", 10}};
     try {
         exposure::ExposureGrid grid =

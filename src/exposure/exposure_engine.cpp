@@ -37,24 +37,11 @@ void blurPassCpu(const SurfaceGrid& source, SurfaceGrid& target, int axis, int h
 
 }  // namespace
 
-ExposureGrid ExposureGrid::covering(double xmin, double ymin, double xmax, double ymax,
-                                    double margin, double pitch, int slicesPerLayer) {
-    if (!(pitch > 0)) throw InputError("exposure grid pitch must be positive");
-    ExposureGrid grid;
-    grid.pitch = pitch;
-    grid.slicesPerLayer = slicesPerLayer;
-    grid.originX = xmin - margin;
-    grid.originY = ymin - margin;
-    grid.nx = int(std::ceil((xmax - xmin + 2 * margin) / pitch));
-    grid.ny = int(std::ceil((ymax - ymin + 2 * margin) / pitch));
-    return grid;
-}
-
 int blurHalfWidth(double radius, double pitch) {
     return int(std::ceil(1.75 * radius / pitch));
 }
 
-ExposureEngine::ExposureEngine(const ExposureGrid& grid, const SeparableBeam& beam,
+ExposureEngine::ExposureEngine(const ExposureGrid& grid, const kernel::FittedBeam& beam,
                                double layerThickness, std::shared_ptr<gpu::Context> context)
     : mGrid(grid), mBeam(beam), mLayerThickness(layerThickness) {
     if (grid.nx <= 0 || grid.ny <= 0) throw InputError("exposure grid has no cells");
@@ -102,37 +89,61 @@ void ExposureEngine::blurAndAccumulate(SurfaceGrid& deposit, SurfaceGrid& runnin
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-SurfaceGrid ExposureEngine::exposureMap(const SurfaceGrid& deposit) {
-    SurfaceGrid blurred = deposit,
-                running(deposit.nx, deposit.ny, deposit.originX, deposit.originY, deposit.pitch);
+SurfaceGrid ExposureEngine::layerMap(const SurfaceGrid& deposit, double depth) {
+    SurfaceGrid blurred = deposit, running = mGrid.surface();
     double seconds = 0;
     blurAndAccumulate(blurred, running, 0.0f, seconds);
+    const float attenuation = float(std::exp(-depth / mBeam.attenuationLength));
+    for (float& v : running.values) v *= attenuation;
     return running;
 }
 
-double ExposureEngine::run(const plan::ScanPlan& plan, const SliceSink& sink) {
-    const ExposureGrid& g = mGrid;
-    SurfaceGrid running(g.nx, g.ny, g.originX, g.originY, g.pitch);
-    SurfaceGrid deposit(g.nx, g.ny, g.originX, g.originY, g.pitch);
-    SurfaceGrid slice(g.nx, g.ny, g.originX, g.originY, g.pitch);
+SurfaceGrid ExposureEngine::layerMapAdjoint(const SurfaceGrid& map, double depth) {
+    return layerMap(map, depth);
+}
+
+void ExposureEngine::beginLayers(int layers) {
+    mRunning = mGrid.surface();
+    mSlice = mGrid.surface();
+}
+
+double ExposureEngine::addLayer(int k, SurfaceGrid& deposit) {
     const float decay = float(std::exp(-mLayerThickness / mBeam.attenuationLength));
-    const double voxelHeight = mLayerThickness / g.slicesPerLayer;
     double seconds = 0;
-    Progress progress("exposure", plan.layers.size());
-    for (int k = int(plan.layers.size()) - 1; k >= 0; --k) {
-        std::fill(deposit.values.begin(), deposit.values.end(), 0.0f);
-        depositLayer(plan.layers[k], deposit);
-        blurAndAccumulate(deposit, running, decay, seconds);
-        for (int s = 0; s < g.slicesPerLayer; ++s) {
-            double depth = (s + 0.5) * voxelHeight;
-            float attenuation = float(std::exp(-depth / mBeam.attenuationLength));
-            for (size_t c = 0; c < slice.values.size(); ++c)
-                slice.values[c] = attenuation * running.values[c];
-            sink({k, s, plan.layers[k].z - depth, &slice});
-        }
-        progress.advance();
-    }
+    blurAndAccumulate(deposit, mRunning, decay, seconds);
     return seconds;
+}
+
+void ExposureEngine::emitLayer(int k, double top, const SliceSink& sink) {
+    const double voxelHeight = mLayerThickness / mGrid.slicesPerLayer;
+    for (int s = 0; s < mGrid.slicesPerLayer; ++s) {
+        double depth = (s + 0.5) * voxelHeight;
+        float attenuation = float(std::exp(-depth / mBeam.attenuationLength));
+        for (size_t c = 0; c < mSlice.values.size(); ++c)
+            mSlice.values[c] = attenuation * mRunning.values[c];
+        sink({k, s, top - depth, &mSlice});
+    }
+}
+
+std::vector<SurfaceGrid> ExposureEngine::stackAdjoint(const ExposureField& field) {
+    const int n = mGrid.slicesPerLayer;
+    const int layers = fieldLayers(field, mGrid);
+    const double voxelHeight = mLayerThickness / n;
+    const double decay = std::exp(-mLayerThickness / mBeam.attenuationLength);
+    std::vector<double> weights(n);
+    for (int s = 0; s < n; ++s)
+        weights[s] = std::exp(-(s + 0.5) * voxelHeight / mBeam.attenuationLength);
+    std::vector<SurfaceGrid> deposits;
+    SurfaceGrid running = mGrid.surface();  // V_j, from the bottom up
+    for (int k = 0; k < layers; ++k) {
+        tbb::parallel_for(size_t(0), running.values.size(), [&](size_t c) {
+            double sum = decay * running.values[c];
+            for (int s = 0; s < n; ++s) sum += weights[s] * field[size_t(k) * n + s].values[c];
+            running.values[c] = float(sum);
+        });
+        deposits.push_back(layerMap(running, 0.0));
+    }
+    return deposits;
 }
 
 }  // namespace vpsim::exposure

@@ -190,81 +190,129 @@ void TabulatedExposureEngine::buildStencils(const kernel::BeamKernel& kernel) {
     });
 }
 
-double TabulatedExposureEngine::run(const plan::ScanPlan& plan, const SliceSink& sink) {
-    const ExposureGrid& g = mGrid;
-    const int n = g.slicesPerLayer, L = mLayersInFlight, M = int(mStencils.size());
-    const int nx = g.nx, ny = g.ny;
-    const double dz = mLayerThickness / n;
-    // Ring of accumulators: layer k's slice s lives in slot (k mod L) n + s.
-    std::vector<SurfaceGrid> acc(size_t(L) * n, SurfaceGrid(nx, ny, g.originX, g.originY, g.pitch));
-    SurfaceGrid deposit(nx, ny, g.originX, g.originY, g.pitch);
+void TabulatedExposureEngine::beginLayers(int layers) {
+    mAccumulators.assign(size_t(mLayersInFlight) * mGrid.slicesPerLayer, mGrid.surface());
+}
+
+double TabulatedExposureEngine::addLayer(int source, SurfaceGrid& deposit) {
+    const int n = mGrid.slicesPerLayer, L = mLayersInFlight, M = int(mStencils.size());
+    const int nx = mGrid.nx, ny = mGrid.ny;
+    if (mGpu) {
+        std::vector<std::pair<int, int>> gpuTargets;
+        for (int k = source; k >= 0 && k > source - L; --k)
+            for (int s = 0; s < n; ++s)
+                if ((source - k) * n + s < M)
+                    gpuTargets.push_back({(source - k) * n + s, (k % L) * n + s});
+        return mGpu->addLayer(deposit, gpuTargets);
+    }
     struct Target {
         const DepthStencil* stencil;
         float* values;
     };
-    double seconds = 0;
-    Progress progress("tabulated exposure", plan.layers.size());
-    for (int source = int(plan.layers.size()) - 1; source >= 0; --source) {
-        std::fill(deposit.values.begin(), deposit.values.end(), 0.0f);
-        depositLayer(plan.layers[source], deposit);
-        if (mGpu) {
-            std::vector<std::pair<int, int>> gpuTargets;
-            for (int k = source; k >= 0 && k > source - L; --k)
-                for (int s = 0; s < n; ++s)
-                    if ((source - k) * n + s < M)
-                        gpuTargets.push_back({(source - k) * n + s, (k % L) * n + s});
-            seconds += mGpu->addLayer(deposit, gpuTargets);
-            for (int s = 0; s < n; ++s) {
-                SurfaceGrid& slice = acc[size_t(source % L) * n + s];
-                mGpu->takeSlot((source % L) * n + s, slice);
-                sink({source, s, plan.layers[source].z - (s + 0.5) * dz, &slice});
-            }
-            progress.advance();
-            continue;
+    auto start = std::chrono::steady_clock::now();
+    const std::vector<RowExtent> extents = rowExtents(deposit);
+    std::vector<Target> targets;
+    for (int k = source; k >= 0 && k > source - L; --k)
+        for (int s = 0; s < n; ++s) {
+            int m = (source - k) * n + s;
+            if (m < M)
+                targets.push_back(
+                    {&mStencils[m], mAccumulators[size_t(k % L) * n + s].values.data()});
         }
-        auto start = std::chrono::steady_clock::now();
-        const std::vector<RowExtent> extents = rowExtents(deposit);
-        std::vector<Target> targets;
-        for (int k = source; k >= 0 && k > source - L; --k)
-            for (int s = 0; s < n; ++s) {
-                int m = (source - k) * n + s;
-                if (m < M)
-                    targets.push_back({&mStencils[m], acc[size_t(k % L) * n + s].values.data()});
-            }
-        // Gather per output row: each row is written by one task, and the row axpy vectorises.
-        tbb::parallel_for(tbb::blocked_range<int>(0, ny), [&](const tbb::blocked_range<int>& rows) {
-            for (int j = rows.begin(); j < rows.end(); ++j)
-                for (const Target& t : targets) {
-                    const DepthStencil& st = *t.stencil;
-                    const int H = st.halfWidth;
-                    float* out = t.values + size_t(j) * nx;
-                    for (int dj = -H; dj <= H; ++dj) {
-                        const int sj = j + dj, hw = st.rowHalfWidth[dj + H];
-                        if (sj < 0 || sj >= ny || hw < 0 || extents[sj].first > extents[sj].last)
-                            continue;
-                        const float* src = deposit.values.data() + size_t(sj) * nx;
-                        for (int di = -hw; di <= hw; ++di) {
-                            const float w = st.weights[size_t(glsl::stencilIndex(di, dj, H))];
-                            if (w == 0.0f) continue;
-                            // out[i] gathers src[i + di]; only the row's non-zero columns matter.
-                            const int lo = std::max(0, extents[sj].first - di);
-                            const int hi = std::min(nx - 1, extents[sj].last - di);
-                            for (int i = lo; i <= hi; ++i) out[i] += w * src[i + di];
-                        }
+    // Gather per output row: each row is written by one task, and the row axpy vectorises.
+    tbb::parallel_for(tbb::blocked_range<int>(0, ny), [&](const tbb::blocked_range<int>& rows) {
+        for (int j = rows.begin(); j < rows.end(); ++j)
+            for (const Target& t : targets) {
+                const DepthStencil& st = *t.stencil;
+                const int H = st.halfWidth;
+                float* out = t.values + size_t(j) * nx;
+                for (int dj = -H; dj <= H; ++dj) {
+                    const int sj = j + dj, hw = st.rowHalfWidth[dj + H];
+                    if (sj < 0 || sj >= ny || hw < 0 || extents[sj].first > extents[sj].last)
+                        continue;
+                    const float* src = deposit.values.data() + size_t(sj) * nx;
+                    for (int di = -hw; di <= hw; ++di) {
+                        const float w = st.weights[size_t(glsl::stencilIndex(di, dj, H))];
+                        if (w == 0.0f) continue;
+                        // out[i] gathers src[i + di]; only the row's non-zero columns matter.
+                        const int lo = std::max(0, extents[sj].first - di);
+                        const int hi = std::min(nx - 1, extents[sj].last - di);
+                        for (int i = lo; i <= hi; ++i) out[i] += w * src[i + di];
                     }
                 }
-        });
-        seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        // Every layer above `source` has been processed, so its slices are final.
-        for (int s = 0; s < n; ++s) {
-            SurfaceGrid& slice = acc[size_t(source % L) * n + s];
-            sink({source, s, plan.layers[source].z - (s + 0.5) * dz, &slice});
-            std::fill(slice.values.begin(), slice.values.end(),
-                      0.0f);  // the slot serves layer source - L next
-        }
-        progress.advance();
+            }
+    });
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void TabulatedExposureEngine::emitLayer(int source, double top, const SliceSink& sink) {
+    // Every layer above `source` has been added, so its slices are final.
+    const int n = mGrid.slicesPerLayer, L = mLayersInFlight;
+    const double dz = mLayerThickness / n;
+    for (int s = 0; s < n; ++s) {
+        SurfaceGrid& slice = mAccumulators[size_t(source % L) * n + s];
+        if (mGpu) mGpu->takeSlot((source % L) * n + s, slice);
+        sink({source, s, top - (s + 0.5) * dz, &slice});
+        // The slot serves layer source - L next.
+        if (!mGpu) std::fill(slice.values.begin(), slice.values.end(), 0.0f);
     }
-    return seconds;
+}
+
+int TabulatedExposureEngine::stencilIndexAt(double depth) const {
+    if (!(depth >= 0)) throw InputError("exposure depth must be >= 0");
+    int m = int(std::floor(depth * mGrid.slicesPerLayer / mLayerThickness));
+    return m < int(mStencils.size()) ? m : -1;
+}
+
+namespace {
+
+/// out(i, j) += sum_d w(d) in(i + sign di, j + sign dj): the stencil as a convolution-style
+/// gather (sign +1, the forward map) or its transpose (sign -1).
+void applyStencil(const DepthStencil& st, const SurfaceGrid& in, SurfaceGrid& out, int sign) {
+    const int nx = in.nx, ny = in.ny, H = st.halfWidth;
+    tbb::parallel_for(0, ny, [&](int j) {
+        float* row = out.values.data() + size_t(j) * nx;
+        for (int dj = -H; dj <= H; ++dj) {
+            const int sj = j + sign * dj, hw = st.rowHalfWidth[dj + H];
+            if (sj < 0 || sj >= ny || hw < 0) continue;
+            const float* src = in.values.data() + size_t(sj) * nx;
+            for (int di = -hw; di <= hw; ++di) {
+                const float w = st.weights[size_t(glsl::stencilIndex(di, dj, H))];
+                if (w == 0.0f) continue;
+                const int o = sign * di;
+                const int lo = std::max(0, -o), hi = std::min(nx - 1, nx - 1 - o);
+                for (int i = lo; i <= hi; ++i) row[i] += w * src[i + o];
+            }
+        }
+    });
+}
+
+}  // namespace
+
+SurfaceGrid TabulatedExposureEngine::layerMap(const SurfaceGrid& deposit, double depth) {
+    SurfaceGrid out = mGrid.surface();
+    int m = stencilIndexAt(depth);
+    if (m >= 0) applyStencil(mStencils[m], deposit, out, +1);
+    return out;
+}
+
+SurfaceGrid TabulatedExposureEngine::layerMapAdjoint(const SurfaceGrid& map, double depth) {
+    SurfaceGrid out = mGrid.surface();
+    int m = stencilIndexAt(depth);
+    if (m >= 0) applyStencil(mStencils[m], map, out, -1);
+    return out;
+}
+
+std::vector<SurfaceGrid> TabulatedExposureEngine::stackAdjoint(const ExposureField& field) {
+    const int layers = fieldLayers(field, mGrid);
+    const int n = mGrid.slicesPerLayer, M = int(mStencils.size());
+    std::vector<SurfaceGrid> deposits(layers, mGrid.surface());
+    for (int source = 0; source < layers; ++source)
+        for (int k = source; k >= 0 && (source - k) * n < M; --k)
+            for (int s = 0; s < n && (source - k) * n + s < M; ++s)
+                applyStencil(mStencils[(source - k) * n + s], field[size_t(k) * n + s],
+                             deposits[source], -1);
+    return deposits;
 }
 
 }  // namespace vpsim::exposure

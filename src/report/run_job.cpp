@@ -57,10 +57,10 @@ geometry::Mesh loadPart(const Job& job) {
 }
 
 /// The separable beam the engine uses, and the depth of the sub-surface maximum (mm).
-exposure::SeparableBeam beamOf(const Job& job, const std::string& outDir,
+kernel::FittedBeam beamOf(const Job& job, const std::string& outDir,
                                const std::shared_ptr<gpu::Context>& context, double& zmax,
                                std::optional<kernel::BeamKernel>& table, nlohmann::json& report) {
-    exposure::SeparableBeam beam;
+    kernel::FittedBeam beam;
     zmax = 0;
     if (job.process == Process::Dlp) {
         if (!(job.cure.penetrationDepth() > 0))
@@ -71,7 +71,7 @@ exposure::SeparableBeam beamOf(const Job& job, const std::string& outDir,
         beam.radius = job.beamRadius;
         beam.attenuationLength = job.cure.penetrationDepth();
     } else if (job.kernelSource == KernelSource::Given) {
-        beam = {job.givenWe3d, job.givenDe3d, job.givenEfficiency};
+        beam = {job.givenWe3d, job.givenDe3d, job.givenZmax, job.givenEfficiency};
         zmax = job.givenZmax;
     } else {
         bool cached = false;
@@ -97,7 +97,7 @@ exposure::SeparableBeam beamOf(const Job& job, const std::string& outDir,
 }
 
 plan::ScanPlan planLayers(const Job& job, const std::vector<geometry::Layer>& layers,
-                          const exposure::SeparableBeam& beam, double zmax,
+                          const kernel::FittedBeam& beam, double zmax,
                           const geometry::Bounds& bounds, nlohmann::json& report) {
     plan::ScanPlan plan;
     plan.machine.layerThickness = job.layerThickness;
@@ -168,7 +168,7 @@ nlohmann::json runJob(const Job& job, const std::string& outDir,
 
     double zmax = 0;
     std::optional<kernel::BeamKernel> table;
-    exposure::SeparableBeam beam = beamOf(job, outDir, context, zmax, table, report);
+    kernel::FittedBeam beam = beamOf(job, outDir, context, zmax, table, report);
     timer.finish("kernel");
 
     geometry::SliceOptions sliceOptions;

@@ -1,10 +1,12 @@
 #pragma once
 // Helpers shared by the exposure tests.
 
+#include <functional>
 #include <random>
 #include <vector>
 
 #include "vpsim/exposure/exposure_engine.h"
+#include "vpsim/kernel/beam_kernel.h"
 #include "vpsim/plan/scan_plan.h"
 
 namespace vpsim::test {
@@ -37,6 +39,24 @@ inline plan::ScanPlan randomPlan(int layers, double h, unsigned seed, double ext
         plan.layers.push_back(layer);
     }
     return plan;
+}
+
+/// A kernel table filled at its bin centres from intensity(r, z) (mW/mm^2).
+inline kernel::BeamKernel tableKernel(double power, double rBin, uint32_t rBins, double zBin,
+                                      uint32_t zBins,
+                                      const std::function<double(double, double)>& intensity) {
+    kernel::BeamKernel k;
+    k.power = power;
+    k.rBin = rBin;
+    k.zBin = zBin;
+    k.rBins = rBins;
+    k.zBins = zBins;
+    k.intensity.resize(size_t(rBins) * zBins);
+    for (uint32_t iz = 0; iz < zBins; ++iz)
+        for (uint32_t ir = 0; ir < rBins; ++ir)
+            k.intensity[size_t(iz) * rBins + ir] =
+                float(intensity((ir + 0.5) * rBin, (iz + 0.5) * zBin));
+    return k;
 }
 
 }  // namespace vpsim::test

@@ -14,7 +14,7 @@ using namespace vpsim::exposure;
 
 namespace {
 
-const SeparableBeam BEAM{0.05, 0.12};  // W = 50 um (seed 000's W0), De = 120 um
+const kernel::FittedBeam BEAM{0.05, 0.12};  // W = 50 um (seed 000's W0), De = 120 um
 
 plan::LayerPlan lineLayer(double z, double y, double power, double speed) {
     plan::LayerPlan layer;
@@ -152,7 +152,7 @@ TEST_CASE("the beam efficiency scales the exposure linearly", "[exposure][gpu]")
     auto ctx = test::gpuContext();
     plan::ScanPlan plan = test::randomPlan(2, 0.05, 5);
     ExposureGrid grid = ExposureGrid::covering(-0.4, -0.4, 0.4, 0.4, 0.1, 0.01, 1);
-    SeparableBeam scaled = BEAM;
+    kernel::FittedBeam scaled = BEAM;
     scaled.efficiency = 2.5;
     for (auto context : {std::shared_ptr<gpu::Context>(), ctx}) {
         ExposureEngine plain(grid, BEAM, 0.05, context), efficient(grid, scaled, 0.05, context);

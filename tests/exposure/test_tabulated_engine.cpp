@@ -19,29 +19,11 @@ namespace {
 
 constexpr double PI = 3.14159265358979323846;
 
-/// A kernel table filled at its bin centres from intensity(r, z) (mW/mm^2).
-kernel::BeamKernel tableKernel(double power, double rBin, uint32_t rBins, double zBin,
-                               uint32_t zBins,
-                               const std::function<double(double, double)>& intensity) {
-    kernel::BeamKernel k;
-    k.power = power;
-    k.rBin = rBin;
-    k.zBin = zBin;
-    k.rBins = rBins;
-    k.zBins = zBins;
-    k.intensity.resize(size_t(rBins) * zBins);
-    for (uint32_t iz = 0; iz < zBins; ++iz)
-        for (uint32_t ir = 0; ir < rBins; ++ir)
-            k.intensity[size_t(iz) * rBins + ir] =
-                float(intensity((ir + 0.5) * rBin, (iz + 0.5) * zBin));
-    return k;
-}
-
 /// The separable kernel of seed 000 Eq. 12 with a lossless amplitude A = 2P / (pi W^2), tabulated
 /// on fine bins (1 um radially to 3 W, 2 um in depth to `depth`).
 kernel::BeamKernel separableKernel(double power, double W, double De, double depth) {
     const double A = 2 * power / (PI * W * W);
-    return tableKernel(
+    return test::tableKernel(
         power, 0.001, uint32_t(std::ceil(3 * W / 0.001)), 0.002, uint32_t(std::ceil(depth / 0.002)),
         [=](double r, double z) { return A * std::exp(-2 * r * r / (W * W)) * std::exp(-z / De); });
 }
@@ -89,7 +71,7 @@ TEST_CASE("a separable table reproduces the fitted exposure engine", "[exposure]
         plan::ScanPlan plan = test::randomPlan(setup.layers, h, 7, 0.2);
         ExposureGrid grid =
             ExposureGrid::covering(-0.2, -0.2, 0.2, 0.2, 0.1, 0.005, setup.slicesPerLayer);
-        ExposureEngine fitted(grid, SeparableBeam{W, setup.De, 1.0}, h);
+        ExposureEngine fitted(grid, kernel::FittedBeam{W, setup.De}, h);
         TabulatedExposureEngine tabulated(grid, separableKernel(P, W, setup.De, 8 * setup.De), h);
         if (setup.layers == 6) REQUIRE(tabulated.layersInFlight() < 6);  // exercises the ring
         auto ef = test::exposeAll(fitted, plan), et = test::exposeAll(tabulated, plan);
@@ -125,7 +107,7 @@ TEST_CASE("each slice receives the kernel's power through its depth plane",
     const double P = 10.0, W0 = 0.05, h = 0.05, Q = 0.02, pitch = 0.01;
     auto width = [=](double z) { return W0 * (1 + z / 0.2); };
     auto g = [](double z) { return (1 + z / 0.01) * std::exp(-z / 0.05); };
-    kernel::BeamKernel k = tableKernel(P, 0.001, 250, 0.0025, 120, [&](double r, double z) {
+    kernel::BeamKernel k = test::tableKernel(P, 0.001, 250, 0.0025, 120, [&](double r, double z) {
         double W = width(z);
         return 0.8 * 2 * P / (PI * W * W) * g(z) * std::exp(-2 * r * r / (W * W));
     });

@@ -15,11 +15,10 @@
 /// shaders/exposure_recursion.comp) or on the CPU from the same GLSL
 /// (shaders/include/exposure.glsl).
 
-#include <functional>
 #include <memory>
 
-#include "vpsim/exposure/surface_grid.h"
-#include "vpsim/plan/scan_plan.h"
+#include "vpsim/exposure/exposure_model.h"
+#include "vpsim/kernel/fitted_beam.h"
 
 namespace vpsim::gpu {
 class Context;
@@ -27,68 +26,48 @@ class Context;
 
 namespace vpsim::exposure {
 
-/// The separable (fitted) beam kernel of seed 000 Eq. 12.
-struct SeparableBeam {
-    double radius = 0.05;            ///< mm, 1/e^2 intensity radius (We3D)
-    double attenuationLength = 0.1;  ///< mm, 1/e depth of the exposure (De3D)
-    /// Surface exposure per delivered energy relative to a lossless Gaussian: the fitted
-    /// amplitude Ie3D(0,0) pi We3D^2 / (2 P) of a Monte Carlo kernel (reflection losses and
-    /// scattering lower it), 1 for an ideal beam.
-    double efficiency = 1.0;
-};
-
-/// The build-volume grid the exposure is computed on.
-struct ExposureGrid {
-    int nx = 0, ny = 0;               ///< cells in x and y
-    double originX = 0, originY = 0;  ///< mm, corner of cell (0, 0)
-    double pitch = 0.01;              ///< mm, cell size in x and y
-    int slicesPerLayer = 1;           ///< voxel slices per layer thickness (voxel z size h / n)
-    /// Cells needed to cover [xmin, xmax] x [ymin, ymax] plus `margin` (mm) on every side.
-    static ExposureGrid covering(double xmin, double ymin, double xmax, double ymax, double margin,
-                                 double pitch, int slicesPerLayer);
-};
-
-/// One finished voxel slice: layer index, slice index within the layer (0 = top), the height of
-/// the slice centre (mm) and the exposure (mJ/mm^2) on the x-y grid, row-major.
-struct ExposureSlice {
-    int layer = 0;
-    int slice = 0;
-    double z = 0;
-    const SurfaceGrid* values = nullptr;
-};
-using SliceSink = std::function<void(const ExposureSlice&)>;
-
 /// Half-width of the truncated blur in cells: 3.5 sigma = 1.75 W keeps all but ~2e-6 of the
 /// Gaussian's weight (renormalised, so energy is conserved exactly up to float rounding).
 int blurHalfWidth(double radius, double pitch);
 
-class ExposureEngine {
+/// The fitted-kernel exposure model (separable blur plus the print-through recursion).
+class ExposureEngine : public ExposureModel {
 public:
     /// @param context a Vulkan context for the shader path, or nullptr for the CPU path
     /// @throw InputError for impossible parameters; ResourceError when a grid is too large
-    ExposureEngine(const ExposureGrid& grid, const SeparableBeam& beam, double layerThickness,
+    ExposureEngine(const ExposureGrid& grid, const kernel::FittedBeam& beam, double layerThickness,
                    std::shared_ptr<gpu::Context> context = nullptr);
-    ~ExposureEngine();
+    ~ExposureEngine() override;
 
-    /// Exposes every layer of `plan` (layer k's top at plan.layers[k].z) and calls `sink` for each
-    /// voxel slice from the top of the part down. Returns the time spent in the blur and
-    /// recursion (seconds, GPU time on the shader path).
-    double run(const plan::ScanPlan& plan, const SliceSink& sink);
+    std::string name() const override { return "fitted"; }
+    const ExposureGrid& grid() const override { return mGrid; }
+    double layerThickness() const override { return mLayerThickness; }
+    bool usesGpu() const override { return mGpu != nullptr; }
 
-    /// One layer's exposure map B = G_W * S (exposed on its own, no print-through).
-    SurfaceGrid exposureMap(const SurfaceGrid& deposit);
-
-    const ExposureGrid& grid() const { return mGrid; }
-    bool usesGpu() const { return mGpu != nullptr; }
+    /// One layer's surface exposure map B = G_W * S (exposed on its own, no print-through):
+    /// layerMap(deposit, 0).
+    SurfaceGrid exposureMap(const SurfaceGrid& deposit) { return layerMap(deposit, 0.0); }
+    /// exp(-depth/De) G_W * S.
+    SurfaceGrid layerMap(const SurfaceGrid& deposit, double depth) override;
+    /// The blur is symmetric, so the adjoint is the same map.
+    SurfaceGrid layerMapAdjoint(const SurfaceGrid& map, double depth) override;
+    /// Q_j = G_W * V_j with V_j = U_j + a V_{j-1} and U_k = sum_s exp(-d_s/De) F_{k,s}: the
+    /// recursion of the forward operator run from the bottom up.
+    std::vector<SurfaceGrid> stackAdjoint(const ExposureField& field) override;
 
 private:
     struct GpuState;
+    void beginLayers(int layers) override;
+    double addLayer(int k, SurfaceGrid& deposit) override;
+    void emitLayer(int k, double top, const SliceSink& sink) override;
     void blurAndAccumulate(SurfaceGrid& deposit, SurfaceGrid& running, float decay,
                            double& seconds);
+
     ExposureGrid mGrid;
-    SeparableBeam mBeam;
+    kernel::FittedBeam mBeam;
     double mLayerThickness;
     std::unique_ptr<GpuState> mGpu;
+    SurfaceGrid mRunning, mSlice;  ///< the recursion's running sum, the slice handed to sinks
 };
 
 }  // namespace vpsim::exposure

@@ -47,30 +47,35 @@ struct DepthStencil {
     }
 };
 
-class TabulatedExposureEngine {
+class TabulatedExposureEngine : public ExposureModel {
 public:
     /// Builds the depth stencils from `kernel` (copied as needed; the kernel need not outlive the
     /// engine).
     /// @param grid the build-plane grid and voxel slices per layer
     /// @param kernel tabulated intensity I(r, z) in mW/mm^2 for incident power kernel.power (mW)
     /// @param layerThickness h, mm
+    /// @param context a Vulkan context for the shader path, or nullptr for the CPU
     /// @throw InputError for an empty grid, a non-positive pitch, slice count, layer thickness or
     ///        power, or a kernel table that is empty, inconsistent in size, non-finite or all zero
     /// @throw ResourceError when the accumulators and stencils would exceed
     /// TABULATED_ENGINE_MAX_BYTES
-    /// @param context a Vulkan context for the shader path, or nullptr for the CPU
     TabulatedExposureEngine(const ExposureGrid& grid, const kernel::BeamKernel& kernel,
                             double layerThickness, std::shared_ptr<gpu::Context> context = nullptr);
-    ~TabulatedExposureEngine();
-    bool usesGpu() const { return mGpu != nullptr; }
+    ~TabulatedExposureEngine() override;
 
-    /// Exposes every layer of `plan` (layer k's top at plan.layers[k].z) and calls `sink` for
-    /// each voxel slice from the top of the part down (top layer first, slice 0 = top of each
-    /// layer, z = slice centre), the same sequence as ExposureEngine::run. Returns the seconds
-    /// spent in the convolutions.
-    double run(const plan::ScanPlan& plan, const SliceSink& sink);
+    std::string name() const override { return "tabulated"; }
+    const ExposureGrid& grid() const override { return mGrid; }
+    double layerThickness() const override { return mLayerThickness; }
+    bool usesGpu() const override { return mGpu != nullptr; }
 
-    const ExposureGrid& grid() const { return mGrid; }
+    /// The stencil of the voxel slice holding `depth` applied to `deposit` (CPU).
+    SurfaceGrid layerMap(const SurfaceGrid& deposit, double depth) override;
+    /// The same stencil applied as a correlation (offsets negated).
+    SurfaceGrid layerMapAdjoint(const SurfaceGrid& map, double depth) override;
+    /// Q_j = sum over the slices s of layers k <= j within the kernel's depth of the
+    /// correlation of F_{k,s} with stencil (j - k) n + s (CPU).
+    std::vector<SurfaceGrid> stackAdjoint(const ExposureField& field) override;
+
     /// Depth stencils, index m = depth index (slice depths (m + 0.5) h / n).
     const std::vector<DepthStencil>& stencils() const { return mStencils; }
     /// Layers whose accumulators are held at once: ceil(M / n) for M depth stencils.
@@ -81,12 +86,19 @@ public:
 private:
     struct GpuState;
     void buildStencils(const kernel::BeamKernel& kernel);
+    void beginLayers(int layers) override;
+    double addLayer(int k, SurfaceGrid& deposit) override;
+    void emitLayer(int k, double top, const SliceSink& sink) override;
+    /// Index of the stencil for `depth`, or -1 beyond the kernel's depth.
+    int stencilIndexAt(double depth) const;
+
     std::unique_ptr<GpuState> mGpu;
     ExposureGrid mGrid;
     double mLayerThickness;
     std::vector<DepthStencil> mStencils;
     int mLayersInFlight = 1;
     double mWorkingBytes = 0;
+    std::vector<SurfaceGrid> mAccumulators;  ///< ring: layer k's slice s in slot (k mod L) n + s
 };
 
 }  // namespace vpsim::exposure

@@ -1,0 +1,100 @@
+#pragma once
+/// @file
+/// The exposure model: what a plan's light does to the resin, as a linear operator from per-layer
+/// surface deposits (mJ/mm^2 at the resin surface, before the beam spreads them) to the 3D
+/// exposure field, with print-through across layers. Both engines (the fitted separable kernel
+/// and the tabulated Monte Carlo kernel) implement it, forward and adjoint, so least-squares
+/// planners optimise against the same physics that the simulation uses.
+///
+/// Indexing: layers from the bottom (k = 0) up; each layer holds `grid().slicesPerLayer` voxel
+/// slices, slice s = 0 at its top; slice s of layer k lies at depth (s + 0.5) h / n below the
+/// layer's top surface (h: layer thickness). An ExposureField holds slice s of layer k at
+/// index k n + s.
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "vpsim/exposure/surface_grid.h"
+#include "vpsim/plan/scan_plan.h"
+
+namespace vpsim::exposure {
+
+/// The build-volume grid the exposure is computed on.
+struct ExposureGrid {
+    int nx = 0, ny = 0;               ///< cells in x and y
+    double originX = 0, originY = 0;  ///< mm, corner of cell (0, 0)
+    double pitch = 0.01;              ///< mm, cell size in x and y
+    int slicesPerLayer = 1;           ///< voxel slices per layer thickness (voxel z size h / n)
+    /// Cells needed to cover [xmin, xmax] x [ymin, ymax] plus `margin` (mm) on every side.
+    static ExposureGrid covering(double xmin, double ymin, double xmax, double ymax, double margin,
+                                 double pitch, int slicesPerLayer);
+    /// An empty (all-zero) 2D grid on this grid's cells.
+    SurfaceGrid surface() const { return SurfaceGrid(nx, ny, originX, originY, pitch); }
+};
+
+/// One finished voxel slice: layer index, slice index within the layer (0 = top), the height of
+/// the slice centre (mm) and the exposure (mJ/mm^2) on the x-y grid, row-major.
+struct ExposureSlice {
+    int layer = 0;
+    int slice = 0;
+    double z = 0;
+    const SurfaceGrid* values = nullptr;
+};
+using SliceSink = std::function<void(const ExposureSlice&)>;
+
+/// A whole 3D exposure (or adjoint source) field: slice s of layer k at index k n + s.
+using ExposureField = std::vector<SurfaceGrid>;
+
+class ExposureModel {
+public:
+    virtual ~ExposureModel() = default;
+    /// "fitted" or "tabulated".
+    virtual std::string name() const = 0;
+    virtual const ExposureGrid& grid() const = 0;
+    virtual double layerThickness() const = 0;
+    virtual bool usesGpu() const = 0;
+
+    /// Forward, whole plan: deposits every layer of `plan` (layer k's top at plan.layers[k].z) and
+    /// calls `sink` for each voxel slice from the top of the part down (top layer first, slice 0
+    /// first). Returns the seconds spent in the engine (GPU time on the shader path).
+    double run(const plan::ScanPlan& plan, const SliceSink& sink);
+
+    /// Forward, one layer alone (no print-through): the exposure at `depth` (mm, >= 0) below the
+    /// top of the layer that received `deposit`. The fitted kernel is exact at any depth; the
+    /// tabulated kernel uses the stencil of the voxel slice containing `depth` (0 beyond the
+    /// kernel's depth).
+    virtual SurfaceGrid layerMap(const SurfaceGrid& deposit, double depth) = 0;
+    /// The adjoint (transpose) of layerMap: <layerMap(x), y> = <x, layerMapAdjoint(y)>.
+    virtual SurfaceGrid layerMapAdjoint(const SurfaceGrid& map, double depth) = 0;
+
+    /// Forward, whole stack: per-layer deposits (bottom up) -> the 3D field with print-through.
+    ExposureField stack(const std::vector<SurfaceGrid>& deposits);
+    /// The adjoint of stack: a 3D field -> per-layer deposits (bottom up), so that
+    /// <stack(x), y> = <x, stackAdjoint(y)> over all slices and layers.
+    virtual std::vector<SurfaceGrid> stackAdjoint(const ExposureField& field) = 0;
+
+protected:
+    /// The top-down layer loop shared by run() and stack(): `fill(k, deposit)` writes layer k's
+    /// deposit into a zeroed grid; `top(k)` is the height of its top surface (mm).
+    double forward(int layers, const std::function<void(int, SurfaceGrid&)>& fill,
+                   const std::function<double(int)>& top, const SliceSink& sink);
+    /// Engine hooks of forward(): start a run of `layers` layers; add layer k's deposit (layers
+    /// arrive top down; the deposit may be overwritten), returning engine seconds; then hand the
+    /// slices of layer k, now final, to `sink`.
+    virtual void beginLayers(int layers) = 0;
+    virtual double addLayer(int k, SurfaceGrid& deposit) = 0;
+    virtual void emitLayer(int k, double top, const SliceSink& sink) = 0;
+};
+
+/// Layers in `field` (its slices / grid.slicesPerLayer).
+/// @throw InputError when the slices are not whole layers of `grid` or differ from its cells
+int fieldLayers(const ExposureField& field, const ExposureGrid& grid);
+
+/// Sum over cells of a x b (double precision), for adjoint checks and least squares.
+double dot(const SurfaceGrid& a, const SurfaceGrid& b);
+/// Sum over slices of dot(a[i], b[i]). @throw InputError when the fields differ in size
+double dot(const ExposureField& a, const ExposureField& b);
+
+}  // namespace vpsim::exposure
