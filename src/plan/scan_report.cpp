@@ -43,6 +43,29 @@ nlohmann::json scanOrderJson(const std::vector<LayerTrajectory>& trajectories) {
             {"layers_proven_optimal", proven}};
 }
 
+nlohmann::json pointStrategyJson(const ScanPlan& plan, const TrajectoryOptions& trajectory,
+                                 const BuildTimeOptions& timing) {
+    bool points = false;
+    for (const auto& layer : plan.layers) points = points || !layer.points.empty();
+    if (!points) return nullptr;
+    nlohmann::json out;
+    for (PointStrategy strategy : {PointStrategy::Modulated, PointStrategy::Dwell}) {
+        TrajectoryOptions options = trajectory;
+        options.points = strategy;
+        ScanPlan copy = plan;
+        auto layers = buildTrajectories(copy, options);
+        attachTrajectories(copy, layers);
+        const bool modulated = strategy == PointStrategy::Modulated;
+        out[modulated ? "modulated_s" : "dwell_s"] = estimateBuildTime(copy, timing).total();
+        if (modulated) {
+            long long over = 0;
+            for (const auto& l : layers) over += l.overexposedPoints;
+            out["overexposed_points"] = over;
+        }
+    }
+    return out;
+}
+
 size_t busiestLayer(const std::vector<LayerTrajectory>& trajectories) {
     size_t best = 0;
     for (size_t i = 0; i < trajectories.size(); ++i)

@@ -6,9 +6,11 @@
 
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
+#include "vpsim/core/io.h"
 #include "vpsim/plan/aces.h"
 #include "vpsim/plan/build_time.h"
 #include "vpsim/plan/part_grouping.h"
+#include "vpsim/plan/scan_report.h"
 #include "vpsim/plan/trajectory.h"
 
 using namespace vpsim;
@@ -145,4 +147,40 @@ TEST_CASE("DLP build time from mask exposure and recoat", "[plan]") {
     CHECK(t.total() == Approx(15.0 + 12.0));
     options.projectorIrradiance = 0;
     CHECK_THROWS_WITH(estimateBuildTime(plan, options), Catch::Contains("projector_irradiance"));
+}
+
+TEST_CASE("report pieces: scan_order, point strategies, plan keys, scan-path SVG", "[plan]") {
+    ScanPlan plan;
+    plan.machine.laserPower = 10;
+    LayerPlan layer;
+    for (int i = 0; i < 4; ++i) layer.points.push_back({0.1 * i, 0, 0.004});
+    for (int i = 0; i < 4; ++i) layer.points.push_back({5 + 0.1 * i, 0, 0.004});
+    plan.layers = {layer, LayerPlan{}};
+    TrajectoryOptions options;
+    auto layers = buildTrajectories(plan, options);
+    nlohmann::json order = scanOrderJson(layers);
+    REQUIRE(order["layers"].size() == 1);  // the empty layer is left out
+    CHECK(order["layers"][0]["parts"] == 2);
+    CHECK(order["layers"][0]["method"] == "exact");
+    CHECK(order["layers"][0]["proven_optimal"] == true);
+    CHECK(order.contains("nearest_neighbour_jump_time_s"));
+    nlohmann::json points = pointStrategyJson(plan, options, BuildTimeOptions{});
+    CHECK(points["modulated_s"].get<double>() < points["dwell_s"].get<double>());
+    CHECK(pointStrategyJson(ScanPlan{}, options, BuildTimeOptions{}).is_null());
+
+    ConfigNode section(nlohmann::json{{"order", "heuristic"}, {"direction", "15 deg"}}, "job.json");
+    CHECK(orderMethodFromConfig(section) == OrderMethod::Heuristic);
+    CHECK(directionRuleFromConfig(section).angle == Approx(M_PI / 12));
+    ConfigNode bad(nlohmann::json{{"order", "random"}}, "job.json");
+    CHECK_THROWS_WITH(orderMethodFromConfig(bad), Catch::Contains("order"));
+    ConfigNode empty(nlohmann::json::object(), "job.json");
+    CHECK(orderMethodFromConfig(empty) == OrderMethod::Auto);
+    CHECK(directionRuleFromConfig(empty).kind == DirectionRule::Kind::MinEdgeProjection);
+
+    auto svg = (std::filesystem::temp_directory_path() / "vpsim_scan_path.svg").string();
+    writeScanPathSvg(svg, layers[busiestLayer(layers)].moves, "scan path");
+    const std::string text = readFile(svg);
+    CHECK_THAT(text, Catch::Contains("jumps between parts"));
+    CHECK_THAT(text, Catch::Contains("x (mm)"));
+    std::filesystem::remove(svg);
 }

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "vpsim/plan/build_time.h"
 #include "vpsim/plan/scan_direction.h"
 #include "vpsim/plan/trajectory.h"
 
@@ -28,6 +29,12 @@ DirectionRule directionRuleFromConfig(const ConfigNode& planSection);
 /// time_s", "layers_proven_optimal"} (jump times between parts, s). Layers without parts are
 /// left out of the list.
 nlohmann::json scanOrderJson(const std::vector<LayerTrajectory>& trajectories);
+
+/// For plans with laser points, the build time of both point strategies (the modulated row scan
+/// and stop-and-dwell, which decides whether point plans are practical): {"modulated_s",
+/// "dwell_s", "overexposed_points"}; null when the plan has no points.
+nlohmann::json pointStrategyJson(const ScanPlan& plan, const TrajectoryOptions& trajectory,
+                                 const BuildTimeOptions& timing);
 
 /// The index of the layer with the most parts (the most telling picture), 0 when none has any.
 size_t busiestLayer(const std::vector<LayerTrajectory>& trajectories);
