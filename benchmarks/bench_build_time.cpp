@@ -11,6 +11,7 @@
 
 #include "vpsim/plan/aces.h"
 #include "vpsim/plan/build_time.h"
+#include "vpsim/plan/part_grouping.h"
 #include "vpsim/plan/trajectory.h"
 
 using namespace vpsim;
@@ -54,6 +55,9 @@ int main() {
     t0 = Clock::now();
     LayerTrajectory one = buildLayerTrajectory(plan.layers[0], 100, TrajectoryOptions{}, &region);
     const double trajectorySeconds = since(t0);
+    t0 = Clock::now();
+    PartGroups groups = groupLayerParts(plan.layers[0], 0.2, &region);
+    const double groupSeconds = since(t0);
     for (auto& l : plan.layers) l.trajectory = one.moves;
     t0 = Clock::now();
     BuildTime ordered = estimateBuildTime(plan, options);
@@ -79,7 +83,9 @@ int main() {
                            {{"vectors", plan.layers[0].vectors.size()},
                             {"parts", one.parts},
                             {"method", one.order.method},
-                            {"build_s", trajectorySeconds}}}};
+                            {"build_s", trajectorySeconds},
+                            {"grouping_s", groupSeconds},
+                            {"groups", groups.vectors.size()}}}};
     std::cout << out.dump(2) << "\n";
     return 0;
 }

@@ -98,24 +98,44 @@ bool insideContour(const geometry::Contour& contour, const glm::dvec2& p) {
     return inside;
 }
 
-/// Index of the region part containing p, else of the part whose outer contour is nearest.
-int regionPart(const geometry::PolygonSet& region, const glm::dvec2& p) {
-    const auto& parts = region.parts();
-    int nearest = 0;
-    double nearestDistance = INFINITY;
-    for (size_t k = 0; k < parts.size(); ++k) {
-        const auto& part = parts[k];
-        bool inside = insideContour(part.outer, p);
-        for (const auto& hole : part.holes) inside = inside && !insideContour(hole, p);
-        if (inside) return int(k);
-        for (size_t i = 0; i < part.outer.size(); ++i) {
-            double d =
-                pointSegmentDistance(p, {part.outer[i], part.outer[(i + 1) % part.outer.size()]});
-            if (d < nearestDistance) nearestDistance = d, nearest = int(k);
+/// Looks up the region part of a point: the part containing it, else the part whose outer
+/// contour is nearest. Bounding boxes skip most containment tests.
+class RegionIndex {
+public:
+    explicit RegionIndex(const geometry::PolygonSet& region) : mParts(region.parts()) {
+        for (const auto& part : mParts) {
+            glm::dvec2 lo{INFINITY, INFINITY}, hi{-INFINITY, -INFINITY};
+            for (const auto& v : part.outer)
+                lo = {std::min(lo.x, v.x), std::min(lo.y, v.y)},
+                hi = {std::max(hi.x, v.x), std::max(hi.y, v.y)};
+            mBoxes.push_back({lo, hi});
         }
     }
-    return nearest;
-}
+
+    int partOf(const glm::dvec2& p) const {
+        for (size_t k = 0; k < mParts.size(); ++k) {
+            const auto& [lo, hi] = mBoxes[k];
+            if (p.x < lo.x || p.x > hi.x || p.y < lo.y || p.y > hi.y) continue;
+            bool inside = insideContour(mParts[k].outer, p);
+            for (const auto& hole : mParts[k].holes) inside = inside && !insideContour(hole, p);
+            if (inside) return int(k);
+        }
+        int nearest = 0;
+        double nearestDistance = INFINITY;
+        for (size_t k = 0; k < mParts.size(); ++k) {
+            const auto& outer = mParts[k].outer;
+            for (size_t i = 0; i < outer.size(); ++i) {
+                double d = pointSegmentDistance(p, {outer[i], outer[(i + 1) % outer.size()]});
+                if (d < nearestDistance) nearestDistance = d, nearest = int(k);
+            }
+        }
+        return nearest;
+    }
+
+private:
+    const std::vector<geometry::PolygonWithHoles>& mParts;
+    std::vector<std::pair<glm::dvec2, glm::dvec2>> mBoxes;
+};
 
 }  // namespace
 
@@ -123,8 +143,9 @@ PartGroups groupLayerParts(const LayerPlan& layer, double gap, const geometry::P
     const std::vector<Segment> segments = layerSegments(layer);
     std::vector<int> labels(segments.size());
     if (region && !region->empty()) {
+        const RegionIndex index(*region);
         for (size_t k = 0; k < segments.size(); ++k)
-            labels[k] = regionPart(*region, 0.5 * (segments[k].a + segments[k].b));
+            labels[k] = index.partOf(0.5 * (segments[k].a + segments[k].b));
     } else if (!segments.empty()) {
         labels = proximityLabels(segments, gap);
     }

@@ -236,7 +236,7 @@ OrderResult heuristicOrder(const CostMatrix& cost) {
     for (int s = 0; s < cost.n; ++s)
         starts.push_back({pathCost(cost, nearestNeighbourFrom(cost, s)), s});
     std::sort(starts.begin(), starts.end());
-    const int tries = std::min<int>(cost.n, cost.n > 100 ? 3 : 6);
+    const int tries = std::min<int>(cost.n, cost.n > 300 ? 1 : cost.n > 100 ? 3 : 6);
     OrderResult best;
     best.cost = std::numeric_limits<double>::infinity();
     for (int t = 0; t < tries; ++t) {
@@ -247,10 +247,14 @@ OrderResult heuristicOrder(const CostMatrix& cost) {
         if (c < best.cost) best.order = std::move(order), best.cost = c;
     }
     best.method = "heuristic";
+    best.nearestNeighbourCost = starts[0].first;
     return best;
 }
 
 OrderResult orderParts(const CostMatrix& cost, OrderMethod method) {
+    const bool heuristic = method == OrderMethod::Heuristic ||
+                           (method == OrderMethod::Auto && cost.n > AUTO_EXACT_LIMIT);
+    if (heuristic && cost.n > 2) return heuristicOrder(cost);  // it runs every NN start itself
     OrderResult nn = nearestNeighbourOrder(cost);
     OrderResult result;
     switch (method) {
