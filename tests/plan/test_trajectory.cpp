@@ -12,6 +12,7 @@
 #include "vpsim/plan/part_grouping.h"
 #include "vpsim/plan/scan_report.h"
 #include "vpsim/plan/trajectory.h"
+#include "vpsim/plan/transition_arc.h"
 
 using namespace vpsim;
 using namespace vpsim::plan;
@@ -183,4 +184,27 @@ TEST_CASE("report pieces: scan_order, point strategies, plan keys, scan-path SVG
     CHECK_THAT(text, Catch::Contains("jumps between parts"));
     CHECK_THAT(text, Catch::Contains("x (mm)"));
     std::filesystem::remove(svg);
+}
+
+TEST_CASE("transition arcs replace stop-and-go jumps when faster", "[plan]") {
+    // Two collinear marks in the same direction with a 0.5 mm gap: the arcs have no sweep and the
+    // straight segment keeps the beam moving (0.0016 s) where stop-and-go overshoots (0.036 s).
+    std::vector<ScanMove> moves(2);
+    moves[0].laserOn = moves[1].laserOn = true;
+    moves[0].speed = moves[1].speed = 300;
+    moves[0].x1 = 1, moves[1].x0 = 1.5, moves[1].x1 = 2.5;
+    BuildTimeOptions options;
+    LayerTime stop = layerMoveTime(moves, options);
+    options.transitionArcs = true;
+    LayerTime arcs = layerMoveTime(moves, options);
+    CHECK(stop.jumps == 1);
+    CHECK(arcs.arcs == 1);
+    CHECK(arcs.jumps == 0);
+    CHECK(arcs.jumpDelays == 0);
+    CHECK(arcs.markDelays == 1);  // only the laser-off at the end of the layer
+    CHECK(arcs.jump == Approx(segmentTime(0.5, 300, 300, options.scanner.machine)));
+    CHECK(arcs.total() < stop.total());
+    // A reversal (zig-zag) keeps stop-and-go: a U-turn of radius 3 v^2/a = 600 mm is far slower.
+    moves[1].x0 = 1, moves[1].y0 = 0.05, moves[1].x1 = 0, moves[1].y1 = 0.05;
+    CHECK(layerMoveTime(moves, options).arcs == 0);
 }
