@@ -66,6 +66,36 @@ nlohmann::json pointStrategyJson(const ScanPlan& plan, const TrajectoryOptions& 
     return out;
 }
 
+ScanSchedule scheduleScans(ScanPlan& plan, const TrajectoryOptions& trajectory,
+                           const BuildTimeOptions& timing,
+                           const std::vector<geometry::PolygonSet>* regions) {
+    ScanSchedule out;
+    bool masks = false, laser = false;
+    for (const auto& layer : plan.layers) {
+        masks = masks || !layer.masks.empty();
+        laser = laser || !layer.vectors.empty() || !layer.points.empty();
+    }
+    if (laser) {
+        out.layers = buildTrajectories(plan, trajectory, regions);
+        attachTrajectories(plan, out.layers);
+        out.scanOrder = scanOrderJson(out.layers);
+        out.pointStrategies = pointStrategyJson(plan, trajectory, timing);
+    }
+    if (masks && !(timing.projectorIrradiance > 0)) {
+        BuildTimeOptions recoatOnly = timing;
+        ScanPlan withoutMasks = plan;
+        for (auto& layer : withoutMasks.layers) layer.masks.clear();
+        out.buildTime = estimateBuildTime(withoutMasks, recoatOnly).toJson();
+        out.buildTime["exposure"] = nullptr;
+        out.buildTime["total"] = nullptr;
+        out.buildTime["note"] =
+            "machine.projector_irradiance not given: mask exposure time unknown";
+        return out;
+    }
+    out.buildTime = estimateBuildTime(plan, timing).toJson();
+    return out;
+}
+
 size_t busiestLayer(const std::vector<LayerTrajectory>& trajectories) {
     size_t best = 0;
     for (size_t i = 0; i < trajectories.size(); ++i)

@@ -208,3 +208,31 @@ TEST_CASE("transition arcs replace stop-and-go jumps when faster", "[plan]") {
     moves[1].x0 = 1, moves[1].y0 = 0.05, moves[1].x1 = 0, moves[1].y1 = 0.05;
     CHECK(layerMoveTime(moves, options).arcs == 0);
 }
+
+TEST_CASE("scheduleScans: laser plans get trajectories, DLP plans a mask time", "[plan]") {
+    ScanPlan laser;
+    LayerPlan layer;
+    layer.vectors = hatchRegion(
+        PolygonSet::rectangle({0, 0}, {1, 1}).unite(PolygonSet::rectangle({2, 0}, {3, 1})), 0.1,
+        0.0, 10, 300);
+    laser.layers = {layer};
+    ScanSchedule s = scheduleScans(laser, {}, {});
+    CHECK_FALSE(laser.layers[0].trajectory.empty());
+    CHECK(s.scanOrder["layers"][0]["parts"] == 2);
+    CHECK(s.buildTime["total"].get<double>() > 0);
+    CHECK(s.pointStrategies.is_null());
+
+    ScanPlan dlp;
+    LayerPlan maskLayer;
+    MaskImage mask;
+    mask.width = 1, mask.height = 1, mask.pixelPitch = 0.05, mask.dose = {1.0f};
+    maskLayer.masks = {mask};
+    dlp.layers = {maskLayer};
+    BuildTimeOptions timing;
+    timing.recoatTime = 3;
+    ScanSchedule d = scheduleScans(dlp, {}, timing);
+    CHECK(d.buildTime["total"].is_null());
+    CHECK(d.buildTime["recoat"].get<double>() == Approx(3));
+    timing.projectorIrradiance = 0.5;
+    CHECK(scheduleScans(dlp, {}, timing).buildTime["total"].get<double>() == Approx(5));
+}

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json_fwd.hpp>
+#include <nlohmann/json.hpp>
 
 #include "vpsim/plan/build_time.h"
 #include "vpsim/plan/scan_direction.h"
@@ -35,6 +35,22 @@ nlohmann::json scanOrderJson(const std::vector<LayerTrajectory>& trajectories);
 /// "dwell_s", "overexposed_points"}; null when the plan has no points.
 nlohmann::json pointStrategyJson(const ScanPlan& plan, const TrajectoryOptions& trajectory,
                                  const BuildTimeOptions& timing);
+
+/// What the run reports about scanning a plan.
+struct ScanSchedule {
+    std::vector<LayerTrajectory> layers;  ///< empty for DLP plans
+    nlohmann::json buildTime;             ///< `build_time_s` (BuildTime::toJson)
+    nlohmann::json scanOrder;             ///< `scan_order` (null for DLP plans)
+    nlohmann::json pointStrategies;       ///< pointStrategyJson (null without points)
+};
+
+/// One call for the run: builds the trajectories of a laser plan and stores them in the plan
+/// (`regions`, one per layer, may be null), then estimates the build time. A DLP plan without a
+/// projector irradiance gets `build_time_s` with "exposure": null and a "note" instead of an error.
+/// @throw InputError from the ordering or the build-time model
+ScanSchedule scheduleScans(ScanPlan& plan, const TrajectoryOptions& trajectory,
+                           const BuildTimeOptions& timing,
+                           const std::vector<geometry::PolygonSet>* regions = nullptr);
 
 /// The index of the layer with the most parts (the most telling picture), 0 when none has any.
 size_t busiestLayer(const std::vector<LayerTrajectory>& trajectories);
