@@ -22,6 +22,7 @@ void addLayer(LayerTime& sum, const LayerTime& t) {
     sum.exposure += t.exposure, sum.marks += t.marks, sum.jumps += t.jumps, sum.arcs += t.arcs;
     sum.jumpDelays += t.jumpDelays, sum.markDelays += t.markDelays;
     sum.polygonDelays += t.polygonDelays;
+    sum.marksAboveProcessSpeed += t.marksAboveProcessSpeed;
 }
 
 /// Accumulates one layer's moves; jumps between marks that do not chain are implied.
@@ -42,7 +43,12 @@ public:
         }
         ++mTime.marks;
         const double length = std::hypot(m.x1 - m.x0, m.y1 - m.y0);
-        if (length > 0 && m.speed > 0) mTime.mark += length / m.speed;
+        if (length > 0 && m.speed > 0) {
+            mTime.mark += length / m.speed;
+            const double axis =
+                m.speed * std::max(std::abs(m.x1 - m.x0), std::abs(m.y1 - m.y0)) / length;
+            mTime.marksAboveProcessSpeed += axis > mOptions.scanner.process.speed * (1 + 1e-9);
+        }
         mTime.mark += m.dwell;
         mLast = &m;
         mVelocity = endVelocity(m);
@@ -168,7 +174,8 @@ nlohmann::json BuildTime::toJson() const {
               {"transition_arcs", sum.arcs},
               {"jump_delays", sum.jumpDelays},
               {"mark_delays", sum.markDelays},
-              {"polygon_delays", sum.polygonDelays}}},
+              {"polygon_delays", sum.polygonDelays},
+              {"marks_above_process_speed", sum.marksAboveProcessSpeed}}},
             {"per_layer", perLayer}};
 }
 

@@ -30,6 +30,7 @@ TEST_CASE("delays and times of a hand-counted layer (seed 002 Eq. 1-4)", "[plan]
     CHECK(t.jumps == 1);
     CHECK(t.jumpDelays == 1);
     CHECK(t.markDelays == 2);
+    CHECK(t.marksAboveProcessSpeed == 0);
     CHECK(t.mark == Approx(3.0 / 300 + 3.0 / 300 + 3.0 / 150));
     CHECK(t.delays == Approx(250e-6 + 2 * 100e-6 + 50e-6));
     // The jump (3,3) -> (10,3) leaves with +y 300 mm/s: x needs 7 mm from rest, y stops and

@@ -44,6 +44,9 @@ struct LayerTime {
     double mark = 0, jump = 0, delays = 0, recoat = 0, exposure = 0;  ///< s
     long long marks = 0, jumps = 0, arcs = 0;
     long long jumpDelays = 0, markDelays = 0, polygonDelays = 0;
+    /// Marks whose axis speed exceeds process_speed: the planner asked for more than the
+    /// scanner's process limits allow (the time still uses the planned speed).
+    long long marksAboveProcessSpeed = 0;
     double total() const { return mark + jump + delays + recoat + exposure; }
 };
 
