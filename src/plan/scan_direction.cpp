@@ -80,4 +80,19 @@ double scanDirection(const geometry::PolygonSet& region, const DirectionRule& ru
     return best;
 }
 
+std::vector<LaserVector> hatchPartsByRule(const geometry::PolygonSet& region, double spacing,
+                                          const DirectionRule& rule, double power, double speed) {
+    std::vector<LaserVector> vectors;
+    for (const auto& part : region.parts()) {
+        std::vector<geometry::Contour> contours{part.outer};
+        contours.insert(contours.end(), part.holes.begin(), part.holes.end());
+        const geometry::PolygonSet one =
+            geometry::PolygonSet::fromContours(contours, geometry::FillRule::EvenOdd);
+        std::vector<LaserVector> lines =
+            hatchRegion(one, spacing, scanDirection(one, rule), power, speed);
+        vectors.insert(vectors.end(), lines.begin(), lines.end());
+    }
+    return vectors;
+}
+
 }  // namespace vpsim::plan

@@ -81,3 +81,15 @@ TEST_CASE("plan.direction values", "[plan]") {
     CHECK_THROWS_WITH(parseDirectionRule("diagonal", "plan.direction", "job.json"),
                       Catch::Contains("plan.direction") && Catch::Contains("job.json"));
 }
+
+TEST_CASE("each part hatched along its own direction takes fewer vectors", "[plan]") {
+    // A horizontal and a vertical bar: one layer direction suits only one of them.
+    const PolygonSet layer =
+        PolygonSet::rectangle({0, 0}, {6, 1}).unite(PolygonSet::rectangle({8, 0}, {9, 6}));
+    const auto perPart = hatchPartsByRule(layer, 0.05, {}, 10, 300);
+    const auto fixed = hatchRegion(layer, 0.05, 0.0, 10, 300);
+    CHECK(perPart.size() < 0.6 * fixed.size());
+    // Same direction for both: the same count up to where each part's first line falls.
+    CHECK(double(hatchPartsByRule(layer, 0.05, parseDirectionRule("0 deg"), 10, 300).size()) ==
+          Approx(double(fixed.size())).margin(2));
+}

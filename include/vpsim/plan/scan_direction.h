@@ -9,8 +9,10 @@
 /// need to be tried. Angles in radians from +x, in [0, pi).
 
 #include <string>
+#include <vector>
 
 #include "vpsim/geometry/polygons.h"
+#include "vpsim/plan/scan_plan.h"
 
 namespace vpsim::plan {
 
@@ -33,5 +35,12 @@ double edgeProjectionSum(const geometry::PolygonSet& region, double direction);
 
 /// The scan direction (rad, [0, pi)) the rule picks for `region`; 0 for an empty region.
 double scanDirection(const geometry::PolygonSet& region, const DirectionRule& rule);
+
+/// Hatches each part of `region` (an outer contour with its holes) on its own, along the
+/// direction `rule` picks for that part (seed 002 Fig. 4), with parallel lines at `spacing`
+/// alternating line by line (plan/aces.h hatchRegion); parts in the region's order.
+/// @throw InputError for a non-positive spacing or speed
+std::vector<LaserVector> hatchPartsByRule(const geometry::PolygonSet& region, double spacing,
+                                          const DirectionRule& rule, double power, double speed);
 
 }  // namespace vpsim::plan
