@@ -189,6 +189,19 @@ int main() {
     auto t0 = Clock::now();
     LayerTrajectory trajectory = buildLayerTrajectory(layer, 100, TrajectoryOptions{}, &region);
     const double buildSeconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    TrajectoryOptions free;
+    free.chooseEntry = true;
+    LayerTrajectory freeEntry = buildLayerTrajectory(layer, 100, free, &region);
+    auto allJumps = [](const LayerTrajectory& t) {
+        double sum = 0;
+        const ScanMove* last = nullptr;
+        for (const ScanMove& m : t.moves) {
+            if (!m.laserOn && last)
+                sum += jumpTime({m.x0, m.y0}, {m.x1, m.y1}, endVelocity(*last), {2000, 20000});
+            last = m.laserOn ? &m : nullptr;
+        }
+        return sum;
+    };
     nlohmann::json out = {
         {"benchmark", "scan_order"},
         {"setting", "seed 002 Sec. 4: 1 cm^2, machine 2 m/s 20 m/s^2, jumps start at vy = 0.3 m/s"},
@@ -200,6 +213,11 @@ int main() {
           {"jump_time_between_parts_s", trajectory.order.cost},
           {"best_start_nn_s", trajectory.order.nearestNeighbourCost},
           {"build_s", buildSeconds},
+          {"all_jumps_s", allJumps(trajectory)},
+          {"entry_points_chosen",
+           {{"reversed_parts", freeEntry.reversedParts},
+            {"jump_time_between_parts_s", freeEntry.order.cost},
+            {"all_jumps_s", allJumps(freeEntry)}}},
           {"target_s", 1.0}}}};
     std::cout << out.dump(2) << "\n";
     return 0;

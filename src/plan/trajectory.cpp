@@ -1,6 +1,7 @@
 #include "vpsim/plan/trajectory.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -158,6 +159,76 @@ std::vector<ScanMove> pointMarks(const std::vector<LaserPoint>& points,
     return marks;
 }
 
+std::vector<ScanMove> reversed(const std::vector<ScanMove>& marks) {
+    std::vector<ScanMove> out(marks.rbegin(), marks.rend());
+    for (ScanMove& m : out) std::swap(m.x0, m.x1), std::swap(m.y0, m.y1);
+    return out;
+}
+
+/// Jump time from the end of `from` to the start of `to`.
+double jumpBetween(const std::vector<ScanMove>& from, const std::vector<ScanMove>& to,
+                   const AxisLimits& machine) {
+    const ScanMove &exit = from.back(), &entry = to.front();
+    return jumpTime({exit.x1, exit.y1}, {entry.x0, entry.y0}, endVelocity(exit), machine);
+}
+
+/// Jump time inside one part (between its marks that do not chain).
+double internalJumps(const std::vector<ScanMove>& marks, const AxisLimits& machine) {
+    double t = 0;
+    for (size_t k = 1; k < marks.size(); ++k)
+        if (!samePoint(marks[k - 1].x1, marks[k - 1].y1, marks[k].x0, marks[k].y0))
+            t += jumpTime({marks[k - 1].x1, marks[k - 1].y1}, {marks[k].x0, marks[k].y0},
+                          endVelocity(marks[k - 1]), machine);
+    return t;
+}
+
+/// Picks each part's direction along a fixed order (two states per part, exact, counting the
+/// jumps between and inside parts), reverses the parts that run backwards and returns how many
+/// do; `cost` becomes the new time of the jumps between parts, `gain` the saving in all jumps.
+int chooseDirections(std::vector<std::vector<ScanMove>>& parts, const std::vector<int>& order,
+                     const AxisLimits& machine, double& cost, double& gain) {
+    const size_t n = order.size();
+    if (n < 2) return 0;
+    std::vector<std::array<std::vector<ScanMove>, 2>> variants(n);
+    for (size_t k = 0; k < n; ++k)
+        variants[k] = {parts[size_t(order[k])], reversed(parts[size_t(order[k])])};
+    std::vector<std::array<double, 2>> inside(n), best(n);
+    std::vector<std::array<int, 2>> from(n, {0, 0});
+    double original = 0;
+    for (size_t k = 0; k < n; ++k) {
+        for (int d = 0; d < 2; ++d)
+            inside[k][size_t(d)] = internalJumps(variants[k][size_t(d)], machine);
+        original +=
+            inside[k][0] + (k > 0 ? jumpBetween(variants[k - 1][0], variants[k][0], machine) : 0.0);
+    }
+    best[0] = inside[0];
+    for (size_t k = 1; k < n; ++k)
+        for (int d = 0; d < 2; ++d) {
+            best[k][size_t(d)] = INFINITY;
+            for (int e = 0; e < 2; ++e) {
+                double c = best[k - 1][size_t(e)] + inside[k][size_t(d)] +
+                           jumpBetween(variants[k - 1][size_t(e)], variants[k][size_t(d)], machine);
+                if (c < best[k][size_t(d)]) best[k][size_t(d)] = c, from[k][size_t(d)] = e;
+            }
+        }
+    int d = best[n - 1][1] < best[n - 1][0] ? 1 : 0;
+    gain = original - best[n - 1][size_t(d)];
+    int count = 0;
+    std::vector<int> chosen(n);
+    for (size_t k = n; k-- > 0;) {
+        chosen[k] = d;
+        d = from[k][size_t(d)];
+    }
+    cost = 0;
+    for (size_t k = 0; k < n; ++k) {
+        if (k > 0)
+            cost += jumpBetween(variants[k - 1][size_t(chosen[k - 1])],
+                                variants[k][size_t(chosen[k])], machine);
+        if (chosen[k] == 1) parts[size_t(order[k])] = variants[k][1], ++count;
+    }
+    return count;
+}
+
 }  // namespace
 
 glm::dvec2 endVelocity(const ScanMove& move) {
@@ -194,6 +265,17 @@ LayerTrajectory buildLayerTrajectory(const LayerPlan& layer, double laserPower,
                                   options.scanner.machine);
         }
     out.order = orderParts(cost, options.order);
+    if (options.chooseEntry) {
+        double chosen = out.order.cost, gain = 0;
+        std::vector<std::vector<ScanMove>> trial = parts;
+        int count = chooseDirections(trial, out.order.order, options.scanner.machine, chosen, gain);
+        if (gain > 1e-12) {
+            parts = std::move(trial);
+            out.order.cost = chosen;
+            out.order.provenOptimal = false;  // optimal for fixed entries only
+            out.reversedParts = count;
+        }
+    }
     for (int p : out.order.order)
         for (ScanMove mark : parts[size_t(p)]) {
             mark.part = p;

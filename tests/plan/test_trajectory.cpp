@@ -237,3 +237,23 @@ TEST_CASE("scheduleScans: laser plans get trajectories, DLP plans a mask time", 
     timing.projectorIrradiance = 0.5;
     CHECK(scheduleScans(dlp, {}, timing).buildTime["total"].get<double>() == Approx(5));
 }
+
+TEST_CASE("choosing entry points never lengthens the jumps (between and inside parts)", "[plan]") {
+    PolygonSet region;
+    for (int i = 0; i < 6; ++i)
+        region = region.unite(
+            PolygonSet::rectangle({1.7 * i, 0.9 * (i % 3)}, {1.7 * i + 0.5, 0.9 * (i % 3) + 0.5}));
+    LayerPlan layer;
+    layer.vectors = hatchRegion(region, 0.05, M_PI / 2, 10, 300);
+    TrajectoryOptions fixed, free;
+    free.chooseEntry = true;
+    LayerTrajectory a = buildLayerTrajectory(layer, 10, fixed, &region);
+    LayerTrajectory b = buildLayerTrajectory(layer, 10, free, &region);
+    size_t marksA = 0, marksB = 0;
+    for (const auto& m : a.moves) marksA += m.laserOn;
+    for (const auto& m : b.moves) marksB += m.laserOn;
+    CHECK(marksA == marksB);
+    BuildTimeOptions timing;
+    CHECK(layerMoveTime(b.moves, timing).jump <= layerMoveTime(a.moves, timing).jump + 1e-9);
+    if (b.reversedParts == 0) CHECK(b.order.cost == a.order.cost);
+}

@@ -31,6 +31,11 @@ struct TrajectoryOptions {
     OrderMethod order = OrderMethod::Auto;
     PointStrategy points = PointStrategy::Modulated;
     double partGap = 0.2;  ///< mm: vectors closer than this belong to one part (no regions given)
+    /// Let the ordering choose entry points: after the order is fixed, each part may be scanned
+    /// backwards (its marks reversed, in reverse order) where that shortens the jumps, chosen
+    /// exactly along the order by dynamic programming over the two directions. Off: seed 002's
+    /// rule (enter at the contour point nearest the hatch start).
+    bool chooseEntry = false;
 };
 
 /// One layer's moves and how its parts were ordered.
@@ -39,6 +44,7 @@ struct LayerTrajectory {
     int parts = 0;
     OrderResult order;          ///< over the parts; cost = jump time between parts (s)
     int overexposedPoints = 0;  ///< modulated points whose speed hit process_speed (more energy)
+    int reversedParts = 0;      ///< parts scanned backwards (TrajectoryOptions::chooseEntry)
 };
 
 /// Velocity (mm/s) at the end of a move: a moving mark's direction times its speed, else zero.
