@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "vpsim/cure/cure_field.h"
+#include "vpsim/cure/fpp_law.h"
 
 namespace {
 
@@ -52,7 +53,7 @@ int main(int argc, char** argv) {
     std::memset(mask.data(), 0, voxels);
     std::memset(conversion.data(), 0, voxels * sizeof(float));
 
-    vpsim::cure::CureModel model = vpsim::cure::CureModel::fpp(0.528, 0.276);
+    vpsim::cure::FppLaw model(0.528, 0.276);
     const double floatBytes = double(voxels) * sizeof(float);
 
     double memcpySerial = bestSeconds(

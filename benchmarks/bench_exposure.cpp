@@ -14,19 +14,21 @@
 #include "vpsim/exposure/dose_volume.h"
 #include "vpsim/exposure/exposure_engine.h"
 #include "vpsim/gpu/context.h"
+#include "vpsim/plan/aces.h"
 
 namespace {
 
 using namespace vpsim;
 
+/// `layers` layers of the square [0, side]^2 hatched along x at spacing hs (plan::hatchRegion).
 plan::ScanPlan acesBlock(int layers, double h, double side, double hs, double power, double speed) {
     plan::ScanPlan plan;
     plan.machine.layerThickness = h;
+    const geometry::PolygonSet square = geometry::PolygonSet::rectangle({0, 0}, {side, side});
     for (int k = 0; k < layers; ++k) {
         plan::LayerPlan layer;
         layer.z = (k + 1) * h;
-        for (double y = hs / 2; y < side; y += hs)
-            layer.vectors.push_back({0.0, y, side, y, power, speed});
+        layer.vectors = plan::hatchRegion(square, hs, 0.0, power, speed);
         plan.layers.push_back(layer);
     }
     return plan;

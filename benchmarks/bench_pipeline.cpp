@@ -1,8 +1,9 @@
-// The main job on a 10 x 10 x 5 mm block at 10 um voxels (~5e8 voxels): ACES plan, exposure with
-// print-through, cure, and validation against the model. Prints JSON: seconds per stage, peak
-// memory, voxels per second, and the ratio of the expose+cure+validate time to the memory-bandwidth
-// floor (touching every voxel's 4 bytes once at ~30 GB/s, DESIGN.md). Target: under 60 s and
-// 4 GiB on the 2-core reference machine. Usage: bench_pipeline [--vulkan]
+// The main job (benchmarks/jobs/block-10mm.json) on a 10 x 10 x 5 mm block at 10 um voxels (~5e8
+// voxels): ACES plan, exposure with print-through, cure, and validation against the model. Prints
+// JSON: seconds per stage, peak memory, voxels per second, and the ratio of the
+// expose+cure+validate time to the memory-bandwidth floor (touching every voxel's 4 bytes once at
+// ~30 GB/s, DESIGN.md). Target: under 60 s and 4 GiB on the 2-core reference machine. Usage:
+// bench_pipeline [--vulkan]
 #include <sys/resource.h>
 
 #include <cstring>
@@ -14,7 +15,7 @@
 #include "vpsim/core/error.h"
 #include "vpsim/core/log.h"
 #include "vpsim/gpu/context.h"
-#include "vpsim/report/run_job.h"
+#include "vpsim/pipeline/run_job.h"
 
 int main(int argc, char** argv) {
     using namespace vpsim;
@@ -22,23 +23,14 @@ int main(int argc, char** argv) {
     bool vulkan = argc > 1 && std::strcmp(argv[1], "--vulkan") == 0;
     nlohmann::json out{{"benchmark", "pipeline"}, {"part_mm", {10, 10, 5}}, {"voxel_um", 10}};
     try {
-        report::Job job;
-        job.name = "bench-block";
-        job.file = "(benchmark)";
-        job.cure = cure::CureModel::threshold(0.1);
-        job.testPart = "box";
-        job.testPartOptions.size = 10.0;
-        job.testPartOptions.height = 5.0;
-        job.kernelSource = report::KernelSource::Given;
-        job.givenWe3d = 0.063;
-        job.givenDe3d = 0.037;
-        job.edgeFivePercent = false;
-        job.voxel = 0.01;
-        job.slicesPerLayer = 5;
-        job.writeVdb = false;
+        const pipeline::Builtins builtins = pipeline::makeBuiltins();
+        const pipeline::Job job = pipeline::loadJob(
+            std::string(VPSIM_SOURCE_DIR) + "/benchmarks/jobs/block-10mm.json", builtins);
         auto dir = std::filesystem::temp_directory_path() / "vpsim_bench_pipeline";
-        std::shared_ptr<gpu::Context> context = vulkan ? gpu::Context::create() : nullptr;
-        nlohmann::json report = report::runJob(job, dir.string(), context, vulkan);
+        RunContext context;
+        if (vulkan) context.gpu = gpu::Context::create();
+        context.exposureShadersOnCpuDevices = vulkan;
+        nlohmann::json report = report::toJson(pipeline::runJob(job, dir.string(), context));
         const auto& grid = report["exposure"]["grid"];
         double voxels = grid[0].get<double>() * grid[1].get<double>() * grid[2].get<double>();
         const auto& stages = report["stage_seconds"];

@@ -9,17 +9,8 @@
 namespace vpsim {
 namespace {
 
-LogLevel levelFromEnvironment() {
-    const char* value = std::getenv("VPSIM_LOG");
-    if (!value) return LogLevel::Info;
-    if (!std::strcmp(value, "error")) return LogLevel::Error;
-    if (!std::strcmp(value, "warn")) return LogLevel::Warn;
-    if (!std::strcmp(value, "debug")) return LogLevel::Debug;
-    return LogLevel::Info;
-}
-
 std::atomic<int>& currentLevel() {
-    static std::atomic<int> level{static_cast<int>(levelFromEnvironment())};
+    static std::atomic<int> level{static_cast<int>(LogLevel::Info)};
     return level;
 }
 

@@ -6,8 +6,6 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
-#include "conversion_kernel.h"
-
 namespace vpsim::cure {
 namespace {
 
@@ -32,42 +30,34 @@ void maskRange(const float* dose, size_t count, float level, uint8_t* cured) {
 
 }  // namespace
 
-void cureMask(const CureModel& model, const float* dose, size_t count, uint8_t* cured) {
+void cureMask(const CureLaw& law, const float* dose, size_t count, uint8_t* cured) {
     // Compare in float against the iso-level rounded to float: the branch-free loop vectorises.
-    const float level = float(model.criticalDose());
+    const float level = float(law.criticalDose());
     forChunks(count, [=](size_t begin, size_t end) {
         maskRange(dose + begin, end - begin, level, cured + begin);
     });
 }
 
-std::vector<uint8_t> cureMask(const CureModel& model, const std::vector<float>& dose) {
+std::vector<uint8_t> cureMask(const CureLaw& law, const std::vector<float>& dose) {
     std::vector<uint8_t> cured(dose.size());
-    cureMask(model, dose.data(), dose.size(), cured.data());
+    cureMask(law, dose.data(), dose.size(), cured.data());
     return cured;
 }
 
-void conversionField(const CureModel& model, const float* dose, size_t count, float* conversion) {
-    if (model.kind() == CureModelKind::Threshold) {
-        const float level = float(model.criticalDose());
-        forChunks(count, [=](size_t begin, size_t end) {
-            for (size_t i = begin; i < end; ++i) conversion[i] = dose[i] >= level ? 1.0f : 0.0f;
-        });
-        return;
-    }
-    const float k = float(model.rateConstant());
-    forChunks(count, [=](size_t begin, size_t end) {
-        detail::fppConversionRange(dose + begin, end - begin, k, conversion + begin);
+void conversionField(const CureLaw& law, const float* dose, size_t count, float* conversion) {
+    forChunks(count, [&](size_t begin, size_t end) {
+        law.conversionRange(dose + begin, end - begin, conversion + begin);
     });
 }
 
-std::vector<float> conversionField(const CureModel& model, const std::vector<float>& dose) {
+std::vector<float> conversionField(const CureLaw& law, const std::vector<float>& dose) {
     std::vector<float> conversion(dose.size());
-    conversionField(model, dose.data(), dose.size(), conversion.data());
+    conversionField(law, dose.data(), dose.size(), conversion.data());
     return conversion;
 }
 
-size_t countCured(const CureModel& model, const float* dose, size_t count) {
-    const float level = float(model.criticalDose());
+size_t countCured(const CureLaw& law, const float* dose, size_t count) {
+    const float level = float(law.criticalDose());
     auto countRange = [&](size_t begin, size_t end) {
         size_t n = 0;
         for (size_t i = begin; i < end; ++i) n += size_t(dose[i] >= level);

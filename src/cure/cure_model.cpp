@@ -4,20 +4,11 @@
 #include <cmath>
 #include <sstream>
 
-#include <nlohmann/json.hpp>
-
+#include "vpsim/core/checks.h"
 #include "vpsim/core/error.h"
 
 namespace vpsim::cure {
 namespace {
-
-void requirePositive(double value, const char* name) {
-    if (!(value > 0.0) || !std::isfinite(value)) {
-        std::ostringstream reason;
-        reason << name << " must be positive and finite, got " << value;
-        throw InputError(reason.str());
-    }
-}
 
 void requireGelPoint(double gelPoint) {
     if (!(gelPoint > 0.0 && gelPoint < 1.0)) {
@@ -69,56 +60,6 @@ double fppRateConstantFromCriticalDose(double criticalDose, double gelPoint) {
     requirePositive(criticalDose, "critical dose");
     requireGelPoint(gelPoint);
     return gelExponent(gelPoint) / criticalDose;
-}
-
-CureModel CureModel::threshold(double criticalDose, double penetrationDepth) {
-    requirePositive(criticalDose, "critical dose");
-    if (penetrationDepth != 0.0) requirePositive(penetrationDepth, "penetration depth");
-    CureModel model;
-    model.mKind = CureModelKind::Threshold;
-    model.mCriticalDose = criticalDose;
-    model.mPenetrationDepth = penetrationDepth;
-    return model;
-}
-
-CureModel CureModel::fpp(double rateConstant, double gelPoint, double penetrationDepth) {
-    if (penetrationDepth != 0.0) requirePositive(penetrationDepth, "penetration depth");
-    CureModel model;
-    model.mKind = CureModelKind::Fpp;
-    model.mCriticalDose = fppGelDose(rateConstant, gelPoint);
-    model.mRateConstant = rateConstant;
-    model.mGelPoint = gelPoint;
-    model.mPenetrationDepth = penetrationDepth;
-    return model;
-}
-
-std::string CureModel::kindName() const {
-    return mKind == CureModelKind::Fpp ? "fpp" : "threshold";
-}
-
-double CureModel::conversion(double dose) const {
-    if (mKind == CureModelKind::Fpp) return fppConversion(dose, mRateConstant);
-    return isCured(dose) ? 1.0 : 0.0;
-}
-
-double CureModel::cureDepth(double surfaceDose) const {
-    if (!hasPenetrationDepth())
-        throw InputError("the " + kindName() +
-                         " cure model has no penetration depth, so it gives no cure depth");
-    return jacobsCureDepth(surfaceDose, mCriticalDose, mPenetrationDepth);
-}
-
-nlohmann::json CureModel::toJson() const {
-    nlohmann::json out;
-    out["model"] = kindName();
-    if (mKind == CureModelKind::Fpp) {
-        out["K"] = mRateConstant;
-        out["gel_point"] = mGelPoint;
-    } else {
-        out["critical_dose"] = mCriticalDose;
-    }
-    if (hasPenetrationDepth()) out["penetration_depth"] = mPenetrationDepth;
-    return out;
 }
 
 }  // namespace vpsim::cure

@@ -42,11 +42,6 @@ uint32_t chooseDevice(const std::vector<DeviceInfo>& devices, const std::string&
     throw GpuError("no Vulkan device name contains '" + selector + "' (devices: " + names + ")");
 }
 
-bool environmentFlag(const char* name) {
-    const char* value = std::getenv(name);
-    return value && *value && std::strcmp(value, "0") != 0;
-}
-
 }  // namespace
 
 GpuError makeGpuError(const char* what, VkResult result, const char* file, int line) {
@@ -65,14 +60,13 @@ Context::Context() : mImpl(std::make_unique<Impl>()) {}
 std::shared_ptr<Context> Context::create(const ContextOptions& options) {
     std::shared_ptr<Context> context(new Context());
     Impl& c = *context->mImpl;
-    c.validation = options.validation || environmentFlag("VPSIM_VALIDATION");
+    c.validation = options.validation;
     Instance instance(c.validation, &c);
     std::vector<DeviceInfo> devices;
     auto physicals = instance.physicalDevices();
     for (uint32_t i = 0; i < physicals.size(); ++i)
         devices.push_back(describeDevice(physicals[i], i));
-    std::string selector = options.device;
-    if (selector.empty() && std::getenv("VPSIM_DEVICE")) selector = std::getenv("VPSIM_DEVICE");
+    const std::string& selector = options.device;
     uint32_t chosen = chooseDevice(devices, selector);
     instance.release(c.instance, c.messenger);
     c.physical = physicals[chosen];

@@ -115,7 +115,8 @@ nlohmann::json toJson(const ScanPlan& plan) {
     }
     return {{"units", "mm, s, mW, mJ"},
             {"machine",
-             {{"layer_thickness", plan.machine.layerThickness},
+             {{"process", processName(plan.machine.process)},
+              {"layer_thickness", plan.machine.layerThickness},
               {"laser_power", plan.machine.laserPower},
               {"beam_radius", plan.machine.beamRadius},
               {"pixel_pitch", plan.machine.pixelPitch}}},
@@ -127,6 +128,8 @@ ScanPlan scanPlanFromJson(const nlohmann::json& json, const std::string& file) {
     root.string("units", std::string("mm, s, mW, mJ"));
     ScanPlan plan;
     ConfigNode machine = root.child("machine");
+    plan.machine.process =
+        processFromName(machine.choice("process", {"laser", "dlp"}, std::string("laser")));
     plan.machine.layerThickness = positive(machine, "layer_thickness", dim::LENGTH);
     plan.machine.laserPower = nonNegative(machine, "laser_power", dim::POWER);
     plan.machine.beamRadius = positive(machine, "beam_radius", dim::LENGTH);

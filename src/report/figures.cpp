@@ -1,4 +1,4 @@
-#include "report/figures.h"
+#include "vpsim/report/figures.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +12,7 @@ namespace {
 
 /// Draws a scalar field with outlines of two masks, scaled up by an integer factor to about 800 px.
 RgbImage outlinedMap(const std::vector<float>& values, const std::vector<uint8_t>& reference,
-                     int width, int height, double criticalDose) {
+                     int width, int height, const cure::CureLaw& law) {
     int scale = std::max(1, std::min(8, 800 / std::max(width, height)));
     std::vector<float> big(size_t(width) * scale * height * scale);
     auto index = [&](int x, int y) { return size_t(y) * width + x; };
@@ -23,14 +23,14 @@ RgbImage outlinedMap(const std::vector<float>& values, const std::vector<uint8_t
     // least twice Ec so the cure level sits inside the scale.
     std::vector<float> sorted(values);
     std::nth_element(sorted.begin(), sorted.begin() + sorted.size() * 99 / 100, sorted.end());
-    double top = std::max(2.0 * criticalDose, double(sorted[sorted.size() * 99 / 100]));
+    double top = std::max(2.0 * law.criticalDose(), double(sorted[sorted.size() * 99 / 100]));
     RgbImage image = heatMap(big, width * scale, height * scale, 0.0, top);
     auto edge = [&](auto inside, int x, int y) {
         bool here = inside(x, y);
         return (x + 1 < width && inside(x + 1, y) != here) ||
                (y + 1 < height && inside(x, y + 1) != here);
     };
-    auto cured = [&](int x, int y) { return values[index(x, y)] >= criticalDose; };
+    auto cured = [&](int x, int y) { return law.isCured(values[index(x, y)]); };
     auto ref = [&](int x, int y) { return reference[index(x, y)] != 0; };
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x)
@@ -48,10 +48,10 @@ RgbImage outlinedMap(const std::vector<float>& values, const std::vector<uint8_t
 }  // namespace
 
 SectionRecorder::SectionRecorder(const geometry::Mesh& part, const exposure::ExposureGrid& grid,
-                                 int totalSlices, double criticalDose, int mapLayer, int row)
+                                 int totalSlices, const cure::CureLaw& law, int mapLayer, int row)
     : mPart(part),
       mGrid(grid),
-      mCriticalDose(criticalDose),
+      mLaw(law),
       mMapLayer(mapLayer),
       mRow(row),
       mTotalSlices(totalSlices),
@@ -69,24 +69,14 @@ void SectionRecorder::add(const exposure::ExposureSlice& slice) {
     }
     ++mFilled;
     if (slice.layer == mMapLayer && slice.slice == mGrid.slicesPerLayer / 2) {
-        geometry::RasterGrid raster;
-        raster.origin = {mGrid.originX, mGrid.originY};
-        raster.pitch = mGrid.pitch;
-        raster.width = mGrid.nx;
-        raster.height = mGrid.ny;
-        mMapInside =
-            geometry::flipRows(geometry::rasterizeBinary(region, raster), mGrid.nx, mGrid.ny);
+        mMapInside = geometry::flipRows(geometry::rasterizeBinary(region, mGrid.raster()), mGrid.nx,
+                                        mGrid.ny);
         mMap = geometry::flipRows(values.values, mGrid.nx, mGrid.ny);  // image rows run top-down
     }
 }
 
 int busiestRow(const geometry::PolygonSet& region, const exposure::ExposureGrid& grid) {
-    geometry::RasterGrid raster;
-    raster.origin = {grid.originX, grid.originY};
-    raster.pitch = grid.pitch;
-    raster.width = grid.nx;
-    raster.height = grid.ny;
-    std::vector<uint8_t> inside = geometry::rasterizeBinary(region, raster);
+    std::vector<uint8_t> inside = geometry::rasterizeBinary(region, grid.raster());
     int best = grid.ny / 2, bestCount = -1;
     for (int j = 0; j < grid.ny; ++j) {
         int count = 0;
@@ -98,10 +88,10 @@ int busiestRow(const geometry::PolygonSet& region, const exposure::ExposureGrid&
 
 void SectionRecorder::write(const std::string& directory) const {
     writePng(directory + "/exposure_xz.png",
-             outlinedMap(mSection, mSectionInside, mGrid.nx, mTotalSlices, mCriticalDose));
+             outlinedMap(mSection, mSectionInside, mGrid.nx, mTotalSlices, mLaw));
     if (!mMap.empty())
         writePng(directory + "/exposure_xy.png",
-                 outlinedMap(mMap, mMapInside, mGrid.nx, mGrid.ny, mCriticalDose));
+                 outlinedMap(mMap, mMapInside, mGrid.nx, mGrid.ny, mLaw));
 }
 
 void writeDeviationFigures(const std::string& directory, const geometry::Mesh& cured,

@@ -4,15 +4,38 @@
 
 #include <nlohmann/json.hpp>
 
+#include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
 
 namespace vpsim::validate {
 
+std::vector<FeatureProbe> featureProbesFromConfig(const std::vector<ConfigNode>& entries) {
+    std::vector<FeatureProbe> probes;
+    for (const ConfigNode& f : entries) {
+        FeatureProbe probe;
+        probe.name = f.string("name");
+        probe.x = f.quantity("x", dim::LENGTH);
+        probe.y = f.quantity("y", dim::LENGTH);
+        probe.zMin = f.quantity("z_min", dim::LENGTH);
+        probe.zMax = f.quantity("z_max", dim::LENGTH);
+        if (!(probe.zMax > probe.zMin)) throw f.error("z_max", "must be above z_min");
+        probe.gap = f.choice("kind", {"gap", "solid"}) == "gap";
+        probe.objective = f.quantity("objective", dim::LENGTH);
+        if (f.has("measured"))
+            for (const auto& m : f.raw("measured")) {
+                if (!m.is_number()) throw f.error("measured", "expected a list of lengths in mm");
+                probe.measured.push_back(m.get<double>());
+            }
+        probes.push_back(probe);
+    }
+    return probes;
+}
+
 FeatureProbes::FeatureProbes(std::vector<FeatureProbe> probes, const exposure::ExposureGrid& grid,
-                             double criticalDose, double voxelHeight)
+                             const cure::CureLaw& law, double voxelHeight)
     : mProbes(std::move(probes)),
       mGrid(grid),
-      mCriticalDose(criticalDose),
+      mLaw(&law),
       mVoxelHeight(voxelHeight),
       mLength(mProbes.size(), 0.0) {
     for (const auto& p : mProbes) {
@@ -30,26 +53,26 @@ void FeatureProbes::add(const exposure::ExposureSlice& slice) {
         if (slice.z < p.zMin || slice.z > p.zMax) continue;
         int i = int((p.x - mGrid.originX) / mGrid.pitch),
             j = int((p.y - mGrid.originY) / mGrid.pitch);
-        bool cured = slice.values->at(i, j) >= mCriticalDose;
+        bool cured = mLaw->isCured(slice.values->at(i, j));
         if (cured != p.gap) mLength[n] += mVoxelHeight;
     }
 }
 
-nlohmann::json FeatureProbes::toJson() const {
+nlohmann::json FeatureMeasurements::toJson() const {
     nlohmann::json out = nlohmann::json::array();
-    for (size_t n = 0; n < mProbes.size(); ++n) {
-        const FeatureProbe& p = mProbes[n];
+    for (size_t n = 0; n < probes.size(); ++n) {
+        const FeatureProbe& p = probes[n];
         nlohmann::json entry{{"name", p.name},
                              {"kind", p.gap ? "gap" : "solid"},
                              {"objective_mm", p.objective},
-                             {"simulated_mm", mLength[n]},
-                             {"simulated_minus_objective_mm", mLength[n] - p.objective}};
+                             {"simulated_mm", simulated[n]},
+                             {"simulated_minus_objective_mm", simulated[n] - p.objective}};
         if (!p.measured.empty()) {
             double mean = 0;
             for (double m : p.measured) mean += m;
             mean /= double(p.measured.size());
             entry["measured_mm"] = p.measured;
-            entry["simulated_minus_measured_mm"] = mLength[n] - mean;
+            entry["simulated_minus_measured_mm"] = simulated[n] - mean;
         }
         out.push_back(entry);
     }

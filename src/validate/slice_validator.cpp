@@ -19,7 +19,8 @@ double LayerComparison::xyContourError() const {
 struct SliceValidator::State {
     const geometry::Mesh& part;
     exposure::ExposureGrid grid;
-    double criticalDose, voxelHeight;
+    const cure::CureLaw& law;
+    double voxelHeight;
     geometry::RasterGrid raster;
     std::vector<uint8_t> referenceAbove;  ///< reference solid in the slice above, per column
     std::vector<uint8_t> inRun;           ///< column is in cured resin directly below the reference
@@ -29,8 +30,9 @@ struct SliceValidator::State {
     long downFacing = 0;
     std::vector<LayerComparison> layers;
 
-    State(const geometry::Mesh& mesh, const exposure::ExposureGrid& g, double ec, double dz)
-        : part(mesh), grid(g), criticalDose(ec), voxelHeight(dz) {
+    State(const geometry::Mesh& mesh, const exposure::ExposureGrid& g, const cure::CureLaw& l,
+          double dz)
+        : part(mesh), grid(g), law(l), voxelHeight(dz) {
         raster.origin = {g.originX, g.originY};
         raster.pitch = g.pitch;
         raster.width = g.nx;
@@ -49,9 +51,8 @@ struct SliceValidator::State {
 };
 
 SliceValidator::SliceValidator(const geometry::Mesh& part, const exposure::ExposureGrid& grid,
-                               double criticalDose, double voxelHeight)
-    : mState(std::make_unique<State>(part, grid, criticalDose, voxelHeight)) {
-    if (!(criticalDose > 0)) throw InputError("validation needs a positive critical dose");
+                               const cure::CureLaw& law, double voxelHeight)
+    : mState(std::make_unique<State>(part, grid, law, voxelHeight)) {
     if (!(voxelHeight > 0)) throw InputError("validation needs a positive voxel height");
 }
 
@@ -66,7 +67,7 @@ void SliceValidator::add(const exposure::ExposureSlice& slice) {
     std::vector<uint8_t> reference = geometry::rasterizeBinary(region, s.raster);
     uint64_t inter = 0, curedHere = 0, referenceHere = 0;
     for (size_t c = 0; c < dose.size(); ++c) {
-        bool r = reference[c] != 0, cu = dose[c] >= s.criticalDose;
+        bool r = reference[c] != 0, cu = s.law.isCured(dose[c]);
         inter += r && cu;
         curedHere += cu;
         referenceHere += r;

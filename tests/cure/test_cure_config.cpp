@@ -1,46 +1,68 @@
-// Loading CureModel from JSON sections: units, alternatives and clear errors for bad input.
+// Loading cure laws from JSON sections through the registry: units, alternatives and clear errors
+// for bad input.
 #include <catch2/catch.hpp>
 
 #include <nlohmann/json.hpp>
 
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
-#include "vpsim/cure/cure_model.h"
+#include "vpsim/cure/fpp_law.h"
+#include "vpsim/cure/threshold_law.h"
 
 using namespace vpsim;
 using namespace vpsim::cure;
 using nlohmann::json;
 
+namespace {
+
+const CureLawRegistry& laws() {
+    static const CureLawRegistry registry = [] {
+        CureLawRegistry r("cure law");
+        registerThresholdLaw(r);
+        registerFppLaw(r);
+        return r;
+    }();
+    return registry;
+}
+
+const FppLaw& asFpp(const std::unique_ptr<CureLaw>& law) {
+    const auto* fpp = dynamic_cast<const FppLaw*>(law.get());
+    REQUIRE(fpp != nullptr);
+    return *fpp;
+}
+
+}  // namespace
+
 TEST_CASE("Cure sections load with units and alternative parameterisations", "[cure]") {
     // 0.00528 cm^2/mJ = 0.528 mm^2/mJ; unit conversion is exact up to rounding (1e-12 rel).
-    CureModel a = cureModelFromJson(json{{"model", "fpp"},
-                                         {"K", "0.00528 cm^2/mJ"},
-                                         {"gel_point", 0.276},
-                                         {"penetration_depth", "366 um"}});
-    REQUIRE(a.kind() == CureModelKind::Fpp);
-    REQUIRE(a.rateConstant() == Approx(0.528).epsilon(1e-12));
-    REQUIRE(a.penetrationDepth() == Approx(0.366).epsilon(1e-12));
+    auto a = cureLawFromJson(laws(), json{{"model", "fpp"},
+                                          {"K", "0.00528 cm^2/mJ"},
+                                          {"gel_point", 0.276},
+                                          {"penetration_depth", "366 um"}});
+    REQUIRE(a->name() == "fpp");
+    REQUIRE(asFpp(a).rateConstant() == Approx(0.528).epsilon(1e-12));
+    REQUIRE(a->penetrationDepth() == Approx(0.366).epsilon(1e-12));
 
     // Same resin given by its critical dose and attenuation instead of K and Dp.
-    CureModel b = cureModelFromJson(
-        json{{"model", "fpp"},
-             {"critical_dose", std::to_string(100.0 * a.criticalDose()) + " mJ/cm^2"},
-             {"gel_point", 0.276},
-             {"attenuation", std::to_string(10.0 / 0.366) + " /cm"}});
-    REQUIRE(b.rateConstant() == Approx(0.528).epsilon(1e-6));  // to_string keeps 6 decimals
-    REQUIRE(b.penetrationDepth() == Approx(0.366).epsilon(1e-6));
+    auto b = cureLawFromJson(
+        laws(), json{{"model", "fpp"},
+                     {"critical_dose", std::to_string(100.0 * a->criticalDose()) + " mJ/cm^2"},
+                     {"gel_point", 0.276},
+                     {"attenuation", std::to_string(10.0 / 0.366) + " /cm"}});
+    REQUIRE(asFpp(b).rateConstant() == Approx(0.528).epsilon(1e-6));  // to_string keeps 6 decimals
+    REQUIRE(b->penetrationDepth() == Approx(0.366).epsilon(1e-6));
 
-    CureModel t = cureModelFromJson(json{{"model", "threshold"}, {"critical_dose", "61 mJ/cm^2"}});
-    REQUIRE(t.kind() == CureModelKind::Threshold);
-    REQUIRE(t.criticalDose() == Approx(0.61).epsilon(1e-12));
-    REQUIRE_FALSE(t.hasPenetrationDepth());
+    auto t = cureLawFromJson(laws(), json{{"model", "threshold"}, {"critical_dose", "61 mJ/cm^2"}});
+    REQUIRE(t->name() == "threshold");
+    REQUIRE(t->criticalDose() == Approx(0.61).epsilon(1e-12));
+    REQUIRE_FALSE(t->hasPenetrationDepth());
 
     // toJson writes base units that load back to the same model.
-    for (const CureModel& m : {a, t}) {
-        CureModel back = cureModelFromJson(m.toJson());
-        REQUIRE(back.kind() == m.kind());
-        REQUIRE(back.criticalDose() == Approx(m.criticalDose()).epsilon(1e-15));
-        REQUIRE(back.penetrationDepth() == m.penetrationDepth());
+    for (const CureLaw* m : {a.get(), t.get()}) {
+        auto back = cureLawFromJson(laws(), m->toJson());
+        REQUIRE(back->name() == m->name());
+        REQUIRE(back->criticalDose() == Approx(m->criticalDose()).epsilon(1e-15));
+        REQUIRE(back->penetrationDepth() == m->penetrationDepth());
     }
 }
 
@@ -51,17 +73,16 @@ TEST_CASE("A cure section inside a material file marks its keys read for the par
               {{"model", "threshold"}, {"critical_dose", 0.61}, {"penetration_depth", 0.366}}}},
         "resin.json");
     root.quantity("wavelength", dim::LENGTH);
-    CureModel model = cureModelFromConfig(root, "cure");
-    REQUIRE(model.criticalDose() == 0.61);
+    auto model = cureLawFromConfig(laws(), root, "cure");
+    REQUIRE(model->criticalDose() == 0.61);
     REQUIRE_NOTHROW(root.checkUnknownKeys());
 }
 
 namespace {
-
 /// The InputError message for a bad section read as key "cure" of file "resin.json".
 std::string errorFor(const json& section) {
     try {
-        cureModelFromJson(section, "resin.json", "cure");
+        cureLawFromJson(laws(), section, "resin.json", "cure");
     } catch (const InputError& e) {
         return e.what();
     }
@@ -81,7 +102,7 @@ TEST_CASE("Bad cure sections give one clear error naming the file and key", "[cu
                Contains("resin.json") && Contains("cure.Kx") && Contains("unknown key"));
     CHECK_THAT(errorFor(json{{"K", 0.5}}), Contains("cure.model"));
     CHECK_THAT(errorFor(json{{"model", "arrhenius"}}),
-               Contains("cure.model") && Contains("threshold, fpp"));
+               Contains("cure.model") && Contains("fpp, threshold"));
     CHECK_THAT(errorFor(fpp({{"K", "10 mJ"}})), Contains("cure.K"));
     CHECK_THAT(errorFor(fpp({{"K", -0.5}})), Contains("cure.K") && Contains("positive"));
     CHECK_THAT(errorFor(fpp({{"gel_point", 1.2}})), Contains("cure.gel_point"));

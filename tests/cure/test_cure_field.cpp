@@ -6,11 +6,13 @@
 #include <random>
 
 #include "vpsim/cure/cure_field.h"
+#include "vpsim/cure/fpp_law.h"
+#include "vpsim/cure/threshold_law.h"
 
 using namespace vpsim::cure;
 
 TEST_CASE("Cure mask and conversion field agree with the scalar model", "[cure]") {
-    CureModel fpp = CureModel::fpp(0.528, 0.276);
+    FppLaw fpp(0.528, 0.276);
     const float level = float(fpp.criticalDose());
     // Edge cases: exactly at the iso-level, just below, zero, negative, NaN, huge.
     std::vector<float> dose = {
@@ -24,7 +26,7 @@ TEST_CASE("Cure mask and conversion field agree with the scalar model", "[cure]"
     REQUIRE(phi[3] == 0.0f);
     REQUIRE(phi[5] == 1.0f);
 
-    CureModel threshold = CureModel::threshold(0.61);
+    ThresholdLaw threshold(0.61);
     REQUIRE(conversionField(threshold, std::vector<float>{0.6f, 0.61f, 2.0f}) ==
             std::vector<float>{0, 1, 1});
 }
@@ -36,7 +38,7 @@ TEST_CASE("Threaded cure of a large array matches the per-voxel model", "[cure]"
     std::uniform_real_distribution<float> uniform(0.0f, 2.0f);
     std::vector<float> dose(count);
     for (float& d : dose) d = uniform(rng);
-    CureModel model = CureModel::fpp(0.528, 0.276);
+    FppLaw model(0.528, 0.276);
     std::vector<uint8_t> mask = cureMask(model, dose);
     std::vector<float> phi = conversionField(model, dose);
     size_t expectedCured = 0, mismatches = 0;

@@ -1,5 +1,5 @@
 // Cure laws: Jacobs threshold and FPP conversion (seed 001 Eq. 1-2), their equivalence, and the
-// CureModel value type.
+// CureLaw classes.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -7,6 +7,8 @@
 
 #include "vpsim/core/error.h"
 #include "vpsim/cure/cure_model.h"
+#include "vpsim/cure/fpp_law.h"
+#include "vpsim/cure/threshold_law.h"
 
 using namespace vpsim;
 using namespace vpsim::cure;
@@ -65,10 +67,9 @@ TEST_CASE("Conversion and cure depth are monotonic in dose and depth", "[cure]")
     REQUIRE(fppConversion(1e-8, k) == Approx(k * 1e-8).epsilon(1e-8));
 }
 
-TEST_CASE("CureModel: iso-level, conversion and cure depth", "[cure]") {
-    CureModel fpp = CureModel::fpp(0.528, 0.276, 0.366);
-    REQUIRE(fpp.kind() == CureModelKind::Fpp);
-    REQUIRE(fpp.kindName() == "fpp");
+TEST_CASE("Cure laws: iso-level, conversion and cure depth", "[cure]") {
+    FppLaw fpp(0.528, 0.276, 0.366);
+    REQUIRE(fpp.name() == "fpp");
     REQUIRE(fpp.criticalDose() == Approx(0.3229638865964207 / 0.528).epsilon(1e-14));
     // At the iso-level the conversion is the gel point.
     REQUIRE(fpp.conversion(fpp.criticalDose()) == Approx(0.276).epsilon(1e-13));
@@ -77,27 +78,27 @@ TEST_CASE("CureModel: iso-level, conversion and cure depth", "[cure]") {
     REQUIRE(fpp.cureDepth(10.0 * fpp.criticalDose()) ==
             Approx(0.366 * std::log(10.0)).epsilon(1e-14));
 
-    CureModel threshold = CureModel::threshold(0.6, 0.366);
-    REQUIRE(threshold.kindName() == "threshold");
+    ThresholdLaw threshold(0.6, 0.366);
+    REQUIRE(threshold.name() == "threshold");
     REQUIRE(threshold.conversion(0.5999) == 0.0);
     REQUIRE(threshold.conversion(0.6) == 1.0);
     REQUIRE(threshold.cureDepth(0.6 * std::exp(2.0)) == Approx(0.732).epsilon(1e-14));
 
-    CureModel noDepth = CureModel::threshold(0.6);
+    ThresholdLaw noDepth(0.6);
     REQUIRE_FALSE(noDepth.hasPenetrationDepth());
     REQUIRE_THROWS_AS(noDepth.cureDepth(1.0), InputError);
 }
 
 TEST_CASE("Cure laws refuse impossible parameters", "[cure]") {
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    REQUIRE_THROWS_AS(CureModel::threshold(0.0), InputError);
-    REQUIRE_THROWS_AS(CureModel::threshold(-1.0, 0.3), InputError);
-    REQUIRE_THROWS_AS(CureModel::threshold(nan), InputError);
-    REQUIRE_THROWS_AS(CureModel::threshold(1.0, -0.3), InputError);
-    REQUIRE_THROWS_AS(CureModel::fpp(0.0, 0.276), InputError);
-    REQUIRE_THROWS_AS(CureModel::fpp(0.5, 0.0), InputError);
-    REQUIRE_THROWS_AS(CureModel::fpp(0.5, 1.0), InputError);
+    REQUIRE_THROWS_AS(ThresholdLaw(0.0), InputError);
+    REQUIRE_THROWS_AS(ThresholdLaw(-1.0, 0.3), InputError);
+    REQUIRE_THROWS_AS(ThresholdLaw(nan), InputError);
+    REQUIRE_THROWS_AS(ThresholdLaw(1.0, -0.3), InputError);
+    REQUIRE_THROWS_AS(FppLaw(0.0, 0.276), InputError);
+    REQUIRE_THROWS_AS(FppLaw(0.5, 0.0), InputError);
+    REQUIRE_THROWS_AS(FppLaw(0.5, 1.0), InputError);
     REQUIRE_THROWS_AS(jacobsCureDepth(1.0, 0.5, 0.0), InputError);
     REQUIRE_THROWS_AS(fppCureDepth(1.0, 0.5, 0.0, 0.276), InputError);
-    REQUIRE_THROWS_WITH(CureModel::fpp(0.5, 1.5), Catch::Contains("gel point"));
+    REQUIRE_THROWS_WITH(FppLaw(0.5, 1.5), Catch::Contains("gel point"));
 }

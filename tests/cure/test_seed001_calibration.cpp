@@ -19,6 +19,7 @@
 #include "vpsim/core/io.h"
 #include "vpsim/cure/calibration.h"
 #include "vpsim/cure/cure_model.h"
+#include "vpsim/cure/fpp_law.h"
 #include "vpsim/cure/print_through.h"
 
 using namespace vpsim;
@@ -91,8 +92,7 @@ TEST_CASE("Table 1 calibration gives the paper's minimum photoconversion 0.939 a
     // range is narrow ([0.920, 0.945] with our fit) and moves with mu: Dp = 0.30 mm or 0.45 mm
     // would put 0.939 outside, so the check constrains the fitted attenuation.
     WorkingCurveFit fit = table1Fit();
-    CureModel resin = CureModel::fpp(fppFromWorkingCurve(fit, GEL_POINT).rateConstant, GEL_POINT,
-                                     fit.penetrationDepth);
+    FppLaw resin(fppFromWorkingCurve(fit, GEL_POINT).rateConstant, GEL_POINT, fit.penetrationDepth);
     const double dMin = std::exp(LAYER / fit.penetrationDepth) * resin.criticalDose();
     auto [bottom, top] = steadyDoseRange(dMin, fit.penetrationDepth);
     INFO("conversion range over a layer: " << resin.conversion(bottom) << " .. "
@@ -106,8 +106,7 @@ TEST_CASE("Table 1 calibration: uniform 78 mJ/cm^2 layers give conversion about 
     // similar to 0.95. Our fit gives 0.940 .. 0.960 over a layer deep in the part; the paper's
     // figure must lie in that range. This checks K (through Ec) as well as mu.
     WorkingCurveFit fit = table1Fit();
-    CureModel resin = CureModel::fpp(fppFromWorkingCurve(fit, GEL_POINT).rateConstant, GEL_POINT,
-                                     fit.penetrationDepth);
+    FppLaw resin(fppFromWorkingCurve(fit, GEL_POINT).rateConstant, GEL_POINT, fit.penetrationDepth);
     auto [bottom, top] = steadyDoseRange(0.78, fit.penetrationDepth);
     INFO("conversion range over a layer: " << resin.conversion(bottom) << " .. "
                                            << resin.conversion(top));

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "vpsim/cure/cured_surface.h"
+#include "vpsim/cure/threshold_law.h"
 #include "vpsim/exposure/dose_volume.h"
 #include "vpsim/validate/slice_validator.h"
 #include "vpsim/validate/surface_deviation.h"
@@ -29,8 +31,8 @@ validate::SliceValidationSummary validateSynthetic(const geometry::Mesh& referen
                                                    glm::dvec3 hi,
                                                    const exposure::ExposureGrid& grid, double dz,
                                                    int slices) {
-    const double ec = 1.0;
-    validate::SliceValidator validator(reference, grid, ec, dz);
+    const cure::ThresholdLaw law(1.0);  // Ec = 1
+    validate::SliceValidator validator(reference, grid, law, dz);
     exposure::SurfaceGrid values(grid.nx, grid.ny, grid.originX, grid.originY, grid.pitch);
     for (int k = slices - 1; k >= 0; --k) {
         double z = (k + 0.5) * dz;
@@ -38,7 +40,7 @@ validate::SliceValidationSummary validateSynthetic(const geometry::Mesh& referen
             for (int i = 0; i < grid.nx; ++i) {
                 double x = values.centreX(i), y = values.centreY(j);
                 bool inside = x > lo.x && x < hi.x && y > lo.y && y < hi.y && z > lo.z && z < hi.z;
-                values.at(i, j) = inside ? float(2 * ec) : 0.0f;
+                values.at(i, j) = inside ? float(2 * law.criticalDose()) : 0.0f;
             }
         validator.add({k / grid.slicesPerLayer, grid.slicesPerLayer - 1 - k % grid.slicesPerLayer,
                        z, &values});
@@ -112,7 +114,7 @@ TEST_CASE("the cured iso-surface encloses the cured voxels", "[validate][vdb]") 
             }
         volume.add({k, 0, (k + 0.5) * 0.02, &values});
     }
-    geometry::Mesh cured = volume.isosurface(1.0f);
+    geometry::Mesh cured = cure::curedSurface(volume, cure::ThresholdLaw(1.0));
     REQUIRE(!cured.triangles.empty());
     CHECK(cured.volume() == Approx(0.6 * 0.4 * 0.4).epsilon(0.01));
 }

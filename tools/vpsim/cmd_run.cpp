@@ -1,49 +1,61 @@
-// `vpsim run JOB.json --out DIR`: the main job (material -> kernel -> slice -> plan -> expose ->
-// cure -> validate) with a report, grids, the cured mesh and pictures in DIR.
+// `vpsim run JOB.json --out DIR [--plan FILE]`: the main job (material -> kernel -> slice ->
+// plan -> expose -> cure -> validate) with a report, grids, the cured mesh and pictures in DIR;
+// `vpsim expose` is the same command, named for runs that start from a saved plan.
 #include <iostream>
 
-#include <nlohmann/json.hpp>
-
 #include "commands.h"
-#include "vpsim/report/run_job.h"
+#include "vpsim/pipeline/run_job.h"
 
 namespace {
 
 struct RunOptions {
-    std::string job, out = "out";
+    std::string job, out = "out", plan;
     bool json = false;
 };
 
 void runCommand(const RunOptions& options, const vpsim::cli::Globals& globals) {
-    vpsim::report::Job job = vpsim::report::loadJob(options.job, globals.overrides);
-    // --backend vulkan also puts the exposure on a CPU driver (lavapipe), where it is slower.
-    nlohmann::json report =
-        vpsim::report::runJob(job, options.out, globals.gpu(), globals.backend == "vulkan");
+    using namespace vpsim;
+    const pipeline::Builtins builtins = pipeline::makeBuiltins();
+    const pipeline::Job job = pipeline::loadJob(options.job, builtins, globals.overrides);
+    pipeline::RunOptions run;
+    run.planFile = options.plan;
+    const report::JobResult r = pipeline::runJob(job, options.out, globals.runContext(), run);
     if (options.json) {
-        vpsim::cli::printJson(report);
+        cli::printJson(report::toJson(r));
         return;
     }
-    const auto& dev = report["surface_deviation_mm"];
+    const validate::SurfaceDeviation& dev = r.validation.deviation;
     std::cout << "vpsim run " << job.name << " -> " << options.out << "/index.html\n"
-              << "  volume IoU                     " << report["iou"].get<double>() << "\n"
-              << "  surface deviation (mm)         mean " << dev["mean"].get<double>() << ", rms "
-              << dev["rms"].get<double>() << ", p95 " << dev["p95"].get<double>() << ", max "
-              << dev["max"].get<double>() << "\n"
+              << "  volume IoU                     " << r.validation.slices.iou << "\n"
+              << "  surface deviation (mm)         mean " << dev.mean << ", rms " << dev.rms
+              << ", p95 " << dev.p95 << ", max " << dev.max << "\n"
               << "  over-cure below down-facing    "
-              << report["overcure_below_downfacing_mm"].get<double>() << " mm\n";
+              << r.validation.slices.overcureBelowDownFacingMedian << " mm\n";
+}
+
+void addRun(CLI::App& app, const vpsim::cli::Globals& globals, const std::string& name,
+            const std::string& description) {
+    auto* command = app.add_subcommand(name, description);
+    auto options = std::make_shared<RunOptions>();
+    command->add_option("job", options->job, "job file (JSON), e.g. examples/default.json")
+        ->required();
+    command->add_option("--out", options->out,
+                        "output directory (report.json, index.html, .vdb, pictures)");
+    command->add_option("--plan", options->plan,
+                        "expose this saved or edited plan.json instead of planning");
+    command->add_flag("--json", options->json, "print the report as JSON");
+    command->callback([options, &globals] { runCommand(*options, globals); });
 }
 
 vpsim::cli::CommandRegistration registerRun{
     "run", [](CLI::App& app, const vpsim::cli::Globals& globals) {
-        auto* command =
-            app.add_subcommand("run", "simulate a print and compare the cured part with the model");
-        auto options = std::make_shared<RunOptions>();
-        command->add_option("job", options->job, "job file (JSON), e.g. examples/default.json")
-            ->required();
-        command->add_option("--out", options->out,
-                            "output directory (report.json, index.html, .vdb, pictures)");
-        command->add_flag("--json", options->json, "print the report as JSON");
-        command->callback([options, &globals] { runCommand(*options, globals); });
+        addRun(app, globals, "run", "simulate a print and compare the cured part with the model");
+    }};
+
+vpsim::cli::CommandRegistration registerExpose{
+    "expose", [](CLI::App& app, const vpsim::cli::Globals& globals) {
+        addRun(app, globals, "expose",
+               "expose, cure and validate a plan (the same as run; use with --plan FILE)");
     }};
 
 }  // namespace

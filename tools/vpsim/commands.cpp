@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include "vpsim/core/error.h"
+#include "vpsim/core/log.h"
+#include "vpsim/kernel/kernel_cache.h"
 
 namespace vpsim::cli {
 
@@ -17,6 +19,30 @@ std::vector<std::pair<std::string, CommandSetup>>& commandRegistry() {
 
 CommandRegistration::CommandRegistration(const std::string& name, CommandSetup setup) {
     commandRegistry().emplace_back(name, std::move(setup));
+}
+
+void Globals::readEnvironment() {
+    auto env = [](const char* name) -> std::string {
+        const char* value = std::getenv(name);
+        return value ? value : "";
+    };
+    if (!env("VPSIM_BACKEND").empty()) backend = env("VPSIM_BACKEND");
+    device = env("VPSIM_DEVICE");
+    validation = !env("VPSIM_VALIDATION").empty() && env("VPSIM_VALIDATION") != "0";
+    const std::string level = env("VPSIM_LOG");
+    if (level == "error") setLogLevel(LogLevel::Error);
+    if (level == "warn") setLogLevel(LogLevel::Warn);
+    if (level == "debug") setLogLevel(LogLevel::Debug);
+    cacheDirectory = kernel::defaultKernelCacheDirectory(
+        std::getenv("VPSIM_CACHE_DIR"), std::getenv("XDG_CACHE_HOME"), std::getenv("HOME"));
+}
+
+RunContext Globals::runContext() const {
+    RunContext context;
+    context.gpu = gpu();
+    context.exposureShadersOnCpuDevices = backend == "vulkan";
+    context.cacheDirectory = cacheDirectory;
+    return context;
 }
 
 std::shared_ptr<gpu::Context> Globals::gpu() const {

@@ -21,6 +21,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "vpsim/core/run_context.h"
 #include "vpsim/gpu/context.h"
 
 namespace vpsim::cli {
@@ -33,9 +34,20 @@ struct Globals {
     std::vector<std::string> overrides;  ///< --set key.path=value for config files
     bool quiet = false;
 
+    std::string cacheDirectory;  ///< beam-kernel cache (VPSIM_CACHE_DIR, ~/.cache/vpsim)
+
+    /// Defaults from the environment (the library reads none): VPSIM_BACKEND, VPSIM_DEVICE,
+    /// VPSIM_VALIDATION=1, VPSIM_LOG=error|warn|info|debug, VPSIM_CACHE_DIR (else
+    /// $XDG_CACHE_HOME/vpsim, else ~/.cache/vpsim). Options given on the command line win.
+    void readEnvironment();
+
     /// The Vulkan context for --backend/--device, or nullptr for the CPU path (see
     /// gpu::contextForBackend). Created once on first use.
     std::shared_ptr<gpu::Context> gpu() const;
+
+    /// What the library's runs need: the context, the cache directory; --backend vulkan also
+    /// puts the exposure shaders on a CPU driver (lavapipe), where they are slower.
+    RunContext runContext() const;
 
 private:
     mutable std::shared_ptr<gpu::Context> mGpu;

@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
     app.fallthrough();
 
     cli::Globals globals;
-    if (const char* backend = std::getenv("VPSIM_BACKEND")) globals.backend = backend;
+    globals.readEnvironment();
     app.add_option("--backend", globals.backend,
                    "where the physics runs: auto (Vulkan if a device exists, "
                    "else CPU), vulkan, cpu [env VPSIM_BACKEND]")

@@ -1,7 +1,7 @@
 #pragma once
 /// @file
-/// Minimal leveled logging to stderr. Level from setLogLevel() or the VPSIM_LOG environment
-/// variable (error, warn, info, debug); default info.
+/// Minimal leveled logging to stderr. Level from setLogLevel() (the CLI maps VPSIM_LOG and
+/// -q/-v onto it); default info.
 
 #include <string>
 

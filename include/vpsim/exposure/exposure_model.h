@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "vpsim/exposure/surface_grid.h"
+#include "vpsim/geometry/raster.h"
 #include "vpsim/plan/scan_plan.h"
 
 namespace vpsim::exposure {
@@ -32,6 +33,15 @@ struct ExposureGrid {
                                  double pitch, int slicesPerLayer);
     /// An empty (all-zero) 2D grid on this grid's cells.
     SurfaceGrid surface() const { return SurfaceGrid(nx, ny, originX, originY, pitch); }
+    /// The same cells as a raster for the geometry module's rasterisers.
+    geometry::RasterGrid raster() const {
+        geometry::RasterGrid r;
+        r.origin = {originX, originY};
+        r.pitch = pitch;
+        r.width = nx;
+        r.height = ny;
+        return r;
+    }
 };
 
 /// One finished voxel slice: layer index, slice index within the layer (0 = top), the height of

@@ -47,9 +47,11 @@ std::string toString(Backend backend);
 
 struct ContextOptions {
     /// Device choice: "" picks a hardware GPU first and lavapipe otherwise; a number picks by
-    /// index; other text picks the first device whose name contains it. VPSIM_DEVICE overrides "".
+    /// index; other text picks the first device whose name contains it. (the CLI reads VPSIM_DEVICE
+    /// into it).
     std::string device;
-    /// Enable VK_LAYER_KHRONOS_validation and count its messages (also VPSIM_VALIDATION=1).
+    /// Enable VK_LAYER_KHRONOS_validation and count its messages (the CLI sets it from --validate
+    /// or VPSIM_VALIDATION=1).
     bool validation = false;
 };
 

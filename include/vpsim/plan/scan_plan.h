@@ -9,6 +9,8 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "vpsim/plan/machine.h"
+
 namespace vpsim::plan {
 
 /// A laser dwell at one point: `energy` mJ delivered with the beam centred at (x, y).
@@ -53,14 +55,6 @@ struct LayerPlan {
     /// The ordered scanner moves that execute `points` and `vectors` (empty until trajectories
     /// are built; saved as "trajectory" only when present).
     std::vector<ScanMove> trajectory;
-};
-
-/// The light source of the machine as the exposure engine needs it.
-struct Machine {
-    double layerThickness = 0.05;  ///< mm
-    double laserPower = 10.0;      ///< mW (SLA)
-    double beamRadius = 0.05;      ///< mm, 1/e^2 intensity radius W0 of the focused beam
-    double pixelPitch = 0.0625;    ///< mm (DLP projector pixel at the resin)
 };
 
 /// A plan for a whole part, layers from the bottom (index 0) up.

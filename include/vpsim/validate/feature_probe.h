@@ -9,7 +9,12 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "vpsim/exposure/exposure_engine.h"
+#include "vpsim/cure/cure_law.h"
+#include "vpsim/exposure/exposure_model.h"
+
+namespace vpsim {
+class ConfigNode;
+}
 
 namespace vpsim::validate {
 
@@ -23,21 +28,35 @@ struct FeatureProbe {
 };
 
 /// A SliceSink measuring every probe; slices may come in any order.
+/// Reads a job's `features` list: [{"name", "x", "y", "z_min", "z_max", "kind": "gap" | "solid",
+/// "objective", "measured": [mm, ...]}]. @throw InputError naming the file and key
+std::vector<FeatureProbe> featureProbesFromConfig(const std::vector<ConfigNode>& entries);
+
+/// The probes with the length each measured (mm).
+struct FeatureMeasurements {
+    std::vector<FeatureProbe> probes;
+    std::vector<double> simulated;  ///< mm, per probe
+    /// [{"name", "kind", "objective_mm", "simulated_mm", "simulated_minus_objective_mm",
+    ///   "measured_mm"?, "simulated_minus_measured_mm"?}]
+    nlohmann::json toJson() const;
+};
+
 class FeatureProbes {
 public:
     /// @throw InputError when a probe lies outside the grid or has zMax <= zMin
     FeatureProbes(std::vector<FeatureProbe> probes, const exposure::ExposureGrid& grid,
-                  double criticalDose, double voxelHeight);
+                  const cure::CureLaw& law, double voxelHeight);
     void add(const exposure::ExposureSlice& slice);
     /// Simulated length of probe i (mm).
     double simulated(size_t i) const { return mLength[i]; }
     /// [{name, objective_mm, simulated_mm, measured_mm, simulated_minus_measured_mm}, ...]
-    nlohmann::json toJson() const;
+    FeatureMeasurements result() const { return {mProbes, mLength}; }
 
 private:
     std::vector<FeatureProbe> mProbes;
     exposure::ExposureGrid mGrid;
-    double mCriticalDose, mVoxelHeight;
+    const cure::CureLaw* mLaw;
+    double mVoxelHeight;
     std::vector<double> mLength;
 };
 

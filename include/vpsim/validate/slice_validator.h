@@ -15,7 +15,8 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "vpsim/exposure/exposure_engine.h"
+#include "vpsim/cure/cure_law.h"
+#include "vpsim/exposure/exposure_model.h"
 #include "vpsim/geometry/mesh.h"
 
 namespace vpsim::validate {
@@ -51,10 +52,10 @@ struct SliceValidationSummary {
 
 class SliceValidator {
 public:
-    /// @param criticalDose iso-level of the cure model (mJ/mm^2)
+    /// @param law decides which voxels are cured (kept by reference: it must outlive the validator)
     /// @param voxelHeight  height of one voxel slice (mm)
     SliceValidator(const geometry::Mesh& part, const exposure::ExposureGrid& grid,
-                   double criticalDose, double voxelHeight);
+                   const cure::CureLaw& law, double voxelHeight);
     ~SliceValidator();
     /// A SliceSink. Slices must arrive from the top down (the engine's order).
     void add(const exposure::ExposureSlice& slice);

@@ -2,9 +2,7 @@
 
 #include <filesystem>
 
-#include <nlohmann/json.hpp>
-
-#include "vpsim/report/run_job.h"
+#include "vpsim/pipeline/run_job.h"
 
 using namespace vpsim;
 
@@ -13,19 +11,21 @@ using namespace vpsim;
 // paper's own model was within -0.06 +- 0.11 mm of its prints; we accept each feature within
 // 0.3 mm (about 2.5 of the paper's standard deviations) and require the over-cure direction:
 // holes shrink and overhangs thicken, by more than half of the measured change.
-TEST_CASE("seed 001 Table 2 Z dimensions are reproduced", "[report][slow][seed001]") {
+TEST_CASE("seed 001 Table 2 Z dimensions are reproduced", "[pipeline][slow][seed001]") {
     for (const char* name : {"seed001-holes", "seed001-overhangs"}) {
-        report::Job job =
-            report::loadJob(std::string(VPSIM_SOURCE_DIR) + "/examples/" + name + ".json");
+        pipeline::Job job =
+            pipeline::loadJob(std::string(VPSIM_SOURCE_DIR) + "/examples/" + name + ".json",
+                              pipeline::makeBuiltins());
         auto out = std::filesystem::temp_directory_path() / name;
-        nlohmann::json report = report::runJob(job, out.string(), nullptr);
-        REQUIRE(report["features"].size() == 2);
-        for (const auto& feature : report["features"]) {
-            double simulated = feature["simulated_mm"], objective = feature["objective_mm"];
+        report::JobResult r = pipeline::runJob(job, out.string(), RunContext{});
+        const validate::FeatureMeasurements& features = r.validation.features;
+        REQUIRE(features.probes.size() == 2);
+        for (size_t i = 0; i < features.probes.size(); ++i) {
+            const validate::FeatureProbe& feature = features.probes[i];
+            double simulated = features.simulated[i], objective = feature.objective;
             double measured = 0;
-            for (double m : feature["measured_mm"])
-                measured += m / double(feature["measured_mm"].size());
-            INFO(name << ": " << feature["name"] << " simulated " << simulated << " measured "
+            for (double m : feature.measured) measured += m / double(feature.measured.size());
+            INFO(name << ": " << feature.name << " simulated " << simulated << " measured "
                       << measured);
             CHECK(std::abs(simulated - measured) < 0.3);
             CHECK((simulated - objective) * (measured - objective) > 0);

@@ -1,9 +1,11 @@
 #pragma once
-// Private to the report module: the pictures of a run.
+/// @file
+/// The pictures of a run: exposure cross-sections, deviation maps, XY error per layer.
 #include <string>
 #include <vector>
 
-#include "vpsim/exposure/exposure_engine.h"
+#include "vpsim/cure/cure_law.h"
+#include "vpsim/exposure/exposure_model.h"
 #include "vpsim/geometry/mesh.h"
 #include "vpsim/geometry/polygons.h"
 #include "vpsim/validate/slice_validator.h"
@@ -12,11 +14,11 @@ namespace vpsim::report {
 
 /// Records an x-z cross-section along grid row `row` and an x-y map of one layer while the engine
 /// runs (a SliceSink), and draws them with the reference outline (red) and the cured outline at
-/// the critical dose (white), exposure from 0 (dark) to the largest value (yellow).
+/// the cure law's critical dose (white), exposure from 0 (dark) to the largest value (yellow).
 class SectionRecorder {
 public:
     SectionRecorder(const geometry::Mesh& part, const exposure::ExposureGrid& grid, int totalSlices,
-                    double criticalDose, int mapLayer, int row);
+                    const cure::CureLaw& law, int mapLayer, int row);
     void add(const exposure::ExposureSlice& slice);
     /// Writes exposure_xz.png and exposure_xy.png into `directory`.
     void write(const std::string& directory) const;
@@ -24,7 +26,7 @@ public:
 private:
     const geometry::Mesh& mPart;
     exposure::ExposureGrid mGrid;
-    double mCriticalDose;
+    const cure::CureLaw& mLaw;
     int mMapLayer, mRow, mTotalSlices, mFilled = 0;
     std::vector<float> mSection;          ///< [slice from the top][x]
     std::vector<uint8_t> mSectionInside;  ///< reference at the same cells

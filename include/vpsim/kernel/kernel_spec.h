@@ -1,0 +1,30 @@
+#pragma once
+/// @file
+/// A job's `kernel` section: where the beam kernel comes from and how the exposure uses it.
+///   {"source": "monte-carlo", "photons": 300000, "seed": 1, "use": "fitted" | "tabulated"}
+///   {"source": "given", "We3D": "60 um", "De3D": "100 um", "zmax": "0 um", "efficiency": 1}
+
+#include <cstdint>
+
+#include "vpsim/kernel/fitted_beam.h"
+
+namespace vpsim {
+class ConfigNode;
+}
+
+namespace vpsim::kernel {
+
+enum class KernelSource { MonteCarlo, Given };
+
+struct KernelSpec {
+    KernelSource source = KernelSource::MonteCarlo;
+    uint64_t photons = 300000;  ///< Monte Carlo photons (1000 .. 4e9)
+    uint32_t seed = 1;
+    bool tabulated = false;  ///< expose with the Monte Carlo table instead of the Eq. 12 fit
+    FittedBeam given;        ///< source == Given: the beam as written in the job
+};
+
+/// @throw InputError naming the file and key
+KernelSpec kernelSpecFromConfig(const ConfigNode& section);
+
+}  // namespace vpsim::kernel

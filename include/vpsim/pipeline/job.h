@@ -1,0 +1,55 @@
+#pragma once
+/// @file
+/// A job file: material, cure law, part, machine, beam kernel, plan strategy and simulation grid
+/// for `vpsim plan` and `vpsim run`. Paths inside are relative to the job file. Example:
+/// examples/default.json; every key is listed in examples/README.md.
+///
+/// The job owns only its top-level keys; each section is parsed and checked by the component
+/// that owns it (geometry: part; plan: machine and the planner created by name from `plan`;
+/// kernel: kernel; cure: the cure law created by name; validate: features), and unknown keys
+/// anywhere stay errors that name the file and key.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "vpsim/cure/cure_law.h"
+#include "vpsim/geometry/part_spec.h"
+#include "vpsim/kernel/kernel_spec.h"
+#include "vpsim/pipeline/builtins.h"
+#include "vpsim/plan/machine.h"
+#include "vpsim/plan/planner.h"
+#include "vpsim/validate/feature_probe.h"
+
+namespace vpsim::pipeline {
+
+/// The `simulation` section: the grid the exposure is computed on.
+struct SimulationSpec {
+    double voxel = 0.01;     ///< mm, x-y cell size
+    int slicesPerLayer = 5;  ///< voxel slices per layer (1 .. 100)
+    double margin = -1;      ///< mm around the part; < 0: 3 beam radii
+    bool writeVdb = true;    ///< write exposure.vdb and reference.vdb
+};
+
+struct Job {
+    std::string file;  ///< the job file itself
+    std::string name;
+    std::string materialFile;  ///< optics material (resolved path); "" when the kernel is given
+    std::unique_ptr<cure::CureLaw> cure;
+    geometry::PartSpec part;
+    plan::Machine machine;
+    kernel::KernelSpec kernel;
+    std::string strategy;  ///< the planner's registered name
+    std::unique_ptr<plan::Planner> planner;
+    SimulationSpec simulation;
+    std::vector<validate::FeatureProbe> features;  ///< Z dimensions to measure (seed 001 Table 2)
+};
+
+/// Reads and checks a job file (unknown keys, units, ranges, referenced files), creating its
+/// cure law and planner from `builtins`.
+/// @param overrides "key.path=value" settings applied before reading (--set)
+/// @throw InputError naming the file and key
+Job loadJob(const std::string& path, const Builtins& builtins,
+            const std::vector<std::string>& overrides = {});
+
+}  // namespace vpsim::pipeline

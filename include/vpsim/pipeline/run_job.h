@@ -1,0 +1,30 @@
+#pragma once
+/// @file
+/// The main job as a short sequence of stages (stages.h), writing into the output directory:
+/// part.stl, kernel/, plan.json, exposure.vdb, reference.vdb, cured.stl, pictures, report.json,
+/// index.html. `vpsim plan` runs the stages up to the plan; `vpsim run --plan FILE` starts from a
+/// saved or hand-edited plan and gives the same result as a one-shot run.
+
+#include <string>
+
+#include "vpsim/core/run_context.h"
+#include "vpsim/pipeline/job.h"
+#include "vpsim/pipeline/stages.h"
+#include "vpsim/report/job_result.h"
+
+namespace vpsim::pipeline {
+
+struct RunOptions {
+    /// A saved plan to expose instead of planning ("" = plan with the job's planner). Read
+    /// before anything in the output directory is replaced.
+    std::string planFile;
+};
+
+/// Runs `job` into `outDir` (created). @throw InputError, ResourceError, GpuError
+report::JobResult runJob(const Job& job, const std::string& outDir, const RunContext& context,
+                         const RunOptions& options = {});
+
+/// The stages up to the plan, writing part.stl, kernel/ and plan.json into `outDir`.
+PlanResult planJob(const Job& job, const std::string& outDir, const RunContext& context);
+
+}  // namespace vpsim::pipeline

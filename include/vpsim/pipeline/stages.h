@@ -1,0 +1,80 @@
+#pragma once
+/// @file
+/// The stages of a run, each a function from typed inputs to a typed output that can be saved
+/// and loaded (DESIGN.md): part (part.stl) -> beam kernel (kernel/kernel.json) -> layer stack
+/// (LayerStack JSON) -> scan plan (plan.json) -> exposure, streamed to slice consumers
+/// (exposure.vdb) -> cured part (cured.stl) -> validation report (report.json).
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vpsim/core/run_context.h"
+#include "vpsim/cure/cure_law.h"
+#include "vpsim/exposure/dose_volume.h"
+#include "vpsim/exposure/exposure_model.h"
+#include "vpsim/geometry/layer_stack.h"
+#include "vpsim/geometry/mesh.h"
+#include "vpsim/kernel/beam_kernel.h"
+#include "vpsim/pipeline/job.h"
+#include "vpsim/report/job_result.h"
+
+namespace vpsim::pipeline {
+
+/// The part on the build platform. @throw InputError for unreadable or broken STL files
+geometry::Mesh partStage(const Job& job);
+
+/// The beam the plan and the exposure use.
+struct BeamResult {
+    kernel::FittedBeam beam;                       ///< fitted, given, or the DLP projector blur
+    std::optional<kernel::BeamKernel> monteCarlo;  ///< the Monte Carlo kernel, when one was run
+    bool fromCache = false;
+};
+/// Laser jobs: the Monte Carlo kernel of the material (cached) or the given one; DLP jobs: the
+/// projector blur with the resin's penetration depth.
+BeamResult beamStage(const Job& job, const RunContext& context);
+
+/// The part sliced into the machine's layers from z = 0.
+geometry::LayerStack sliceStage(const Job& job, const geometry::Mesh& part);
+
+struct PlanResult {
+    plan::ScanPlan plan;
+    nlohmann::json summary = nlohmann::json::object();  ///< the planner's figures
+};
+/// Runs the job's planner. @throw InputError from the planner
+PlanResult planStage(const Job& job, const geometry::LayerStack& layers,
+                     const geometry::Bounds& partBounds, const BeamResult& beam,
+                     const RunContext& context);
+
+/// Checks that a saved (or hand-edited) plan fits the job: the same process, layer thickness
+/// and number of layers as the sliced part. @throw InputError naming `file`
+void checkPlanFitsJob(const plan::ScanPlan& plan, const Job& job,
+                      const geometry::LayerStack& layers, const std::string& file);
+
+/// The grid the exposure is computed on: the part's footprint plus the margin.
+exposure::ExposureGrid exposureGrid(const Job& job, const geometry::Bounds& partBounds,
+                                    const BeamResult& beam);
+/// The exposure model of the job (fitted or tabulated), on the GPU where the context says so.
+std::unique_ptr<exposure::ExposureModel> exposureModel(const Job& job,
+                                                       const exposure::ExposureGrid& grid,
+                                                       const BeamResult& beam,
+                                                       const RunContext& context);
+/// Exposes `plan`, streaming every slice to each of `consumers` in turn.
+report::ExposureSummary exposeStage(exposure::ExposureModel& model, const plan::ScanPlan& plan,
+                                    const std::vector<exposure::SliceSink>& consumers,
+                                    const BeamResult& beam, int layers);
+
+/// The cured part's surface. @throw InputError when nothing cures
+geometry::Mesh cureStage(const exposure::DoseVolume& exposure, const cure::CureLaw& law);
+
+/// Surface deviation of the cured mesh in the part's signed distance field, with the slice
+/// statistics and features gathered while exposing. Writes the distance field to
+/// `referenceVdb` unless it is "".
+report::ValidationReport validateStage(const Job& job, const geometry::Mesh& part,
+                                       const geometry::Mesh& cured,
+                                       validate::SliceValidationSummary slices,
+                                       validate::FeatureMeasurements features,
+                                       const std::string& referenceVdb);
+
+}  // namespace vpsim::pipeline

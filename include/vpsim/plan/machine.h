@@ -1,0 +1,37 @@
+#pragma once
+/// @file
+/// The printer as planners and the exposure engine need it: the process (laser scanning or mask
+/// projection), the layer thickness and the light source. Read from a job's `machine` section.
+/// Units: mm, mW.
+
+#include <string>
+
+namespace vpsim {
+class ConfigNode;
+}
+
+namespace vpsim::plan {
+
+enum class Process { Laser, Dlp };
+
+/// "laser" or "dlp".
+std::string processName(Process process);
+/// @throw InputError for another name
+Process processFromName(const std::string& name);
+
+struct Machine {
+    Process process = Process::Laser;
+    double layerThickness = 0.05;  ///< mm
+    double laserPower = 10.0;      ///< mW (SLA)
+    /// mm: the 1/e^2 intensity radius W0 of the focused laser beam, or the projector's blur
+    /// radius at the resin (DLP)
+    double beamRadius = 0.05;
+    double pixelPitch = 0.0625;  ///< mm (DLP projector pixel at the resin)
+};
+
+/// Reads a job's `machine` section: "process" (laser | dlp, default laser), "layer_thickness"
+/// (default 50 um); laser: "laser_power" (10 mW), "beam_radius" (50 um); DLP: "pixel_pitch"
+/// (62.5 um), "blur_radius" (20 um). @throw InputError naming the file and key
+Machine machineFromConfig(const ConfigNode& section);
+
+}  // namespace vpsim::plan

@@ -1,0 +1,76 @@
+#pragma once
+/// @file
+/// JobResult: the typed outcome of a run, from which report.json, index.html, the CLI summary,
+/// the benchmarks and tests read their figures (nothing reads results back from JSON text).
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "vpsim/kernel/fitted_beam.h"
+#include "vpsim/validate/feature_probe.h"
+#include "vpsim/validate/slice_validator.h"
+#include "vpsim/validate/surface_deviation.h"
+
+namespace vpsim::report {
+
+struct PartSummary {
+    double volume = 0;    ///< mm^3
+    double size[3] = {};  ///< bounding box, mm
+    size_t triangles = 0;
+};
+
+/// The Monte Carlo kernel behind a laser run (absent for a given kernel or DLP).
+struct KernelSummary {
+    kernel::FittedBeam beam;  ///< We3D, De3D, zmax, efficiency of the fit
+    double fitResidual = 0;
+    uint64_t photons = 0;
+    bool fromCache = false;
+    bool tabulatedExposure = false;  ///< the exposure used the table, not the fit
+};
+
+struct PlanSummary {
+    std::string strategy;
+    size_t layers = 0;
+    double energy = 0;  ///< mJ
+    /// The planner's own figures, merged into report.json's top level (e.g. {"aces": {...}}).
+    nlohmann::json planner = nlohmann::json::object();
+};
+
+struct ExposureSummary {
+    std::string model;     ///< "fitted" | "tabulated"
+    std::string backend;   ///< device name, or "cpu"
+    int grid[3] = {};      ///< nx, ny, slices
+    double voxel[3] = {};  ///< mm
+    double engineSeconds = 0, sinkSeconds = 0;
+    double maxDose = 0;  ///< mJ/mm^2
+    uint64_t storedVoxels = 0;
+    kernel::FittedBeam beam;  ///< the beam the engine used
+};
+
+struct ValidationReport {
+    validate::SliceValidationSummary slices;  ///< IoU, over-cure, XY contour errors
+    validate::SurfaceDeviation deviation;     ///< signed surface deviation of the cured mesh
+    std::vector<float> vertexDeviations;      ///< mm, per cured-mesh vertex (pictures)
+    validate::FeatureMeasurements features;
+};
+
+struct JobResult {
+    std::string jobFile, name, backend;
+    nlohmann::json cure;  ///< the cure law's parameters (CureLaw::toJson)
+    PartSummary part;
+    std::optional<KernelSummary> kernel;
+    PlanSummary plan;
+    ExposureSummary exposure;
+    double curedVolume = 0;  ///< mm^3 of the cured mesh
+    ValidationReport validation;
+    std::vector<std::pair<std::string, double>> stageSeconds;  ///< in run order
+};
+
+/// report.json's document.
+nlohmann::json toJson(const JobResult& result);
+
+}  // namespace vpsim::report

@@ -1,0 +1,155 @@
+#include "vpsim/pipeline/run_job.h"
+
+#include <chrono>
+
+#include "vpsim/core/io.h"
+#include "vpsim/core/log.h"
+#include "vpsim/geometry/stl_io.h"
+#include "vpsim/gpu/context.h"
+#include "vpsim/report/figures.h"
+#include "vpsim/report/html_report.h"
+#include "vpsim/validate/feature_probe.h"
+#include "vpsim/validate/slice_validator.h"
+
+namespace vpsim::pipeline {
+namespace {
+
+/// Wall-clock seconds of each stage, logged as it finishes.
+class StageTimer {
+public:
+    explicit StageTimer(std::vector<std::pair<std::string, double>>& out) : mOut(out) {}
+    void finish(const std::string& stage) {
+        auto now = std::chrono::steady_clock::now();
+        double seconds = std::chrono::duration<double>(now - mStart).count();
+        mOut.emplace_back(stage, seconds);
+        logInfo("stage " + stage + ": " + std::to_string(seconds).substr(0, 6) + " s");
+        mStart = now;
+    }
+
+private:
+    std::vector<std::pair<std::string, double>>& mOut;
+    std::chrono::steady_clock::time_point mStart = std::chrono::steady_clock::now();
+};
+
+std::string deviceName(const RunContext& context) {
+    return context.gpu ? context.gpu->info().name : std::string("cpu");
+}
+
+/// The front of a run: part, beam and layers, each saved.
+struct Front {
+    geometry::Mesh part;
+    geometry::Bounds bounds;
+    BeamResult beam;
+    geometry::LayerStack layers;
+};
+
+Front runFront(const Job& job, const std::string& outDir, const RunContext& context,
+               report::JobResult& result, StageTimer& timer) {
+    createDirectories(outDir);
+    Front f;
+    f.part = partStage(job);
+    geometry::writeStl(outDir + "/part.stl", f.part);
+    f.bounds = f.part.bounds();
+    result.part = {f.part.volume(),
+                   {f.bounds.size().x, f.bounds.size().y, f.bounds.size().z},
+                   f.part.triangles.size()};
+    timer.finish("part");
+
+    f.beam = beamStage(job, context);
+    if (f.beam.monteCarlo) {
+        const kernel::BeamKernel& k = *f.beam.monteCarlo;
+        createDirectories(outDir + "/kernel");
+        k.save(outDir + "/kernel/kernel.json");
+        kernel::writeKernelFigures(outDir + "/kernel", k);
+        result.kernel = report::KernelSummary{f.beam.beam, k.fit.residual, k.photons,
+                                              f.beam.fromCache, job.kernel.tabulated};
+    }
+    timer.finish("kernel");
+
+    f.layers = sliceStage(job, f.part);
+    timer.finish("slice");
+    return f;
+}
+
+}  // namespace
+
+PlanResult planJob(const Job& job, const std::string& outDir, const RunContext& context) {
+    report::JobResult result;
+    StageTimer timer(result.stageSeconds);
+    Front f = runFront(job, outDir, context, result, timer);
+    PlanResult plan = planStage(job, f.layers, f.bounds, f.beam, context);
+    plan::saveScanPlan(plan.plan, outDir + "/plan.json");
+    timer.finish("plan");
+    return plan;
+}
+
+report::JobResult runJob(const Job& job, const std::string& outDir, const RunContext& context,
+                         const RunOptions& options) {
+    // A saved plan is read before anything in outDir is replaced (it may live there).
+    std::optional<plan::ScanPlan> saved;
+    if (!options.planFile.empty()) saved = plan::loadScanPlan(options.planFile);
+
+    report::JobResult result;
+    result.jobFile = job.file;
+    result.name = job.name;
+    result.backend = deviceName(context);
+    result.cure = job.cure->toJson();
+    StageTimer timer(result.stageSeconds);
+    Front f = runFront(job, outDir, context, result, timer);
+
+    PlanResult planned;
+    if (saved) {
+        checkPlanFitsJob(*saved, job, f.layers, options.planFile);
+        planned.plan = std::move(*saved);
+    } else {
+        planned = planStage(job, f.layers, f.bounds, f.beam, context);
+    }
+    plan::saveScanPlan(planned.plan, outDir + "/plan.json");
+    result.plan = {job.strategy, planned.plan.layers.size(), planned.plan.totalEnergy(),
+                   planned.summary};
+    if (saved) result.plan.strategy = "saved plan " + options.planFile;
+    timer.finish("plan");
+
+    const int layers = int(f.layers.layers.size());
+    const exposure::ExposureGrid grid = exposureGrid(job, f.bounds, f.beam);
+    auto model = exposureModel(job, grid, f.beam, context);
+    const double voxelHeight = job.machine.layerThickness / job.simulation.slicesPerLayer;
+    const cure::CureLaw& law = *job.cure;
+    exposure::DoseVolume volume(grid, voxelHeight, 0.0, float(0.02 * law.criticalDose()));
+    validate::SliceValidator validator(f.part, grid, law, voxelHeight);
+    const int middle = layers / 2;
+    report::SectionRecorder sections(f.part, grid, layers * job.simulation.slicesPerLayer, law,
+                                     middle,
+                                     report::busiestRow(f.layers.layers[middle].region, grid));
+    validate::FeatureProbes features(job.features, grid, law, voxelHeight);
+    auto sink = [](auto& consumer) {
+        return [&consumer](const exposure::ExposureSlice& s) { consumer.add(s); };
+    };
+    result.exposure = exposeStage(*model, planned.plan,
+                                  {sink(volume), sink(validator), sink(sections), sink(features)},
+                                  f.beam, layers);
+    if (model->usesGpu()) result.exposure.backend = deviceName(context);
+    result.exposure.maxDose = volume.maxValue();
+    result.exposure.storedVoxels = volume.activeVoxels();
+    if (job.simulation.writeVdb) volume.write(outDir + "/exposure.vdb");
+    timer.finish("expose");
+
+    geometry::Mesh cured = cureStage(volume, law);
+    geometry::writeStl(outDir + "/cured.stl", cured);
+    result.curedVolume = cured.volume();
+    timer.finish("cure");
+
+    result.validation = validateStage(job, f.part, cured, validator.summary(), features.result(),
+                                      job.simulation.writeVdb ? outDir + "/reference.vdb" : "");
+    timer.finish("validate");
+
+    sections.write(outDir);
+    report::writeDeviationFigures(outDir, cured, result.validation.vertexDeviations);
+    report::writeLayerErrorPlot(outDir + "/xy_error_per_layer.svg", result.validation.slices);
+    timer.finish("report");
+    writeFileAtomic(outDir + "/report.json", report::toJson(result).dump(2));
+    report::writeHtmlReport(outDir, result);
+    return result;
+}
+
+}  // namespace vpsim::pipeline

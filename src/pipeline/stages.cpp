@@ -1,0 +1,154 @@
+#include "vpsim/pipeline/stages.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "vpsim/core/error.h"
+#include "vpsim/cure/cured_surface.h"
+#include "vpsim/exposure/exposure_engine.h"
+#include "vpsim/exposure/tabulated_engine.h"
+#include "vpsim/geometry/level_set.h"
+#include "vpsim/geometry/part_spec.h"
+#include "vpsim/gpu/context.h"
+#include "vpsim/kernel/kernel_cache.h"
+
+namespace vpsim::pipeline {
+
+geometry::Mesh partStage(const Job& job) {
+    return geometry::loadPart(job.part);
+}
+
+BeamResult beamStage(const Job& job, const RunContext& context) {
+    BeamResult result;
+    if (job.machine.process == plan::Process::Dlp) {
+        result.beam.radius = job.machine.beamRadius;
+        result.beam.attenuationLength = job.cure->penetrationDepth();
+        return result;
+    }
+    if (job.kernel.source == kernel::KernelSource::Given) {
+        result.beam = job.kernel.given;
+        return result;
+    }
+    kernel::KernelRequest request =
+        kernel::kernelRequest(job.materialFile, job.machine.laserPower, job.machine.beamRadius,
+                              job.kernel.photons, job.kernel.seed);
+    result.monteCarlo = kernel::cachedKernel(request, context, result.fromCache);
+    result.beam = kernel::fittedBeamOf(*result.monteCarlo);
+    return result;
+}
+
+geometry::LayerStack sliceStage(const Job& job, const geometry::Mesh& part) {
+    geometry::SliceOptions options;
+    options.layerThickness = job.machine.layerThickness;
+    options.zStart = 0.0;
+    return geometry::sliceToStack(part, options, job.part.source());
+}
+
+PlanResult planStage(const Job& job, const geometry::LayerStack& layers,
+                     const geometry::Bounds& partBounds, const BeamResult& beam,
+                     const RunContext& context) {
+    const kernel::BeamKernel* table =
+        job.kernel.tabulated && beam.monteCarlo ? &*beam.monteCarlo : nullptr;
+    plan::PlannerInputs inputs{layers,    partBounds, job.machine,
+                               beam.beam, table,      job.cure->criticalDose(),
+                               *job.cure, context};
+    PlanResult result;
+    result.plan = job.planner->plan(inputs);
+    result.summary = job.planner->summary();
+    return result;
+}
+
+void checkPlanFitsJob(const plan::ScanPlan& plan, const Job& job,
+                      const geometry::LayerStack& layers, const std::string& file) {
+    if (plan.machine.process != job.machine.process)
+        throw InputError("the plan is for a " + plan::processName(plan.machine.process) +
+                             " machine, the job's is " + plan::processName(job.machine.process),
+                         file, "machine.process");
+    if (std::abs(plan.machine.layerThickness - job.machine.layerThickness) >
+        1e-9 * job.machine.layerThickness)
+        throw InputError("the plan's layer thickness differs from the job's (" +
+                             std::to_string(job.machine.layerThickness) + " mm)",
+                         file, "machine.layer_thickness");
+    if (plan.layers.size() != layers.layers.size())
+        throw InputError("the plan has " + std::to_string(plan.layers.size()) +
+                             " layers, the job's part has " + std::to_string(layers.layers.size()),
+                         file, "layers");
+}
+
+exposure::ExposureGrid exposureGrid(const Job& job, const geometry::Bounds& b,
+                                    const BeamResult& beam) {
+    const SimulationSpec& sim = job.simulation;
+    double margin =
+        sim.margin >= 0 ? sim.margin : 3.0 * std::max(beam.beam.radius, job.machine.beamRadius);
+    return exposure::ExposureGrid::covering(b.lo.x, b.lo.y, b.hi.x, b.hi.y, margin, sim.voxel,
+                                            sim.slicesPerLayer);
+}
+
+std::unique_ptr<exposure::ExposureModel> exposureModel(const Job& job,
+                                                       const exposure::ExposureGrid& grid,
+                                                       const BeamResult& beam,
+                                                       const RunContext& context) {
+    // Both engines run in compute shaders on hardware GPUs; on a CPU driver (lavapipe) only
+    // when asked, since the TBB loops are faster there (bench_exposure).
+    std::shared_ptr<gpu::Context> gpu =
+        context.gpu && (context.gpu->info().isHardware() || context.exposureShadersOnCpuDevices)
+            ? context.gpu
+            : nullptr;
+    const double h = job.machine.layerThickness;
+    if (job.kernel.tabulated && beam.monteCarlo)
+        return std::make_unique<exposure::TabulatedExposureEngine>(grid, *beam.monteCarlo, h, gpu);
+    return std::make_unique<exposure::ExposureEngine>(grid, beam.beam, h, gpu);
+}
+
+report::ExposureSummary exposeStage(exposure::ExposureModel& model, const plan::ScanPlan& plan,
+                                    const std::vector<exposure::SliceSink>& consumers,
+                                    const BeamResult& beam, int layers) {
+    report::ExposureSummary summary;
+    double sinkSeconds = 0;
+    summary.engineSeconds = model.run(plan, [&](const exposure::ExposureSlice& slice) {
+        auto start = std::chrono::steady_clock::now();
+        for (const auto& consumer : consumers) consumer(slice);
+        sinkSeconds +=
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    });
+    const exposure::ExposureGrid& g = model.grid();
+    summary.model = model.name();
+    summary.backend = model.usesGpu() ? "gpu" : "cpu";
+    summary.grid[0] = g.nx;
+    summary.grid[1] = g.ny;
+    summary.grid[2] = layers * g.slicesPerLayer;
+    summary.voxel[0] = summary.voxel[1] = g.pitch;
+    summary.voxel[2] = model.layerThickness() / g.slicesPerLayer;
+    summary.sinkSeconds = sinkSeconds;
+    summary.beam = beam.beam;
+    return summary;
+}
+
+geometry::Mesh cureStage(const exposure::DoseVolume& exposure, const cure::CureLaw& law) {
+    return cure::curedSurface(exposure, law);
+}
+
+report::ValidationReport validateStage(const Job& job, const geometry::Mesh& part,
+                                       const geometry::Mesh& cured,
+                                       validate::SliceValidationSummary slices,
+                                       validate::FeatureMeasurements features,
+                                       const std::string& referenceVdb) {
+    // The reference distance field needs a band as wide as the deviations it measures (up to a
+    // few beam radii, 0.25 mm at least: print-through over-cure), but not the exposure's voxel:
+    // trilinear interpolation of an exact distance field is accurate to a small part of its voxel.
+    geometry::LevelSetOptions options;
+    options.voxelSize = std::max(job.simulation.voxel, 0.02);
+    options.halfWidthVoxels =
+        std::ceil(std::max(0.25, 4.0 * job.machine.beamRadius) / options.voxelSize);
+    geometry::LevelSet reference = geometry::LevelSet::fromMesh(part, options);
+    if (!referenceVdb.empty()) reference.save(referenceVdb);
+    report::ValidationReport report;
+    report.vertexDeviations = validate::vertexDeviations(cured, reference);
+    report.deviation =
+        validate::summarizeDeviations(report.vertexDeviations, reference.halfWidth());
+    report.slices = std::move(slices);
+    report.features = std::move(features);
+    return report;
+}
+
+}  // namespace vpsim::pipeline

@@ -1,0 +1,40 @@
+#include "vpsim/plan/laser_plan_options.h"
+
+#include <algorithm>
+
+namespace vpsim::plan {
+
+LaserPlanOptions readLaserPlanOptions(const ConfigNode& plan) {
+    LaserPlanOptions options;
+    options.homogeneity = plan.numberInRange("homogeneity", 1e-6, 0.5, 0.01);
+    options.edge = plan.choice("edge", {"seed-5-percent", "cure-at-contour"},
+                               std::string("seed-5-percent")) == "seed-5-percent"
+                       ? AcesEdge::SeedFivePercent
+                       : AcesEdge::CureAtContour;
+    return options;
+}
+
+std::vector<ConfigKeyDoc> laserPlanKeys() {
+    return {{"homogeneity",
+             "ACES Srlt: allowed relative standard deviation of the exposure "
+             "(default 0.01)"},
+            {"edge",
+             "seed-5-percent (default: the 5% Ep edge on the contour, seed 000 App. A) "
+             "| cure-at-contour (the surface exposure at the contour equals Ec)"}};
+}
+
+AcesParameters acesParameters(const LaserPlanOptions& options, const kernel::FittedBeam& beam,
+                              const Machine& machine, double criticalDose) {
+    AcesParameters aces;
+    aces.beamRadius = beam.radius;
+    aces.attenuationLength = beam.attenuationLength;
+    aces.depthOfMaximum = std::min(beam.depthOfMaximum, 0.99 * machine.layerThickness);
+    aces.criticalDose = criticalDose / beam.efficiency;
+    aces.layerThickness = machine.layerThickness;
+    aces.laserPower = machine.laserPower;
+    aces.homogeneity = options.homogeneity;
+    aces.edge = options.edge;
+    return aces;
+}
+
+}  // namespace vpsim::plan

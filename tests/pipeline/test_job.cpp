@@ -1,0 +1,172 @@
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "vpsim/core/error.h"
+#include "vpsim/pipeline/run_job.h"
+
+using namespace vpsim;
+using Catch::Matchers::Contains;
+
+namespace {
+
+std::string writeJob(const std::string& name, const nlohmann::json& job) {
+    auto path = std::filesystem::temp_directory_path() / ("vpsim_job_" + name + ".json");
+    std::ofstream(path) << job.dump(1);
+    return path.string();
+}
+
+nlohmann::json givenKernelJob() {
+    return nlohmann::json::parse(R"({
+      "cure": {"model": "threshold", "critical_dose": "10 mJ/cm^2"},
+      "part": {"test_part": "tapered", "size": "1 mm", "top_size": "0.6 mm", "height": "0.3 mm"},
+      "machine": {"process": "laser", "laser_power": "10 mW", "beam_radius": "50 um",
+                  "layer_thickness": "50 um"},
+      "kernel": {"source": "given", "We3D": "60 um", "De3D": "40 um"},
+      "plan": {"strategy": "aces", "edge": "cure-at-contour"},
+      "simulation": {"voxel": "10 um", "slices_per_layer": 2, "write_vdb": false}})");
+}
+
+pipeline::Job load(const std::string& name, const nlohmann::json& job,
+                   const pipeline::Builtins& builtins = pipeline::makeBuiltins()) {
+    return pipeline::loadJob(writeJob(name, job), builtins);
+}
+
+RunContext cpuContext(const std::string& cache = "") {
+    return RunContext{nullptr, false, cache};
+}
+
+}  // namespace
+
+TEST_CASE("bad jobs give one clear error naming the key", "[pipeline]") {
+    auto job = givenKernelJob();
+    job["plan"]["stratgy"] = "aces";
+    CHECK_THROWS_WITH(load("typo", job), Contains("plan.stratgy") && Contains("unknown key"));
+    job = givenKernelJob();
+    job["machine"]["laser_power"] = "10 mm";
+    CHECK_THROWS_WITH(load("unit", job), Contains("machine.laser_power") && Contains("power"));
+    job = givenKernelJob();
+    job["part"] = {{"stl", "no/such/part.stl"}};
+    CHECK_THROWS_WITH(load("stl", job), Contains("file not found"));
+    job = givenKernelJob();
+    job["kernel"] = {{"source", "monte-carlo"}};
+    CHECK_THROWS_WITH(load("mc", job), Contains("material"));
+    job = givenKernelJob();
+    job["part"]["test_part"] = "teapot";
+    CHECK_THROWS_WITH(load("part", job), Contains("teapot"));
+    job = givenKernelJob();
+    job["plan"] = {{"strategy", "uniform-mask"}};
+    CHECK_THROWS_WITH(load("process", job), Contains("plan.strategy") && Contains("dlp process"));
+    job = givenKernelJob();
+    job["plan"]["dose"] = "78 mJ/cm^2";  // a uniform-mask key on an ACES job
+    CHECK_THROWS_WITH(load("foreign", job), Contains("plan.dose") && Contains("unknown key"));
+}
+
+namespace {
+
+/// A planner defined here, registered without touching the pipeline: it exposes one spot of
+/// `energy` at the centre of every layer.
+class SpotPlanner : public plan::Planner {
+public:
+    explicit SpotPlanner(double energy) : mEnergy(energy) {}
+    plan::Process process() const override { return plan::Process::Laser; }
+    plan::ScanPlan plan(const plan::PlannerInputs& in) override {
+        plan::ScanPlan p = plan::emptyPlan(in.layers, in.machine);
+        const geometry::Bounds& b = in.partBounds;
+        for (auto& layer : p.layers)
+            layer.points.push_back({0.5 * (b.lo.x + b.hi.x), 0.5 * (b.lo.y + b.hi.y), mEnergy});
+        return p;
+    }
+    nlohmann::json summary() const override { return {{"spot", {{"energy_mJ", mEnergy}}}}; }
+
+private:
+    double mEnergy;
+};
+
+}  // namespace
+
+TEST_CASE("a planner registered from a test plans a job through the pipeline", "[pipeline]") {
+    pipeline::Builtins builtins = pipeline::makeBuiltins();
+    builtins.planners.add(
+        {"spot", "one spot per layer", {{"energy", "mJ"}}, [](const ConfigNode& section) {
+             return std::make_unique<SpotPlanner>(section.number("energy"));
+         }});
+    auto json = givenKernelJob();
+    json["plan"] = {{"strategy", "spot"}, {"energy", 0.002}};
+    pipeline::Job job = load("spot", json, builtins);
+    auto out = std::filesystem::temp_directory_path() / "vpsim_job_spot";
+    pipeline::PlanResult plan = pipeline::planJob(job, out.string(), cpuContext());
+    REQUIRE(plan.plan.layers.size() == 6);  // 0.3 mm in 50 um layers
+    REQUIRE(plan.plan.totalEnergy() == Approx(6 * 0.002));
+    REQUIRE(plan.summary["spot"]["energy_mJ"] == 0.002);
+}
+
+// A whole run on a small frustum with a given kernel: the ACES plan designed to cure at the
+// contour should reproduce the part closely. Bounds: IoU > 0.8 (a 1 mm part loses ~0.1 to the
+// staircase of 50 um layers on its sloped sides and to the beam's edge blur) and a mean surface
+// deviation within one beam radius; no down-facing surfaces, so no over-cure.
+TEST_CASE("a small job runs end to end and reproduces its part", "[pipeline][slow]") {
+    auto out = std::filesystem::temp_directory_path() / "vpsim_job_run";
+    std::filesystem::remove_all(out);
+    report::JobResult r =
+        pipeline::runJob(load("run", givenKernelJob()), out.string(), cpuContext());
+    CHECK(r.validation.slices.iou > 0.8);
+    CHECK(std::abs(r.validation.deviation.mean) < 0.05);
+    CHECK(r.validation.slices.overcureBelowDownFacingMedian == 0.0);
+    for (const char* file : {"report.json", "index.html", "cured.stl", "part.stl", "plan.json",
+                             "exposure_xz.png", "exposure_xy.png", "deviation_histogram.svg"})
+        CHECK(std::filesystem::exists(out / file));
+    CHECK(report::toJson(r)["stage_seconds"].contains("expose"));
+}
+
+// Resumable runs: plan, then run from the saved plan (in the same output directory, which the
+// run overwrites) gives exactly the one-shot run's figures; a plan that does not fit the job is
+// refused with the file named.
+TEST_CASE("vpsim plan then run --plan equals a one-shot run", "[pipeline][slow]") {
+    pipeline::Job job = load("resume", givenKernelJob());
+    auto oneShotDir = std::filesystem::temp_directory_path() / "vpsim_job_oneshot";
+    auto resumedDir = std::filesystem::temp_directory_path() / "vpsim_job_resumed";
+    report::JobResult oneShot = pipeline::runJob(job, oneShotDir.string(), cpuContext());
+    pipeline::planJob(job, resumedDir.string(), cpuContext());
+    pipeline::RunOptions options;
+    options.planFile = (resumedDir / "plan.json").string();
+    report::JobResult resumed = pipeline::runJob(job, resumedDir.string(), cpuContext(), options);
+    CHECK(resumed.validation.slices.iou == oneShot.validation.slices.iou);
+    CHECK(resumed.validation.deviation.mean == oneShot.validation.deviation.mean);
+    CHECK(resumed.validation.deviation.rms == oneShot.validation.deviation.rms);
+    CHECK(resumed.plan.energy == oneShot.plan.energy);
+
+    auto other = givenKernelJob();
+    other["part"]["height"] = "0.5 mm";  // 10 layers, the plan has 6
+    options.planFile = (oneShotDir / "plan.json").string();
+    CHECK_THROWS_WITH(
+        pipeline::runJob(load("taller", other), resumedDir.string(), cpuContext(), options),
+        Contains("plan.json") && Contains("6 layers"));
+}
+
+// The Monte Carlo kernel path end to end, exposing with the tabulated kernel: a small photon
+// budget keeps it fast; the check is that the table drives the exposure and the part still cures
+// close to the model (IoU > 0.7: the 20,000-photon table is noisy), and that the kernel is cached.
+TEST_CASE("a Monte Carlo job can expose with the tabulated kernel", "[pipeline][slow]") {
+    auto cache = std::filesystem::temp_directory_path() / "vpsim_kernel_cache_test";
+    std::filesystem::remove_all(cache);
+    auto job = givenKernelJob();
+    job["material"] = std::string(VPSIM_SOURCE_DIR) + "/examples/materials/alumina-seed000.json";
+    job["kernel"] = {
+        {"source", "monte-carlo"}, {"photons", 20000}, {"seed", 2}, {"use", "tabulated"}};
+    auto out = std::filesystem::temp_directory_path() / "vpsim_job_tabulated";
+    report::JobResult first =
+        pipeline::runJob(load("tabulated", job), out.string(), cpuContext(cache.string()));
+    REQUIRE(first.kernel);
+    CHECK(first.kernel->tabulatedExposure);
+    CHECK(first.exposure.model == "tabulated");
+    CHECK_FALSE(first.kernel->fromCache);
+    CHECK(first.validation.slices.iou > 0.7);
+    report::JobResult second =
+        pipeline::runJob(load("tabulated", job), out.string(), cpuContext(cache.string()));
+    CHECK(second.kernel->fromCache);
+    CHECK(second.validation.slices.iou == first.validation.slices.iou);
+}

@@ -1,0 +1,66 @@
+// `vpsim plan JOB.json --out DIR`: the stages up to the plan (part, kernel, slices, planner),
+// writing plan.json for `vpsim run JOB --plan DIR/plan.json`; `vpsim plan --list` names the
+// registered planners with their keys.
+#include <iostream>
+
+#include "commands.h"
+#include "vpsim/pipeline/run_job.h"
+
+namespace {
+
+struct PlanOptions {
+    std::string job, out = "out";
+    bool list = false, json = false;
+};
+
+nlohmann::json plannerList(const vpsim::pipeline::Builtins& builtins) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const auto& [name, entry] : builtins.planners.entries()) {
+        nlohmann::json keys = nlohmann::json::object();
+        for (const auto& key : entry.keys) keys[key.key] = key.description;
+        out.push_back({{"name", name}, {"description", entry.description}, {"keys", keys}});
+    }
+    return out;
+}
+
+void planCommand(const PlanOptions& options, const vpsim::cli::Globals& globals) {
+    using namespace vpsim;
+    const pipeline::Builtins builtins = pipeline::makeBuiltins();
+    if (options.list) {
+        nlohmann::json list = plannerList(builtins);
+        if (options.json) return cli::printJson(list);
+        for (const auto& p : list) {
+            std::cout << p["name"].get<std::string>() << ": " << p["description"].get<std::string>()
+                      << "\n";
+            for (const auto& [key, text] : p["keys"].items())
+                std::cout << "    plan." << key << "  " << text.get<std::string>() << "\n";
+        }
+        return;
+    }
+    if (options.job.empty()) throw InputError("vpsim plan needs a job file (or --list)");
+    const pipeline::Job job = pipeline::loadJob(options.job, builtins, globals.overrides);
+    const pipeline::PlanResult plan = pipeline::planJob(job, options.out, globals.runContext());
+    nlohmann::json out{{"plan", options.out + "/plan.json"},
+                       {"strategy", job.strategy},
+                       {"layers", plan.plan.layers.size()},
+                       {"energy_mJ", plan.plan.totalEnergy()},
+                       {"planner", plan.summary}};
+    if (options.json) return cli::printJson(out);
+    std::cout << "vpsim plan " << job.name << " (" << job.strategy << ") -> " << options.out
+              << "/plan.json: " << plan.plan.layers.size() << " layers, " << plan.plan.totalEnergy()
+              << " mJ\n";
+}
+
+vpsim::cli::CommandRegistration registerPlan{
+    "plan", [](CLI::App& app, const vpsim::cli::Globals& globals) {
+        auto* command = app.add_subcommand(
+            "plan", "plan a job (part, kernel, slices, planner) and write plan.json");
+        auto options = std::make_shared<PlanOptions>();
+        command->add_option("job", options->job, "job file (JSON)");
+        command->add_option("--out", options->out, "output directory");
+        command->add_flag("--list", options->list, "list the planners and their keys");
+        command->add_flag("--json", options->json, "print JSON");
+        command->callback([options, &globals] { planCommand(*options, globals); });
+    }};
+
+}  // namespace
