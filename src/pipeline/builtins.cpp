@@ -2,6 +2,7 @@
 
 #include "vpsim/cure/fpp_law.h"
 #include "vpsim/cure/threshold_law.h"
+#include "vpsim/exporters/cli_exporter.h"
 #include "vpsim/plan/aces_planner.h"
 #include "vpsim/plan/uniform_mask_planner.h"
 
@@ -15,6 +16,7 @@ void registerBuiltins(Builtins& b) {
     cure::registerThresholdLaw(b.cureLaws);
     cure::registerFppLaw(b.cureLaws);
     // Exporters.
+    exporters::registerCliExporter(b.exporters);
 }
 
 Builtins makeBuiltins() {

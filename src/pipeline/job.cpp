@@ -5,6 +5,7 @@
 #include "vpsim/core/checks.h"
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
+#include "vpsim/plan/scan_report.h"
 
 namespace vpsim::pipeline {
 namespace {
@@ -48,6 +49,7 @@ Job loadJob(const std::string& path, const Builtins& builtins,
     job.cure = cure::cureLawFromConfig(builtins.cureLaws, root, "cure");
     job.part = geometry::partSpecFromConfig(root.child("part"));
     job.machine = plan::machineFromConfig(root.child("machine"));
+    job.timing = plan::buildTimeOptionsFromConfig(root.child("machine"));
     if (root.has("material")) job.materialFile = resolvePath(root, "material");
     job.kernel = kernel::kernelSpecFromConfig(sectionOrEmpty(root, "kernel"));
     const bool laser = job.machine.process == plan::Process::Laser;
@@ -58,6 +60,7 @@ Job loadJob(const std::string& path, const Builtins& builtins,
                          "a DLP job needs the resin's penetration depth "
                          "(cure.penetration_depth or cure.attenuation)");
     createPlanner(root, builtins, job);
+    if (laser) job.scanOrder = plan::orderMethodFromConfig(root.child("plan"));
     job.simulation = simulationFromConfig(sectionOrEmpty(root, "simulation"));
     if (root.has("features"))
         job.features = validate::featureProbesFromConfig(root.children("features"));

@@ -78,6 +78,7 @@ PlanResult planJob(const Job& job, const std::string& outDir, const RunContext& 
     StageTimer timer(result.stageSeconds);
     Front f = runFront(job, outDir, context, result, timer);
     PlanResult plan = planStage(job, f.layers, f.bounds, f.beam, context);
+    scanStage(job, f.layers, plan.plan);  // the plan is saved with its trajectories
     plan::saveScanPlan(plan.plan, outDir + "/plan.json");
     timer.finish("plan");
     return plan;
@@ -104,9 +105,15 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     } else {
         planned = planStage(job, f.layers, f.bounds, f.beam, context);
     }
+    const plan::ScanSchedule schedule = scanStage(job, f.layers, planned.plan);
     plan::saveScanPlan(planned.plan, outDir + "/plan.json");
+    writeScanFiles(schedule, planned.plan, outDir);
     result.plan = {job.strategy, planned.plan.layers.size(), planned.plan.totalEnergy(),
                    planned.summary};
+    result.plan.planner["build_time_s"] = schedule.buildTime;
+    if (!schedule.scanOrder.is_null()) result.plan.planner["scan_order"] = schedule.scanOrder;
+    if (!schedule.pointStrategies.is_null())
+        result.plan.planner["point_build_time_s"] = schedule.pointStrategies;
     if (saved) result.plan.strategy = "saved plan " + options.planFile;
     timer.finish("plan");
 

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "vpsim/plan/scan_report.h"
+
 namespace vpsim::plan {
 
 LaserPlanOptions readLaserPlanOptions(const ConfigNode& plan) {
@@ -11,6 +13,8 @@ LaserPlanOptions readLaserPlanOptions(const ConfigNode& plan) {
                                std::string("seed-5-percent")) == "seed-5-percent"
                        ? AcesEdge::SeedFivePercent
                        : AcesEdge::CureAtContour;
+    options.direction = directionRuleFromConfig(plan);
+    options.order = orderMethodFromConfig(plan);
     return options;
 }
 
@@ -20,7 +24,13 @@ std::vector<ConfigKeyDoc> laserPlanKeys() {
              "(default 0.01)"},
             {"edge",
              "seed-5-percent (default: the 5% Ep edge on the contour, seed 000 App. A) "
-             "| cure-at-contour (the surface exposure at the contour equals Ec)"}};
+             "| cure-at-contour (the surface exposure at the contour equals Ec)"},
+            {"direction",
+             "scan direction of each layer: min-edge-projection (default, seed 002 Sec. 3) | "
+             "longest-edge | a fixed angle such as \"0 deg\""},
+            {"order",
+             "order of each layer's parts by jump time: auto (default: exact up to 16 parts, "
+             "heuristic beyond) | exact | heuristic | nearest-neighbour | as-sliced"}};
 }
 
 AcesParameters acesParameters(const LaserPlanOptions& options, const kernel::FittedBeam& beam,

@@ -10,12 +10,16 @@
 #include "vpsim/core/registry.h"
 #include "vpsim/kernel/fitted_beam.h"
 #include "vpsim/plan/aces.h"
+#include "vpsim/plan/part_order.h"
+#include "vpsim/plan/scan_direction.h"
 
 namespace vpsim::plan {
 
 struct LaserPlanOptions {
     double homogeneity = 0.01;                  ///< ACES Srlt (relative standard deviation)
     AcesEdge edge = AcesEdge::SeedFivePercent;  ///< where the outermost hatch line sits
+    DirectionRule direction;                    ///< `direction`: scan direction per layer
+    OrderMethod order = OrderMethod::Auto;  ///< `order` of the parts (the pipeline's trajectories)
 };
 
 /// @throw InputError naming the file and key
