@@ -1,90 +1,316 @@
-// Photon Monte Carlo throughput on the seed-000 alumina slurry (Gaussian beam W0 = 50 um,
-// semi-infinite, resin n = 1.45 under air): the Vulkan shader vs the CPU path (TBB, all cores)
-// built from the same photon_step.glsl, in the same run. Prints JSON: photons/s and
-// scatterings/s of each, their ratio, and the target of 300,000 photons/s through lavapipe on a
-// 2-core machine (a classic single-threaded CPU MC code manages ~55,000/s on this case).
-// Usage: bench_photon_mc [material.json] [photons]   (run from the repository root)
+// Photon Monte Carlo efficiency measured fairly (issue 14): for seed 000's alumina slurry and a
+// slurry-like HG medium (mus 3030/cm, mua 84/cm, g 0.9, n 1), Gaussian beam W0 = 50 um,
+// semi-infinite, the figure of merit FOM = 1 / (sigma^2 t) of
+//   - the diffuse reflectance, the fraction absorbed within 30 um and within 84 um,
+//   - the kernel's (r,z) bins at the cure front (depths De3D..3 De3D, r < We3D; sigma^2 is the
+//     mean relative variance of those bins),
+// for each estimator (analog, implicit, implicit-track, track-length) and for an in-process
+// reference of MCML's algorithm (benchmarks/mcml_reference.h: implicit capture, roulette at 1e-4,
+// double precision, one thread), all in the same run. sigma comes from the 64 batch means; t is CPU
+// time (getrusage, all threads of the process, lavapipe's included), because the machine is shared:
+// "per machine" divides vpsim's CPU time by the threads it ran on (the machine's cores), and the
+// single-threaded reference's CPU time is its time on the machine; "per core" compares CPU
+// seconds directly. The reference is pinned to MCML 1.2.2 built here (-O3): 19 million
+// interactions per CPU-second on the slurry-like case; it must land within +-40%.
+// Usage: bench_photon_mc [auto|cpu|vulkan] [scale]   (run from the repository root; scale
+// multiplies every photon count, default 1)
 
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <iostream>
 #include <string>
 #include <thread>
 
 #include <nlohmann/json.hpp>
 
+#include "mcml_reference.h"
 #include "vpsim/core/error.h"
 #include "vpsim/gpu/context.h"
+#include "vpsim/kernel/beam_kernel.h"
 #include "vpsim/optics/material.h"
 #include "vpsim/transport/photon_mc.h"
 
 namespace {
 
-nlohmann::json figures(const vpsim::transport::McResult& r) {
-    return {{"backend", r.backend},
-            {"photons", r.total().photons},
-            {"seconds", r.seconds},
-            {"photons_per_second", r.photonsPerSecond()},
-            {"scatterings_per_second", r.photonsPerSecond() * r.scatteringsPerPhoton()},
-            {"scatterings_per_photon", r.scatteringsPerPhoton()},
-            {"diffuse_reflectance", r.diffuse().value},
-            {"absorbed", r.absorbed().value},
-            {"energy_balanced", r.energyBalanced()}};
+using namespace vpsim::transport;
+constexpr double MCML_INTERACTIONS_PER_CPU_SECOND = 19.0e6;  // MCML 1.2.2 -O3, measured here
+
+double cpuSeconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+std::string loadAverage() {
+    std::ifstream in("/proc/loadavg");
+    std::string a, b, c;
+    in >> a >> b >> c;
+    return a + " " + b + " " + c;
+}
+
+/// Batch statistics: mean and variance of the mean from MC_BATCHES batch values.
+struct Stat {
+    double mean = 0, variance = 0;
+};
+template <class Values>
+Stat batchStat(const Values& v) {
+    Stat s;
+    for (double x : v) s.mean += x;
+    s.mean /= double(v.size());
+    for (double x : v) s.variance += (x - s.mean) * (x - s.mean);
+    s.variance /= double(v.size()) * (v.size() - 1.0);
+    return s;
+}
+
+/// The cure-front bins of a grid: z centre in [De, 3 De], r centre < We.
+std::vector<size_t> cureFrontBins(const CylindricalGrid& g, double we, double de) {
+    std::vector<size_t> bins;
+    const double dr = g.rMax / g.rBins, dz = g.zMax / g.zBins;
+    for (uint32_t iz = 0; iz < g.zBins; ++iz)
+        for (uint32_t ir = 0; ir < g.rBins; ++ir) {
+            double z = (iz + 0.5) * dz, r = (ir + 0.5) * dr;
+            if (z >= de && z <= 3 * de && r < we) bins.push_back(size_t(iz) * g.rBins + ir);
+        }
+    return bins;
+}
+
+/// Mean relative variance of the bins' means, from per-batch bin values
+/// (value(b, i): fraction of the batch's launched weight in bin i).
+template <class Value>
+double binsRelativeVariance(const std::vector<size_t>& bins, Value value) {
+    double sum = 0;
+    int used = 0;
+    for (size_t i : bins) {
+        std::array<double, MC_BATCHES> v;
+        for (int b = 0; b < MC_BATCHES; ++b) v[b] = value(b, i);
+        Stat s = batchStat(v);
+        if (!(s.mean > 0)) continue;
+        sum += s.variance / (s.mean * s.mean);
+        ++used;
+    }
+    return used ? sum / used : INFINITY;
+}
+
+struct Figures {
+    Stat rd, within30, within84;
+    double binsRelVar = 0, cpu = 0, wall = 0, threads = 1, interactionsPerPhoton = 0;
+    uint64_t photons = 0;
+    double fom(double variance, bool perMachine) const {
+        return 1.0 / (variance * (perMachine ? cpu / threads : cpu));
+    }
+    nlohmann::json json(bool perMachine = true) const {
+        return {{"photons", photons},
+                {"cpu_seconds", cpu},
+                {"wall_seconds", wall},
+                {"threads", threads},
+                {"interactions_per_photon", interactionsPerPhoton},
+                {"interactions_per_cpu_second", interactionsPerPhoton * photons / cpu},
+                {"diffuse_reflectance", rd.mean},
+                {"diffuse_reflectance_stderr", std::sqrt(rd.variance)},
+                {"absorbed_within_30um", within30.mean},
+                {"absorbed_within_30um_stderr", std::sqrt(within30.variance)},
+                {"absorbed_within_84um", within84.mean},
+                {"absorbed_within_84um_stderr", std::sqrt(within84.variance)},
+                {"cure_front_bins_mean_relative_stderr", std::sqrt(binsRelVar)},
+                {"fom_per_machine",
+                 {{"diffuse_reflectance", fom(rd.variance, perMachine)},
+                  {"absorbed_within_30um", fom(within30.variance, perMachine)},
+                  {"absorbed_within_84um", fom(within84.variance, perMachine)},
+                  {"cure_front_bins", fom(binsRelVar, perMachine)}}}};
+    }
+};
+
+Figures vpsimFigures(const McResult& r, const std::vector<size_t>& bins, double cpu,
+                     double threads) {
+    Figures f;
+    std::array<double, MC_BATCHES> rd, w30, w84;
+    for (int b = 0; b < MC_BATCHES; ++b) {
+        double launched = double(r.batches[b].photons * r.launchWeight);
+        rd[b] = r.batches[b].diffuse / launched;
+        w30[b] = r.batches[b].absorbedWithin[0] / launched;
+        w84[b] = r.batches[b].absorbedWithin[1] / launched;
+    }
+    f.rd = batchStat(rd);
+    f.within30 = batchStat(w30);
+    f.within84 = batchStat(w84);
+    const size_t perBatch = r.absorbedRZ.size();
+    f.binsRelVar = binsRelativeVariance(bins, [&](int b, size_t i) {
+        return double(r.absorbedRZBatches[b * perBatch + i]) /
+               double(r.batches[b].photons * r.launchWeight);
+    });
+    f.cpu = cpu;
+    f.wall = r.seconds;
+    f.threads = threads;
+    f.photons = r.total().photons;
+    f.interactionsPerPhoton = r.interactionsPerPhoton();
+    return f;
+}
+
+Figures mcmlFigures(const McSetup& s, const std::vector<size_t>& bins) {
+    const double start = cpuSeconds();
+    bench::McmlTally t = bench::McmlReference(s).run();
+    Figures f;
+    f.cpu = cpuSeconds() - start;
+    std::array<double, MC_BATCHES> rd, w30, w84;
+    for (int b = 0; b < MC_BATCHES; ++b) {
+        double n = double(t.photons[b]);
+        rd[b] = t.diffuse[b] / n;
+        w30[b] = t.within30[b] / n;
+        w84[b] = t.within84[b] / n;
+    }
+    f.rd = batchStat(rd);
+    f.within30 = batchStat(w30);
+    f.within84 = batchStat(w84);
+    const size_t perBatch = size_t(s.bins.rBins) * s.bins.zBins;
+    f.binsRelVar = binsRelativeVariance(bins, [&](int b, size_t i) {
+        return t.absorbedRZ[b * perBatch + i] / double(t.photons[b]);
+    });
+    f.wall = f.cpu;
+    f.photons = s.photons;
+    f.interactionsPerPhoton = double(t.interactions) / double(s.photons);
+    return f;
+}
+
+nlohmann::json ratios(const Figures& a, const Figures& b, bool perMachine) {
+    auto r = [&](double va, double vb) { return a.fom(va, perMachine) / b.fom(vb, perMachine); };
+    return {{"diffuse_reflectance", r(a.rd.variance, b.rd.variance)},
+            {"absorbed_within_30um", r(a.within30.variance, b.within30.variance)},
+            {"absorbed_within_84um", r(a.within84.variance, b.within84.variance)},
+            {"cure_front_bins", r(a.binsRelVar, b.binsRelVar)}};
+}
+
+nlohmann::json runCase(const std::string& name, const vpsim::optics::MediumOptics& optics,
+                       const std::shared_ptr<vpsim::gpu::Context>& context, double scale) {
+    McSetup s = vpsim::kernel::kernelSetup(optics, 0.05);
+    s.depths = {0.030, 0.084};
+    s.binsPerBatch = true;
+    s.seed = 11;
+    const double threads =
+        context ? double(std::thread::hardware_concurrency()) : std::thread::hardware_concurrency();
+    auto runOne = [&](Estimator e, uint64_t photons, McResult& out) {
+        McSetup run = s;
+        run.estimator = e;
+        run.photons = std::max<uint64_t>(64, uint64_t(photons * scale));
+        double start = cpuSeconds();
+        out = runPhotonMc(run, context);
+        return cpuSeconds() - start;
+    };
+    // The cure front from a kernel fitted to the track-length run (the default estimator).
+    McResult track, implicitTrack, implicit, analog;
+    double cpuTrack = runOne(Estimator::Track, 3000000, track);
+    vpsim::kernel::BeamKernel k = vpsim::kernel::kernelFromMonteCarlo(track, 10.0);
+    std::vector<size_t> bins = cureFrontBins(s.bins, k.fit.we3d, k.fit.de3d);
+    double cpuImplicitTrack = runOne(Estimator::ImplicitTrack, 400000, implicitTrack);
+    double cpuImplicit = runOne(Estimator::Implicit, 400000, implicit);
+    double cpuAnalog = runOne(Estimator::Analog, 3000000, analog);
+
+    Figures fTrack = vpsimFigures(track, bins, cpuTrack, threads);
+    Figures fImplicitTrack = vpsimFigures(implicitTrack, bins, cpuImplicitTrack, threads);
+    Figures fImplicit = vpsimFigures(implicit, bins, cpuImplicit, threads);
+    Figures fAnalog = vpsimFigures(analog, bins, cpuAnalog, threads);
+    McSetup reference = s;
+    reference.photons = std::max<uint64_t>(64, uint64_t(150000 * scale));
+    Figures fMcml = mcmlFigures(reference, bins);
+
+    nlohmann::json j;
+    j["case"] = name;
+    j["mua_per_mm"] = optics.mua;
+    j["mus_per_mm"] = optics.mus;
+    j["g"] = optics.g;
+    j["backend"] = track.backend;
+    j["We3D_um"] = k.fit.we3d * 1e3;
+    j["De3D_um"] = k.fit.de3d * 1e3;
+    j["cure_front_bin_count"] = bins.size();
+    j["default_estimator"] = estimatorName(McSetup{}.estimator);
+    j["estimators"] = {{"track-length", fTrack.json()},
+                       {"implicit-track", fImplicitTrack.json()},
+                       {"implicit", fImplicit.json()},
+                       {"analog", fAnalog.json()}};
+    j["mcml_reference"] = fMcml.json();
+    j["mcml_reference_interactions_per_cpu_second"] =
+        fMcml.interactionsPerPhoton * fMcml.photons / fMcml.cpu;
+    j["fom_ratio_vs_analog"] = ratios(fTrack, fAnalog, true);
+    j["fom_ratio_vs_analog_implicit"] = ratios(fImplicit, fAnalog, true);
+    j["fom_ratio_vs_analog_implicit_track"] = ratios(fImplicitTrack, fAnalog, true);
+    j["fom_ratio_vs_mcml_reference"] = ratios(fTrack, fMcml, true);
+    j["fom_ratio_vs_mcml_reference_per_core"] = ratios(fTrack, fMcml, false);
+    j["fom_ratio_vs_mcml_reference_analog"] = ratios(fAnalog, fMcml, true);
+    // Same physics: each estimator's figures against the analog ones, in combined sigmas.
+    auto sigmas = [](const Stat& a, const Stat& b) {
+        return std::abs(a.mean - b.mean) / std::sqrt(a.variance + b.variance);
+    };
+    j["agreement_sigmas_track_vs_analog"] = {
+        {"diffuse_reflectance", sigmas(fTrack.rd, fAnalog.rd)},
+        {"absorbed_within_30um", sigmas(fTrack.within30, fAnalog.within30)},
+        {"absorbed_within_84um", sigmas(fTrack.within84, fAnalog.within84)}};
+    j["agreement_sigmas_mcml_vs_analog"] = {
+        {"diffuse_reflectance", sigmas(fMcml.rd, fAnalog.rd)},
+        {"absorbed_within_30um", sigmas(fMcml.within30, fAnalog.within30)},
+        {"absorbed_within_84um", sigmas(fMcml.within84, fAnalog.within84)}};
+    return j;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-    using namespace vpsim::transport;
-    const std::string material = argc > 1 ? argv[1] : "examples/materials/alumina-seed000.json";
-    const uint64_t photons = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 2000000;
-    nlohmann::json out{{"benchmark", "photon_mc"},
-                       {"material", material},
-                       {"cpu_cores", std::thread::hardware_concurrency()}};
+    const std::string backend = argc > 1 ? argv[1] : "auto";
+    const double scale = argc > 2 ? std::atof(argv[2]) : 1.0;
+    nlohmann::json out{{"benchmark", "photon_mc_efficiency"},
+                       {"cpu_cores", std::thread::hardware_concurrency()},
+                       {"load_average_start", loadAverage()}};
     try {
-        McSetup setup;
-        setup.optics = vpsim::optics::loadMediumOptics(material);
-        setup.beam = BeamShape::Gaussian;
-        setup.w0 = 0.05;
-        setup.photons = photons;
-        setup.seed = 7;
-        setup.bins = {0.3, 0.3, 60, 60};
-        out["mua_per_mm"] = setup.optics.mua;
-        out["mus_per_mm"] = setup.optics.mus;
-        out["g"] = setup.optics.g;
-        out["phase_table_size"] = setup.optics.inverseCdf.size();
-
-        McResult cpu = runPhotonMcCpu(setup);
-        out["cpu"] = figures(cpu);
-        try {
-            auto context = vpsim::gpu::Context::create();
-            McSetup warm = setup;
-            warm.photons = 20000;
-            runPhotonMcGpu(warm, context);  // pipeline creation and first-use costs
-            McResult gpu = runPhotonMcGpu(setup, context);
-            out["gpu"] = figures(gpu);
-            out["gpu_over_cpu"] = gpu.photonsPerSecond() / cpu.photonsPerSecond();
-            // Same random streams on both: the tallies are identical unless the device's
-            // log/sin/cos differ from the CPU's in the last bit somewhere along a trajectory.
-            bool identical = gpu.absorbedRZ == cpu.absorbedRZ;
-            for (int b = 0; b < MC_BATCHES; ++b)
-                identical = identical && gpu.batches[b].diffuse == cpu.batches[b].diffuse &&
-                            gpu.batches[b].scatterings == cpu.batches[b].scatterings;
-            out["cpu_gpu_tallies_identical"] = identical;
-            out["cpu_gpu_diffuse_reflectance_difference"] =
-                gpu.diffuse().value - cpu.diffuse().value;
-            out["diffuse_reflectance_stderr"] = cpu.diffuse().standardError;
-            out["target_photons_per_second"] = 300000;
-            out["gpu_over_target"] = gpu.photonsPerSecond() / 300000.0;
-            out["classic_single_thread_reference_photons_per_second"] = 55000;
-            out["gpu_over_classic_reference"] = gpu.photonsPerSecond() / 55000.0;
-        } catch (const vpsim::Error& e) {
-            out["gpu_error"] = e.what();
+        std::shared_ptr<vpsim::gpu::Context> context;
+        if (backend != "cpu") {
+            try {
+                context = vpsim::gpu::Context::create();
+            } catch (const vpsim::Error& e) {
+                if (backend == "vulkan") throw;
+                out["gpu_error"] = e.what();
+            }
         }
+        vpsim::optics::MediumOptics hg;
+        hg.mua = 8.4;
+        hg.mus = 303.0;
+        hg.g = 0.9;
+        hg.refractiveIndex = 1.0;
+        nlohmann::json slurryHg = runCase("slurry-like HG", hg, context, scale);
+        nlohmann::json seed000 =
+            runCase("seed-000 Mie slurry",
+                    vpsim::optics::loadMediumOptics("examples/materials/alumina-seed000.json"),
+                    context, scale);
+        out["cases"] = {slurryHg, seed000};
+        // The headline figures: the slurry-like case (the one MCML was measured on).
+        for (const char* key :
+             {"fom_ratio_vs_analog", "fom_ratio_vs_mcml_reference",
+              "fom_ratio_vs_mcml_reference_per_core", "mcml_reference_interactions_per_cpu_second"})
+            out[key] = slurryHg[key];
+        const double rate = slurryHg["mcml_reference_interactions_per_cpu_second"];
+        out["mcml_1_2_2_interactions_per_cpu_second"] = MCML_INTERACTIONS_PER_CPU_SECOND;
+        out["mcml_reference_over_mcml_1_2_2"] = rate / MCML_INTERACTIONS_PER_CPU_SECOND;
+        bool ok3 = true, ok08 = true, ok10 = true, band = true;
+        for (const auto& c : out["cases"]) {
+            const auto& va = c["fom_ratio_vs_analog"];
+            ok3 = ok3 && va["cure_front_bins"].get<double>() >= 3.0;
+            for (const auto& [k, v] : va.items()) ok08 = ok08 && v.get<double>() >= 0.8;
+            const auto& vm = c["fom_ratio_vs_mcml_reference"];
+            ok10 = ok10 && vm["diffuse_reflectance"].get<double>() >= 10.0 &&
+                   vm["cure_front_bins"].get<double>() >= 10.0;
+        }
+        band = std::abs(rate / MCML_INTERACTIONS_PER_CPU_SECOND - 1.0) <= 0.4;
+        out["targets"] = {{"default_vs_analog_cure_front_bins_at_least_3x", ok3},
+                          {"default_vs_analog_every_figure_at_least_0.8x", ok08},
+                          {"default_vs_mcml_reference_rd_and_cure_front_at_least_10x", ok10},
+                          {"mcml_reference_within_40_percent_of_mcml_1_2_2", band}};
     } catch (const vpsim::Error& e) {
         out["error"] = e.what();
         std::cout << out.dump(2) << std::endl;
         return 1;
     }
+    out["load_average_end"] = loadAverage();
     std::cout << out.dump(2) << std::endl;
     return 0;
 }

@@ -5,18 +5,29 @@
 // absorbed or scattered with an angle drawn from the phase function (Eq. 5, via its inverse CDF,
 // or Henyey-Greenstein).
 //
-// Absorption is ANALOG: at an interaction the whole photon is absorbed with probability mua/mut,
-// otherwise it scatters. Every photon therefore ends in exactly one tally with its full weight,
-// which makes the integer energy balance exact by construction and needs no Russian roulette
-// (which creates and destroys weight); in strongly scattering slurries (albedo ~0.97) it is also
-// ~10x cheaper per photon than implicit capture followed down to a small weight cut-off.
-// Fresnel reflection at the surfaces is analog too: the photon is reflected whole with
-// probability R(theta) (unpolarised Fresnel), else it leaves. The free path after a boundary
-// event is drawn afresh, which is exact because the exponential distribution is memoryless.
+// Weight is an integer number of quanta, so every tally is an exact integer sum.
+// - ANALOG: at an interaction the whole photon is absorbed with probability mua/mut, otherwise it
+//   scatters; it ends, whole, in exactly one tally.
+// - IMPLICIT and TRACK (implicit capture, as MCML): at every interaction the photon deposits
+//   floor(w mua/mut + u) quanta (u uniform in [0,1): unbiased stochastic rounding) and scatters.
+//   Below PhotonParams.rouletteWeight it plays Russian roulette: it survives with probability
+//   1/PHOTON_ROULETTE_GAIN carrying PHOTON_ROULETTE_GAIN times its weight, else it ends. The
+//   weight roulette creates and destroys is tallied too, so
+//     launched + rouletteGain = specular + diffuse + transmitted + absorbed + escaped + rouletteLoss
+//   holds exactly in integers, and gain - loss is zero in expectation (tested).
+//   TRACK tallies the (r,z) bins with the track-length estimator: every flight of weight w adds
+//   w mua l to each bin it crosses over a length l (mua times the weighted track length is the
+//   expected absorption there); the totals and the depth tallies stay the exact deposits.
+// Fresnel reflection at the surfaces is analog: the photon is reflected whole with probability
+// R(theta) (unpolarised Fresnel), else it leaves. The free path after a boundary event is drawn
+// afresh, which is exact because the exponential distribution is memoryless.
 //
-// Requires, before inclusion: glsl_common.glsl, rng.glsl, photon_types.glsl and a function
-// `float photonPhaseTable(int i)` returning entry i of the inverse CDF of cos(theta)
-// (entries at u = i/(n-1), +1 at u = 0 down to -1 at u = 1).
+// Requires, before inclusion: glsl_common.glsl, rng.glsl, photon_types.glsl (and on the GPU the
+// 64-bit integer extension), and the functions
+//   float photonPhaseTable(int i)   entry i of the inverse CDF of cos(theta) (entries at
+//                                    u = i/(n-1), +1 at u = 0 down to -1 at u = 1),
+//   void photonAddBin(uint batch, uint bin, uint64_t quanta)     adds to (r,z) bin iz*rBins+ir,
+//   void photonAddVoxel(uint voxel, uint64_t quanta)             adds to a Cartesian voxel.
 #ifndef VPSIM_PHOTON_STEP
 #define VPSIM_PHOTON_STEP
 
@@ -72,59 +83,29 @@ vec3 photonRotate(vec3 d, float cosT, float cosP, float sinP) {
     return normalize(n);  // keeps float round-off from drifting |d| over hundreds of scatterings
 }
 
-// Starts photon `index` at the surface heading straight down. Gaussian beam (Eq. 6): intensity
-// exp(-2 r^2 / W0^2), W0 the 1/e^2 intensity radius, so r^2 = -W0^2 ln(u) / 2 samples it exactly.
-void photonLaunch(PHOTON_PARAMS_IN p, uint index, VPSIM_OUT(PhotonState) s, VPSIM_OUT(RngState) rng) {
-    rng = rngSeed(p.seed, index);
+// Random stream of photon index hi * 2^32 + lo: below 2^32 the stream rngSeed(seed, lo), above
+// it a stream of a hashed seed (so budgets above 2^32 photons never reuse a stream).
+RngState photonStream(uint seed, uint lo, uint hi) {
+    return rngSeed(hi == 0u ? seed : rngHash(seed ^ rngHash(hi + 0x3C6EF372u)), lo);
+}
+
+// Starts photon index hi * 2^32 + lo at the surface heading straight down, carrying the
+// entering weight. Gaussian beam (Eq. 6): intensity exp(-2 r^2 / W0^2), W0 the 1/e^2 intensity
+// radius, so r^2 = -W0^2 ln(u) / 2 samples it exactly.
+void photonLaunch(PHOTON_PARAMS_IN p, uint lo, uint hi, VPSIM_OUT(PhotonState) s, VPSIM_OUT(RngState) rng) {
+    rng = photonStream(p.seed, lo, hi);
     s.pos = vec3(float(0), float(0), float(0));
     s.dir = vec3(float(0), float(0), float(1));
+    s.weight = p.enteringWeight;
+    s.pendingBin = -1;
+    s.pending = float(0);
+    s.above = vec4(float(0), float(0), float(0), float(0));
     if (p.beamShape == PHOTON_BEAM_GAUSSIAN) {
         float r = p.beamW0 * sqrt(float(-0.5) * log(rngUniform(rng)));
         float phi = PHOTON_TWO_PI * rngUniform(rng);
         s.pos.x = r * cos(phi);
         s.pos.y = r * sin(phi);
     }
-}
-
-// Advances a photon by one free path (or to the boundary it meets first) and returns the
-// PHOTON_EVENT_* that ended the step.
-int photonStep(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, VPSIM_INOUT(RngState) rng) {
-    float mut = p.mua + p.mus;
-    float path = mut > float(0) ? -log(rngUniform(rng)) / mut : PHOTON_FAR;
-    float toSurface = PHOTON_FAR;
-    if (s.dir.z < float(0)) toSurface = -s.pos.z / s.dir.z;
-    else if (s.dir.z > float(0) && p.thickness > float(0)) toSurface = (p.thickness - s.pos.z) / s.dir.z;
-
-    if (path >= toSurface) {
-        bool top = s.dir.z < float(0);
-        s.pos += s.dir * toSurface;
-        s.pos.z = top ? float(0) : p.thickness;
-        float reflectance = photonFresnel(p.nMedium, top ? p.nAbove : p.nBelow, abs(s.dir.z));
-        if (rngUniform(rng) <= reflectance) {
-            s.dir.z = -s.dir.z;
-            return PHOTON_EVENT_MOVED;
-        }
-        return top ? PHOTON_EVENT_REFLECTED : PHOTON_EVENT_TRANSMITTED;
-    }
-
-    s.pos += s.dir * path;
-    if (p.lateralRadius > float(0) && s.pos.x * s.pos.x + s.pos.y * s.pos.y > p.lateralRadius * p.lateralRadius)
-        return PHOTON_EVENT_ESCAPED;
-    if (rngUniform(rng) * mut <= p.mua) return PHOTON_EVENT_ABSORBED;
-
-    float u = rngUniform(rng);
-    float cosT = p.phaseModel == PHOTON_PHASE_TABLE ? photonTableCos(p.phaseTableSize, u) : photonHgCos(p.g, u);
-    float phi = PHOTON_TWO_PI * rngUniform(rng);
-    s.dir = photonRotate(s.dir, cosT, cos(phi), sin(phi));
-    return PHOTON_EVENT_SCATTERED;
-}
-
-// Index of the cylindrical tally bin holding pos ([iz * rBins + ir]), or -1 outside the grid.
-int photonRzBin(PHOTON_PARAMS_IN p, vec3 pos) {
-    float fr = sqrt(pos.x * pos.x + pos.y * pos.y) / p.rBinWidth;
-    float fz = pos.z / p.zBinWidth;
-    if (!(fr < float(p.rBins)) || !(fz < float(p.zBins)) || fz < float(0)) return -1;
-    return int(uint(fz) * p.rBins + uint(fr));
 }
 
 // Index of the Cartesian voxel holding pos ([(iz * nxy + iy) * nxy + ix]), or -1 outside it.
@@ -142,5 +123,249 @@ int photonGridVoxel(PHOTON_PARAMS_IN p, vec3 pos) {
     uint iz = min(uint(fz), p.gridNz - 1u);
     return int((iz * p.gridNxy + iy) * p.gridNxy + ix);
 }
+
+// Tallies of one invocation (or one CPU photon), in quanta; scatterings/interactions are counts.
+struct PhotonTally {
+    uint64_t specular;
+    uint64_t diffuse;
+    uint64_t transmitted;
+    uint64_t absorbed;
+    uint64_t escaped;
+    uint64_t scatterings;
+    uint64_t interactions;
+    uint64_t rouletteGain;
+    uint64_t rouletteLoss;
+    uint64_t within0;
+    uint64_t within1;
+    uint64_t within2;
+    uint64_t within3;
+    uint work;  // photon steps + bin crossings of this invocation (GPU budget), not a tally
+};
+
+void photonTallyClear(VPSIM_OUT(PhotonTally) t) {
+    t.specular = 0ul; t.diffuse = 0ul; t.transmitted = 0ul; t.absorbed = 0ul; t.escaped = 0ul;
+    t.scatterings = 0ul; t.interactions = 0ul; t.rouletteGain = 0ul; t.rouletteLoss = 0ul;
+    t.within0 = 0ul; t.within1 = 0ul; t.within2 = 0ul; t.within3 = 0ul;
+    t.work = 0u;
+}
+
+// Index of the cylindrical tally bin holding pos ([iz * rBins + ir]), or -1 outside the grid.
+int photonRzBin(PHOTON_PARAMS_IN p, vec3 pos) {
+    float fr = sqrt(pos.x * pos.x + pos.y * pos.y) / p.rBinWidth;
+    float fz = pos.z / p.zBinWidth;
+    if (!(fr < float(p.rBins)) || !(fz < float(p.zBins)) || fz < float(0)) return -1;
+    return int(uint(fz) * p.rBins + uint(fr));
+}
+
+// Track-length estimator: adds `amount` quanta to `bin` through a one-bin buffer, so that a photon
+// lingering in one bin costs one tally write, not one per flight. Flushing writes whole quanta and
+// carries the fraction (< 1 quantum) on to the photon's next bin, so nothing is lost but at most
+// one quantum per photon at its end. bin -1 (outside the grid) flushes and adds nothing.
+void photonPend(VPSIM_INOUT(PhotonState) s, uint batch, int bin, float amount) {
+    if (bin != s.pendingBin && s.pendingBin >= 0) {
+        float q = floor(s.pending);
+        if (q > float(0)) photonAddBin(batch, uint(s.pendingBin), uint64_t(q));
+        s.pending -= q;
+    }
+    s.pendingBin = bin;
+    if (bin >= 0) s.pending += amount;
+}
+
+// Splits the flight o + t dir, t in [0, len], at the faces of the (r,z) bins and adds
+// weight x mua x (length inside) to each bin. r^2(t) = c + 2 b t + a t^2 is smallest at
+// t = -b/a: before that the flight may cross the inner cylinder of its bin, after it only the
+// outer one. Bin indices are stepped face by face (never recomputed from rounded positions).
+// Returns the number of bin pieces visited.
+uint photonTrackBins(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, vec3 o, float len, uint batch) {
+    vec3 d = s.dir;
+    float scale = float(s.weight) * p.mua;
+    float a = d.x * d.x + d.y * d.y;
+    float b = o.x * d.x + o.y * d.y;
+    float c = o.x * o.x + o.y * o.y;
+    int nr = int(p.rBins), nz = int(p.zBins);
+    int ir = int(min(sqrt(c) / p.rBinWidth, float(nr)));  // nr: beyond the grid radially
+    int iz = int(min(max(o.z, float(0)) / p.zBinWidth, float(nz)));
+    bool radial = a > float(1.0e-12);
+    float invA = radial ? float(1) / a : float(0);
+    float invDz = d.z != float(0) ? float(1) / d.z : float(0);
+    float tTurn = radial ? -b * invA : PHOTON_FAR;
+    float t = float(0);
+    // The next z face and the next cylinder are recomputed only when their index steps: a
+    // crossing found before the turning point stays the next one until it is passed.
+    float tz = PHOTON_FAR, tr = PHOTON_FAR;
+    int stepR = 0;
+    bool newZ = true, newR = true;
+    for (int guard = 0; guard < 2 * (nr + nz) + 8; ++guard) {
+        if (newZ) {
+            tz = PHOTON_FAR;
+            if (d.z > float(0) && iz < nz) tz = (float(iz + 1) * p.zBinWidth - o.z) * invDz;
+            else if (d.z < float(0)) tz = (float(min(iz, nz)) * p.zBinWidth - o.z) * invDz;
+        }
+        if (newR) {
+            tr = PHOTON_FAR;
+            stepR = 0;
+            if (radial && t < tTurn && ir > 0) {  // heading inwards: the inner cylinder, if reached
+                float rr = float(ir) * p.rBinWidth;
+                float disc = b * b - a * (c - rr * rr);
+                if (disc >= float(0)) {
+                    tr = (-b - sqrt(disc)) * invA;
+                    stepR = -1;
+                }
+            }
+            if (radial && stepR == 0 && ir < nr) {  // the outer cylinder
+                float rr = float(ir + 1) * p.rBinWidth;
+                tr = (-b + sqrt(max(b * b - a * (c - rr * rr), float(0)))) * invA;
+                stepR = 1;
+            }
+        }
+        float next = max(min(min(tz, tr), len), t);
+        photonPend(s, batch, ir < nr && iz < nz ? iz * nr + ir : -1, scale * (next - t));
+        if (next >= len) return uint(guard + 1);
+        newZ = tz <= tr;
+        newR = !newZ;
+        if (newZ) iz += d.z > float(0) ? 1 : -1;
+        else ir += stepR;
+        t = next;
+        if (iz < 0 || (iz >= nz && d.z >= float(0)) || (ir >= nr && t >= tTurn)) return uint(guard + 1);
+    }
+    return uint(2 * (nr + nz) + 8);
+}
+
+// Whether the (r,z) bins are track-length estimates.
+bool photonTracks(PHOTON_PARAMS_IN p) {
+    uint e = p.estimator & 255u;
+    return e == PHOTON_ESTIMATOR_TRACK || e == PHOTON_ESTIMATOR_IMPLICIT_TRACK;
+}
+
+// Whether the depth tallies are track-length estimates (implicit capture only: with analog
+// transport the 0/1 absorption point has less variance over thick layers than mua x path
+// length, whose spread is that of an exponential; bench_photon_mc measured 0.14-0.44x).
+bool photonTracksDepths(PHOTON_PARAMS_IN p) {
+    return (p.estimator & 255u) == PHOTON_ESTIMATOR_IMPLICIT_TRACK;
+}
+
+// Flushes the track-length buffers at the end of a photon (carried fractions are dropped).
+void photonFlush(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, uint batch, VPSIM_INOUT(PhotonTally) t) {
+    if (!photonTracks(p)) return;
+    photonPend(s, batch, -1, float(0));
+    if (!photonTracksDepths(p)) return;
+    t.within0 += uint64_t(floor(s.above.x + float(0.5)));
+    t.within1 += uint64_t(floor(s.above.y + float(0.5)));
+    t.within2 += uint64_t(floor(s.above.z + float(0.5)));
+    t.within3 += uint64_t(floor(s.above.w + float(0.5)));
+}
+
+// Length of the flight z0 -> z1 (of length len) that lies above depth d.
+float photonLengthAbove(float z0, float z1, float len, float d) {
+    float lo = min(z0, z1), hi = max(z0, z1);
+    if (hi <= d) return len;
+    if (lo >= d) return float(0);
+    return len * (d - lo) / (hi - lo);
+}
+
+// Track-length depth tallies: weight x mua x (flight length above each depth), kept per photon
+// in float and added as whole quanta when it ends (rounding: < 1 quantum per photon and depth).
+void photonTrackDepths(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, float z0, float len) {
+    float scale = float(s.weight) * p.mua;
+    s.above.x += scale * photonLengthAbove(z0, s.pos.z, len, p.depth0);
+    s.above.y += scale * photonLengthAbove(z0, s.pos.z, len, p.depth1);
+    s.above.z += scale * photonLengthAbove(z0, s.pos.z, len, p.depth2);
+    s.above.w += scale * photonLengthAbove(z0, s.pos.z, len, p.depth3);
+}
+
+// Deposits q quanta at the photon's position: the absorbed total, the depth tallies, the
+// Cartesian grid and (except for the track-length estimator) the (r,z) bins.
+void photonDeposit(PHOTON_PARAMS_IN p, vec3 pos, uint q, uint batch, VPSIM_INOUT(PhotonTally) t) {
+    uint64_t w = uint64_t(q);
+    t.absorbed += w;
+    if (!photonTracksDepths(p)) {
+        if (pos.z < p.depth0) t.within0 += w;
+        if (pos.z < p.depth1) t.within1 += w;
+        if (pos.z < p.depth2) t.within2 += w;
+        if (pos.z < p.depth3) t.within3 += w;
+    }
+    if (!photonTracks(p)) {
+        int bin = photonRzBin(p, pos);
+        if (bin >= 0) photonAddBin(batch, uint(bin), w);
+    }
+    int voxel = photonGridVoxel(p, pos);
+    if (voxel >= 0) photonAddVoxel(uint(voxel), w);
+}
+
+// Advances a photon by one free path (or to the boundary it meets first), tallies what happened
+// and returns whether the photon is still alive.
+bool photonAdvance(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, VPSIM_INOUT(RngState) rng, uint batch,
+                   VPSIM_INOUT(PhotonTally) t) {
+    uint estimator = p.estimator & 255u;
+    float mut = p.mua + p.mus;
+    float path = mut > float(0) ? -log(rngUniform(rng)) / mut : PHOTON_FAR;
+    float toSurface = PHOTON_FAR;
+    if (s.dir.z < float(0)) toSurface = -s.pos.z / s.dir.z;
+    else if (s.dir.z > float(0) && p.thickness > float(0)) toSurface = (p.thickness - s.pos.z) / s.dir.z;
+    bool boundary = path >= toSurface;
+    vec3 start = s.pos;
+    float flight = boundary ? toSurface : path;
+    s.pos += s.dir * flight;
+    t.work += 1u;
+    if (photonTracks(p)) {
+        t.work += photonTrackBins(p, s, start, flight, batch);
+        if (photonTracksDepths(p)) photonTrackDepths(p, s, start.z, flight);
+    }
+
+    if (boundary) {
+        bool top = s.dir.z < float(0);
+        s.pos.z = top ? float(0) : p.thickness;
+        float reflectance = photonFresnel(p.nMedium, top ? p.nAbove : p.nBelow, abs(s.dir.z));
+        if (rngUniform(rng) <= reflectance) {
+            s.dir.z = -s.dir.z;
+            return true;
+        }
+        if (top) t.diffuse += uint64_t(s.weight);
+        else t.transmitted += uint64_t(s.weight);
+        photonFlush(p, s, batch, t);
+        return false;
+    }
+
+    t.interactions += 1ul;
+    if (p.lateralRadius > float(0) && s.pos.x * s.pos.x + s.pos.y * s.pos.y > p.lateralRadius * p.lateralRadius) {
+        t.escaped += uint64_t(s.weight);
+        photonFlush(p, s, batch, t);
+        return false;
+    }
+    bool analog = estimator == PHOTON_ESTIMATOR_ANALOG || estimator == PHOTON_ESTIMATOR_TRACK;
+    if (analog) {
+        if (rngUniform(rng) * mut <= p.mua) {
+            photonDeposit(p, s.pos, s.weight, batch, t);
+            photonFlush(p, s, batch, t);
+            return false;
+        }
+    } else {
+        // Stochastic rounding keeps the deposit unbiased at any weight; w * mua/mut is exact
+        // enough in float because w < 2^25.
+        float share = floor(float(s.weight) * (p.mua / mut) + (float(1) - rngUniform(rng)));
+        uint q = min(uint(share), s.weight);
+        if (q > 0u) photonDeposit(p, s.pos, q, batch, t);
+        s.weight -= q;
+    }
+
+    float u = rngUniform(rng);
+    float cosT = p.phaseModel == PHOTON_PHASE_TABLE ? photonTableCos(p.phaseTableSize, u) : photonHgCos(p.g, u);
+    float phi = PHOTON_TWO_PI * rngUniform(rng);
+    s.dir = photonRotate(s.dir, cosT, cos(phi), sin(phi));
+    t.scatterings += 1ul;
+
+    if (!analog && s.weight < p.rouletteWeight) {
+        if (s.weight > 0u && rngUniform(rng) * float(PHOTON_ROULETTE_GAIN) <= float(1)) {
+            t.rouletteGain += uint64_t(s.weight) * uint64_t(PHOTON_ROULETTE_GAIN - 1u);
+            s.weight *= PHOTON_ROULETTE_GAIN;
+        } else {
+            t.rouletteLoss += uint64_t(s.weight);
+            photonFlush(p, s, batch, t);
+            return false;
+        }
+    }
+    return true;
+}
+
 
 #endif

@@ -20,10 +20,41 @@ const int PHOTON_EVENT_REFLECTED = 3;    // left through the top surface z = 0 (
 const int PHOTON_EVENT_TRANSMITTED = 4;  // left through the bottom surface z = thickness
 const int PHOTON_EVENT_ESCAPED = 5;      // interacted outside the lateral radius (left sideways)
 
+// Estimators (low byte of PhotonParams.estimator).
+// ANALOG: a photon is absorbed whole at an interaction with probability mua/mut; the (r,z) bins
+//   and the depth tallies count absorption points.
+// IMPLICIT: implicit capture (at every interaction the fraction mua/mut of the weight is deposited
+//   and the photon always scatters) with Russian roulette below PhotonParams.rouletteWeight; bins
+//   and depth tallies count the deposits (collision estimator).
+// IMPLICIT_TRACK: the same transport; bins and depth tallies by the track-length estimator
+//   (mua x weight x path length inside each bin, or above each depth).
+// TRACK: analog transport (cheap photons), bins by the track-length estimator, depth tallies by
+//   the absorption points (as ANALOG).
+const uint PHOTON_ESTIMATOR_ANALOG = 0u;
+const uint PHOTON_ESTIMATOR_IMPLICIT = 1u;
+const uint PHOTON_ESTIMATOR_IMPLICIT_TRACK = 2u;
+const uint PHOTON_ESTIMATOR_TRACK = 3u;
+// PhotonParams.estimator flag: the (r,z) bins are kept per batch (PHOTON_BATCHES copies).
+const uint PHOTON_FLAG_BATCH_BINS = 256u;
+// PhotonParams.estimator flag (GPU): continue the photons suspended by the previous dispatch.
+const uint PHOTON_FLAG_RESUME = 512u;
+// Work (photon steps plus bin crossings) one GPU invocation does per dispatch before it saves its
+// photon and stops: lavapipe silently ends a shader after 65535 loop iterations (gallivm's loop
+// limiter), which lost the photons of very turbid media (issue 14: mus = 1e7/cm).
+const uint PHOTON_WORK_BUDGET = 30000u;
+// Resume buffer: word 0 counts the invocations suspended by the last dispatch; invocation i's
+// photon state is at PHOTON_RESUME_HEADER + i * PHOTON_RESUME_SLOT.
+const uint PHOTON_RESUME_HEADER = 4u;
+const uint PHOTON_RESUME_SLOT = 20u;
+const uint PHOTON_RESUME_DONE = 4294967295u;  // slot word 0 of an invocation with nothing left
+// Russian roulette: a photon below the threshold survives with probability 1/PHOTON_ROULETTE_GAIN
+// and then carries PHOTON_ROULETTE_GAIN times its weight (MCML's CHANCE = 0.1).
+const uint PHOTON_ROULETTE_GAIN = 10u;
+
 // Layout of the tally buffer (uint64 words): PHOTON_BATCHES batches of PHOTON_TALLY_STRIDE
 // counters, then the absorbed weight in rBins x zBins cylindrical bins (index iz * rBins + ir).
 // Photon i belongs to batch i % PHOTON_BATCHES; the batches give the standard errors.
-const uint PHOTON_BATCHES = 16u;
+const uint PHOTON_BATCHES = 64u;
 const uint PHOTON_TALLY_SPECULAR = 0u;
 const uint PHOTON_TALLY_DIFFUSE = 1u;
 const uint PHOTON_TALLY_TRANSMITTED = 2u;
@@ -31,15 +62,18 @@ const uint PHOTON_TALLY_ABSORBED = 3u;
 const uint PHOTON_TALLY_ESCAPED = 4u;
 const uint PHOTON_TALLY_SCATTERINGS = 5u;   // a count of scattering events, not weight
 const uint PHOTON_TALLY_WITHIN = 6u;        // 4 counters: weight absorbed above depth0..depth3
+const uint PHOTON_TALLY_INTERACTIONS = 10u; // a count of interactions (absorptions included)
+const uint PHOTON_TALLY_ROULETTE_GAIN = 11u;  // weight created by roulette survivors
+const uint PHOTON_TALLY_ROULETTE_LOSS = 12u;  // weight of photons ended by roulette
 const uint PHOTON_MAX_DEPTHS = 4u;
-const uint PHOTON_TALLY_STRIDE = 10u;
-const uint PHOTON_BIN_OFFSET = 160u;        // PHOTON_BATCHES * PHOTON_TALLY_STRIDE
+const uint PHOTON_TALLY_STRIDE = 13u;
+const uint PHOTON_BIN_OFFSET = 832u;        // PHOTON_BATCHES * PHOTON_TALLY_STRIDE
 
 // Everything one dispatch needs; lengths in mm, coefficients in 1/mm.
 struct PhotonParams {
-    uint seed;              // run seed; photon i draws from rngSeed(seed, i)
-    uint photonStart;       // first photon index of this dispatch
-    uint photonEnd;         // one past the last photon index of this dispatch
+    uint seed;              // run seed; photon i draws from photonStream(seed, i)
+    uint photonStart;       // first photon index of this dispatch (low 32 bits)
+    uint photonCount;       // photons of this dispatch
     uint invocationStride;  // invocations of this dispatch (a multiple of PHOTON_BATCHES)
     uint beamShape;         // PHOTON_BEAM_*
     float beamW0;           // Gaussian beam 1/e^2 intensity radius
@@ -66,15 +100,19 @@ struct PhotonParams {
     float depth1;
     float depth2;
     float depth3;
-    uint depthCount;        // how many of depth0..3 are used
-    uint reserved0;
-    uint reserved1;
+    uint rouletteWeight;    // quanta below which implicit-capture photons play roulette
+    uint photonStartHi;     // high 32 bits of the first photon index (budgets above 2^32)
+    uint estimator;         // PHOTON_ESTIMATOR_* | PHOTON_FLAG_*
 };
 
 // One photon in flight (never stored in a buffer).
 struct PhotonState {
-    vec3 pos;  // mm, z = 0 at the top surface, +z into the medium
-    vec3 dir;  // unit direction
+    vec3 pos;        // mm, z = 0 at the top surface, +z into the medium
+    vec3 dir;        // unit direction
+    uint weight;     // quanta the photon carries (implicit capture lowers it at interactions)
+    int pendingBin;  // track-length estimator: bin of the not yet flushed deposit, -1 = none
+    float pending;   // quanta pending for pendingBin (or the carried fraction of a quantum)
+    vec4 above;      // track-length depth tallies of this photon (quanta above depth0..3)
 };
 
 #endif

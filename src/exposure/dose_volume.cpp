@@ -8,6 +8,7 @@
 #include <openvdb/tools/Dense.h>
 #include <openvdb/tools/VolumeToMesh.h>
 
+#include "core/vdb_file.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
 
@@ -40,7 +41,7 @@ struct DoseVolume::Impl {
 DoseVolume::DoseVolume(const ExposureGrid& grid, double voxelHeight, double zBottom,
                        float threshold, const std::string& name)
     : mImpl(std::make_unique<Impl>()) {
-    openvdb::initialize();
+    vdb::initialise();
     mImpl->grid = openvdb::FloatGrid::create(0.0f);
     mImpl->grid->setName(name);
     mImpl->grid->setGridClass(openvdb::GRID_FOG_VOLUME);
@@ -82,15 +83,7 @@ void DoseVolume::add(const ExposureSlice& slice) {
 
 void DoseVolume::write(const std::string& path) const {
     mImpl->flush();
-    writePathAtomic(path, [&](const std::string& temporary) {
-        try {
-            openvdb::io::File file(temporary);
-            file.write({mImpl->grid});
-            file.close();
-        } catch (const openvdb::Exception& e) {
-            throw InputError(std::string("cannot write OpenVDB file: ") + e.what(), path);
-        }
-    });
+    vdb::writeGrids(path, {mImpl->grid});
 }
 
 uint64_t DoseVolume::activeVoxels() const {

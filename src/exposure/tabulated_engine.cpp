@@ -18,11 +18,14 @@
 namespace vpsim::exposure {
 namespace {
 
-constexpr double DEPTH_CUTOFF =
-    1e-3;  ///< on-axis intensity relative to its maximum where stencils stop
-constexpr double RADIUS_CUTOFF =
-    0.01;                      ///< intensity relative to the axis at Reff (seed 000's Reff)
-constexpr int SUBSAMPLES = 4;  ///< per cell side: the cell average matters near the axis
+/// Truncation: each stencil keeps all but this fraction of its depth plane's power (radius
+/// Reff(d)), and the stencils stop where all but this fraction of the power summed over the
+/// slice depths is inside, so about 1 - 2 x 0.002 of the kernel's energy is kept (>= 99.5%,
+/// measured by keptEnergyFraction()).
+constexpr double RADIAL_ENERGY_LOSS = 0.002;
+constexpr double DEPTH_ENERGY_LOSS = 0.002;
+constexpr int RADIAL_STEPS_PER_BIN = 8;  ///< radial integration steps per table bin
+constexpr int SUBSAMPLES = 4;            ///< per cell side: the cell average matters near the axis
 
 /// The kernel's table with its extents (lookups through kernel::BeamKernel::sample: bilinear
 /// between bin centres, nearest at the edges, 0 outside).
@@ -58,39 +61,45 @@ void validateKernel(const kernel::BeamKernel& k) {
     if (!any) throw InputError("beam kernel table is all zero: no usable intensity");
 }
 
-/// Depth below which no stencil is needed: the on-axis intensity has fallen below DEPTH_CUTOFF of
-/// its maximum (or the table ends), mm.
-double cutoffDepth(const kernel::BeamKernel& k) {
-    float peak = 0;
-    for (uint32_t iz = 0; iz < k.zBins; ++iz)
-        peak = std::max(peak, k.intensity[size_t(iz) * k.rBins]);
-    if (peak <= 0) return k.zBin * k.zBins;  // no on-axis signal (noise): keep the whole table
-    uint32_t last = 0;
-    for (uint32_t iz = 0; iz < k.zBins; ++iz)
-        if (k.intensity[size_t(iz) * k.rBins] >= DEPTH_CUTOFF * peak) last = iz;
-    return std::min(double(last + 1) * k.zBin, double(k.zBins) * k.zBin);
+/// Power through the plane at `depth` inside radius r, 2 pi int_0^r I r' dr' (mW), on a fine
+/// radial grid out to the table's radius: cumulative[i] is the power inside i steps of `step`.
+std::vector<double> radialPower(const KernelTable& table, double depth, double step) {
+    const int steps = int(std::ceil(table.radialExtent() / step));
+    std::vector<double> cumulative(size_t(steps) + 1, 0.0);
+    for (int i = 0; i < steps; ++i) {
+        const double r = (i + 0.5) * step;  // midpoint rule on rings
+        cumulative[size_t(i) + 1] =
+            cumulative[size_t(i)] + 2 * 3.14159265358979323846 * r * step * table.sample(r, depth);
+    }
+    return cumulative;
 }
 
-/// Reff(d): the largest r where I(r, d) >= RADIUS_CUTOFF I(0, d), linearly interpolated to the
-/// crossing; the outermost crossing, so Monte Carlo noise can only widen the stencil. Where the
-/// axis bin is empty (noise) the reference is the largest intensity at that depth.
-double effectiveRadius(const KernelTable& table, double depth, double rBin) {
-    const double step = rBin / 4, extent = table.radialExtent();
-    double reference = table.sample(0, depth);
-    if (reference <= 0)
-        for (double r = 0; r <= extent; r += step)
-            reference = std::max(reference, table.sample(r, depth));
-    if (reference <= 0) return 0;
-    const double threshold = RADIUS_CUTOFF * reference;
-    double radius = 0;
-    for (double r = 0; r <= extent; r += step) {
-        double v = table.sample(r, depth);
-        if (v < threshold) continue;
-        double next = table.sample(r + step, depth);
-        radius =
-            next < threshold ? r + step * (v - threshold) / std::max(v - next, 1e-300) : r + step;
+/// Reff(d): the smallest radius holding all but RADIAL_ENERGY_LOSS of the plane's power,
+/// interpolated inside the step where the cumulative power crosses it.
+double effectiveRadius(const std::vector<double>& cumulative, double step) {
+    const double total = cumulative.back();
+    if (!(total > 0)) return 0;
+    const double target = (1 - RADIAL_ENERGY_LOSS) * total;
+    for (size_t i = 1; i < cumulative.size(); ++i)
+        if (cumulative[i] >= target) {
+            const double f =
+                (target - cumulative[i - 1]) / std::max(cumulative[i] - cumulative[i - 1], 1e-300);
+            return (double(i - 1) + f) * step;
+        }
+    return (cumulative.size() - 1) * step;
+}
+
+/// Stencil count: the first depths holding all but DEPTH_ENERGY_LOSS of the power summed over
+/// the slice depths (planePower[m] at depth (m + 0.5) dz); at least one.
+int stencilCount(const std::vector<double>& planePower) {
+    double total = 0;
+    for (double p : planePower) total += p;
+    double sum = 0;
+    for (size_t m = 0; m < planePower.size(); ++m) {
+        sum += planePower[m];
+        if (sum >= (1 - DEPTH_ENERGY_LOSS) * total) return int(m) + 1;
     }
-    return std::min(radius, extent);
+    return std::max<int>(1, int(planePower.size()));
 }
 
 /// Non-zero columns [first, last] of each deposit row (first > last for an empty row), so the
@@ -137,9 +146,18 @@ void TabulatedExposureEngine::buildStencils(const kernel::BeamKernel& kernel) {
     const KernelTable table(kernel);
     const int n = mGrid.slicesPerLayer;
     const double dz = mLayerThickness / n, pitch = mGrid.pitch;
-    // Slice centres (m + 0.5) dz above the cutoff depth get a stencil; always at least one.
-    const double cutoff = cutoffDepth(kernel);
-    const int depthCount = std::max(1, int(std::ceil(cutoff / dz - 0.5)));
+    // Every slice centre (m + 0.5) dz inside the table is a candidate; the energy of each plane
+    // decides the stencil count and each stencil's radius.
+    const double step = kernel.rBin / RADIAL_STEPS_PER_BIN;
+    const int candidates = std::max(1, int(std::ceil(table.depthExtent() / dz - 0.5)));
+    std::vector<double> planePower(candidates);
+    std::vector<double> radii(candidates);
+    tbb::parallel_for(0, candidates, [&](int m) {
+        const std::vector<double> cumulative = radialPower(table, (m + 0.5) * dz, step);
+        planePower[m] = cumulative.back();
+        radii[m] = effectiveRadius(cumulative, step);
+    });
+    const int depthCount = stencilCount(planePower);
     mLayersInFlight = (depthCount + n - 1) / n;
 
     // Size everything before allocating: the radii fix the stencil sizes.
@@ -148,7 +166,7 @@ void TabulatedExposureEngine::buildStencils(const kernel::BeamKernel& kernel) {
     for (int m = 0; m < depthCount; ++m) {
         DepthStencil& st = mStencils[m];
         st.depth = (m + 0.5) * dz;
-        st.radius = effectiveRadius(table, st.depth, kernel.rBin);
+        st.radius = radii[m];
         // A cell at offset di holds sub-samples down to (|di| - 0.5) pitch from the axis.
         const double halfWidth = std::ceil(st.radius / pitch + 0.5);
         stencilBytes += std::pow(2.0 * halfWidth + 1, 2) * sizeof(float);
@@ -188,6 +206,13 @@ void TabulatedExposureEngine::buildStencils(const kernel::BeamKernel& kernel) {
                     st.rowHalfWidth[dj + H] = std::max(st.rowHalfWidth[dj + H], std::abs(di));
             }
     });
+    // Kept energy: the stencils' weights (each sums to the power inside Reff / P) against the
+    // power through every slice plane inside the table, untruncated.
+    double kept = 0, full = 0;
+    for (const DepthStencil& st : mStencils)
+        for (float w : st.weights) kept += w;
+    for (double p : planePower) full += p / kernel.power;
+    mKeptEnergyFraction = full > 0 ? kept / full : 1.0;
 }
 
 void TabulatedExposureEngine::beginLayers(int layers) {

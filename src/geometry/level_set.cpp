@@ -11,6 +11,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "core/vdb_file.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
 #include "vpsim/core/log.h"
@@ -40,11 +41,6 @@ private:
     Progress& mProgress;
     std::atomic<int> mLast{0};
 };
-
-void initialiseOpenVdb() {
-    static std::once_flag once;
-    std::call_once(once, [] { openvdb::initialize(); });
-}
 
 }  // namespace
 
@@ -78,7 +74,7 @@ LevelSet LevelSet::fromMesh(const Mesh& mesh, const LevelSetOptions& options) {
                             formatBytes(bytes) + " (limit " + formatBytes(options.maxBytes) +
                             "): use a larger voxel size");
     }
-    initialiseOpenVdb();
+    vdb::initialise();
     std::vector<openvdb::Vec3s> points;
     points.reserve(mesh.vertices.size());
     for (const auto& v : mesh.vertices) points.emplace_back(float(v.x), float(v.y), float(v.z));
@@ -99,7 +95,7 @@ LevelSet LevelSet::fromMesh(const Mesh& mesh, const LevelSetOptions& options) {
 }
 
 LevelSet LevelSet::load(const std::string& path) {
-    initialiseOpenVdb();
+    vdb::initialise();
     try {
         openvdb::io::File file(path);
         file.open();
@@ -167,15 +163,7 @@ Bounds LevelSet::activeBounds() const {
 }
 
 void LevelSet::save(const std::string& path) const {
-    writePathAtomic(path, [&](const std::string& temp) {
-        try {
-            openvdb::io::File file(temp);
-            file.write({mImpl->grid});
-            file.close();
-        } catch (const openvdb::Exception& e) {
-            throw InputError(std::string("cannot write VDB: ") + e.what(), path);
-        }
-    });
+    vdb::writeGrids(path, {mImpl->grid});
 }
 
 }  // namespace vpsim::geometry

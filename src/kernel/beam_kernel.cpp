@@ -69,6 +69,12 @@ nlohmann::json BeamKernel::toJson() const {
     j["amplitude_mW_per_mm2"] = fit.amplitude;
     j["residual"] = fit.residual;
     j["fit_depth_start_um"] = fit.fitDepthStart * UM;
+    // Both Eq. 12 fits and the energy each carries (fraction of the table's absorbed power).
+    j["engine_fit"] = "least-squares";
+    j["fit_energy_fraction"] = fit.energyFraction;
+    j["energy_conserving_amplitude_mW_per_mm2"] = energyFit.amplitude;
+    j["energy_conserving_residual"] = energyFit.residual;
+    j["table_absorbed_fraction"] = tableAbsorbedFraction;
     j["r_bin_um"] = rBin * UM;
     j["z_bin_um"] = zBin * UM;
     j["r_bins"] = rBins;
@@ -141,6 +147,7 @@ BeamKernel BeamKernel::fromJson(const nlohmann::json& j, const std::string& file
     if (k.depthAmplitude.size() != k.zBins || k.depthRadius.size() != k.zBins)
         throw InputError("depth profiles need one value per depth slice", file,
                          "depth_amplitude_mW_per_mm2");
+    if (k.fit.we3d > 0 && k.fit.de3d > 0 && k.mua > 0) computeFitEnergies(k);  // derived fields
     return k;
 }
 

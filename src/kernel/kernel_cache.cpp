@@ -35,7 +35,11 @@ std::string cacheKey(const KernelRequest& r) {
         {"r_max", s.bins.rMax},
         {"z_max", s.bins.zMax},
         {"bins", {s.bins.rBins, s.bins.zBins}},
-        {"version", 2}};
+        {"estimator", transport::estimatorName(s.estimator)},
+        {"roulette_threshold", s.rouletteThreshold},
+        // 3: sub-bin zmax (0 when Ie(0,z) falls from the surface), fit energies, track-length
+        // estimator by default (issue 14).
+        {"version", 3}};
     char name[64];
     std::snprintf(name, sizeof name, "kernel-%016llx.json", (unsigned long long)fnv1a(key.dump()));
     return name;
@@ -60,7 +64,8 @@ KernelRequest kernelRequest(const std::string& materialFile, double power, doubl
     return request;
 }
 
-BeamKernel cachedKernel(const KernelRequest& request, const RunContext& context, bool& fromCache) {
+BeamKernel cachedKernel(const KernelRequest& request, const RunContext& context, bool& fromCache,
+                        transport::McResult* monteCarlo) {
     if (!(request.setup.optics.mua > 0))
         throw InputError("the beam kernel needs an absorbing material (mua > 0)",
                          request.materialFile, "mua");
@@ -78,6 +83,7 @@ BeamKernel cachedKernel(const KernelRequest& request, const RunContext& context,
     }
     transport::McResult mc = transport::runPhotonMc(request.setup, context.gpu);
     BeamKernel beam = kernelFromMonteCarlo(mc, request.power);
+    if (monteCarlo) *monteCarlo = mc;
     if (path.empty()) return beam;
     try {
         createDirectories(dir);

@@ -19,9 +19,11 @@ namespace {
 /// dominated by photon noise and by the non-Gaussian scattering halo.
 constexpr double SIGNAL_FRACTION = 0.05;
 
+constexpr double PI = 3.14159265358979323846;
+
 double ringVolume(const BeamKernel& k, uint32_t ir) {
     double r0 = ir * k.rBin, r1 = (ir + 1) * k.rBin;
-    return 3.14159265358979323846 * (r1 * r1 - r0 * r0) * k.zBin;
+    return PI * (r1 * r1 - r0 * r0) * k.zBin;
 }
 
 double rCentre(const BeamKernel& k, uint32_t ir) {
@@ -57,33 +59,75 @@ bool fitSlice(const BeamKernel& k, uint32_t iz, double& amplitude, double& radiu
     return true;
 }
 
-/// Depth of the largest slice amplitude. A single slice is noisy and the sub-surface maximum is
-/// shallow (a few % over a few um in seed 000's slurry), so the vertex of a least-squares parabola
-/// through the slices within +-2 of the largest is used, kept inside that window and below z = 0.
+/// Depth of the largest Ie(0, z), resolved below the bin size. When the first slice is the
+/// largest, the bin-averaged intensity falls from the surface and no sub-surface maximum is
+/// resolved: zmax is exactly 0 (seed 000's Eq. 14 then uses the whole layer). Otherwise log
+/// Ie(0, z) over the slices within 2 of the largest is fitted by a least-squares parabola (exact
+/// for a Gaussian-like peak; bin averaging does not move the vertex of a parabola) and zmax is its
+/// vertex, kept inside the fitted window; the centre of the largest slice when the fit is
+/// degenerate (not concave, or fewer than 3 usable slices).
 double depthOfMaximum(const BeamKernel& k) {
     const auto& a = k.depthAmplitude;
     const int n = int(a.size());
     const int top = int(std::max_element(a.begin(), a.end()) - a.begin());
+    if (top == 0) return 0.0;
     const int lo = std::max(0, top - 2), hi = std::min(n - 1, top + 2);
     Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
     Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
     int used = 0;
     for (int i = lo; i <= hi; ++i) {
         if (!(a[size_t(i)] > 0)) continue;
-        Eigen::Vector3d x(1.0, i + 0.5, (i + 0.5) * (i + 0.5));
+        const double z = i + 0.5 - top;  // in bins, centred for conditioning
+        Eigen::Vector3d x(1.0, z, z * z);
         normal += x * x.transpose();
-        rhs += a[size_t(i)] * x;
+        rhs += std::log(a[size_t(i)]) * x;
         ++used;
     }
     double centre = top + 0.5;
     if (used >= 3) {
-        Eigen::Vector3d c = normal.ldlt().solve(rhs);
-        if (c[2] < 0) centre = std::clamp(-c[1] / (2 * c[2]), std::max(0.0, lo + 0.0), hi + 1.0);
+        const Eigen::Vector3d c = normal.ldlt().solve(rhs);
+        if (c.allFinite() && c[2] < 0)
+            centre = std::clamp(top - c[1] / (2 * c[2]), double(lo), hi + 1.0);
     }
     return centre * k.zBin;
 }
 
+/// Power (mW) the Eq. 12 model absorbs over the table's region: mua A (pi We^2 / 2)
+/// (1 - exp(-2 R^2 / We^2)) De (1 - exp(-Z / De)), from the closed-form integrals.
+double modelPower(const BeamKernel& k, const KernelFit& f) {
+    const double rMax = k.rBin * k.rBins, zMax = k.zBin * k.zBins;
+    const double radial =
+        0.5 * PI * f.we3d * f.we3d * -std::expm1(-2 * rMax * rMax / (f.we3d * f.we3d));
+    const double depth = f.de3d * -std::expm1(-zMax / f.de3d);
+    return k.mua * f.amplitude * radial * depth;
+}
+
 }  // namespace
+
+/// Energy carried by the fit, and the energy-conserving variant with its residual.
+void computeFitEnergies(BeamKernel& k) {
+    double table = 0;
+    for (uint32_t iz = 0; iz < k.zBins; ++iz)
+        for (uint32_t ir = 0; ir < k.rBins; ++ir)
+            table += double(k.intensity[size_t(iz) * k.rBins + ir]) * ringVolume(k, ir);
+    table *= k.mua;  // mW
+    k.tableAbsorbedFraction = k.power > 0 ? table / k.power : 0.0;
+    k.fit.energyFraction = table > 0 ? modelPower(k, k.fit) / table : 0.0;
+    k.energyFit = k.fit;
+    k.energyFit.energyFraction = 1.0;
+    if (k.fit.energyFraction > 0) k.energyFit.amplitude = k.fit.amplitude / k.fit.energyFraction;
+    const uint32_t first = std::min(uint32_t(k.fit.fitDepthStart / k.zBin), k.zBins - 1);
+    double misfit = 0, norm = 0;
+    const double scale = k.energyFit.amplitude / k.fit.amplitude;
+    for (uint32_t iz = first; iz < k.zBins; ++iz)
+        for (uint32_t ir = 0; ir < k.rBins; ++ir) {
+            double value = k.intensity[size_t(iz) * k.rBins + ir];
+            double model = scale * k.fitted(rCentre(k, ir), zCentre(k, iz));
+            misfit += ringVolume(k, ir) * (value - model) * (value - model);
+            norm += ringVolume(k, ir) * value * value;
+        }
+    k.energyFit.residual = norm > 0 ? std::sqrt(misfit / norm) : 0.0;
+}
 
 void fitKernel(BeamKernel& k) {
     if (k.rBins == 0 || k.zBins == 0 || k.intensity.size() != size_t(k.rBins) * k.zBins)
@@ -139,6 +183,7 @@ void fitKernel(BeamKernel& k) {
             norm += v * value * value;
         }
     k.fit.residual = norm > 0 ? std::sqrt(misfit / norm) : 0.0;
+    computeFitEnergies(k);
 }
 
 }  // namespace vpsim::kernel

@@ -2,6 +2,7 @@
 
 #include "vpsim/core/checks.h"
 #include "vpsim/core/config.h"
+#include "vpsim/transport/photon_mc.h"
 
 namespace vpsim::kernel {
 
@@ -11,8 +12,8 @@ KernelSpec kernelSpecFromConfig(const ConfigNode& kernel) {
         kernel.choice("source", {"monte-carlo", "given"}, std::string("monte-carlo"));
     if (source == "monte-carlo") {
         long long photons = kernel.integer("photons", 300000);
-        if (photons < 1000 || photons > 4000000000LL)
-            throw kernel.error("photons", "expected 1000 .. 4e9");
+        if (photons < 1000 || uint64_t(photons) > transport::MAX_PHOTONS)
+            throw kernel.error("photons", "expected 1000 .. 1e12");
         spec.photons = uint64_t(photons);
         spec.seed = uint32_t(kernel.integer("seed", 1));
         spec.tabulated =

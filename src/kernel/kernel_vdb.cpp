@@ -4,6 +4,7 @@
 
 #include <openvdb/openvdb.h>
 
+#include "core/vdb_file.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
 #include "vpsim/kernel/beam_kernel.h"
@@ -53,16 +54,12 @@ void writeKernelVdb(const std::string& path, const BeamKernel& k) {
         throw ResourceError("beam kernel grid of " + std::to_string(uint64_t(voxels)) +
                             " voxels (" + formatBytes(voxels * 4) + ") refused: at most " +
                             std::to_string(uint64_t(MAX_VOXELS)) + "; use fewer or coarser bins");
-    openvdb::initialize();
+    vdb::initialise();
     openvdb::GridPtrVec grids{
         revolve(k, "intensity", [&k](double r, double z) { return k.sample(r, z); }),
         revolve(k, "intensity_no_scattering",
                 [&k](double r, double z) { return k.beerLambert(r, z); })};
-    writePathAtomic(path, [&](const std::string& temp) {
-        openvdb::io::File file(temp);
-        file.write(grids);
-        file.close();
-    });
+    vdb::writeGrids(path, grids);
 }
 
 }  // namespace vpsim::kernel

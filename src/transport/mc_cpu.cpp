@@ -17,10 +17,20 @@
 
 namespace vpsim::glsl {
 #include "rng.glsl"
-// The phase table of the run in progress on this thread (set by each task before tracing).
+// The phase table and tallies of the run in progress on this thread (set by each task before
+// tracing): the hooks photon_step.glsl calls.
 thread_local const float* tPhaseTable = nullptr;
+thread_local uint64_t* tBins = nullptr;  // (r,z) bins, batch-major when kept per batch
+thread_local uint64_t* tVoxels = nullptr;
+thread_local uint32_t tBatchStride = 0;  // bins per batch copy; 0 = one shared copy
 inline float photonPhaseTable(int i) {
     return tPhaseTable[i];
+}
+inline void photonAddBin(uint batch, uint bin, uint64_t quanta) {
+    tBins[size_t(batch) * tBatchStride + bin] += quanta;
+}
+inline void photonAddVoxel(uint voxel, uint64_t quanta) {
+    tVoxels[voxel] += quanta;
 }
 #include "photon_step.glsl"
 }  // namespace vpsim::glsl
@@ -36,38 +46,29 @@ struct LocalTally {
     LocalTally(size_t rzBins, size_t voxels) : rz(rzBins, 0), grid(voxels, 0) {}
 };
 
-void tracePhoton(const glsl::PhotonParams& p, uint32_t index, LocalTally& t) {
+void tracePhoton(const glsl::PhotonParams& p, uint64_t index, LocalTally& t) {
     glsl::PhotonState s;
     glsl::RngState rng;
-    glsl::photonLaunch(p, index, s, rng);
-    BatchTally& b = t.batches[index % MC_BATCHES];
-    const uint64_t weight = p.enteringWeight;
+    glsl::photonLaunch(p, uint32_t(index), uint32_t(index >> 32), s, rng);
+    const uint32_t batch = uint32_t(index % MC_BATCHES);
+    glsl::PhotonTally pt;
+    glsl::photonTallyClear(pt);
+    while (glsl::photonAdvance(p, s, rng, batch, pt)) {}
+    BatchTally& b = t.batches[batch];
     b.photons += 1;
     b.specular += p.launchWeight - p.enteringWeight;
-    for (;;) {
-        int event = glsl::photonStep(p, s, rng);
-        if (event == glsl::PHOTON_EVENT_MOVED) continue;
-        if (event == glsl::PHOTON_EVENT_SCATTERED) {
-            b.scatterings += 1;
-            continue;
-        }
-        switch (event) {
-            case glsl::PHOTON_EVENT_REFLECTED: b.diffuse += weight; break;
-            case glsl::PHOTON_EVENT_TRANSMITTED: b.transmitted += weight; break;
-            case glsl::PHOTON_EVENT_ESCAPED: b.escaped += weight; break;
-            default: {
-                b.absorbed += weight;
-                const float depth[4] = {p.depth0, p.depth1, p.depth2, p.depth3};
-                for (int k = 0; k < 4; ++k)
-                    if (s.pos.z < depth[k]) b.absorbedWithin[k] += weight;
-                int bin = glsl::photonRzBin(p, s.pos);
-                if (bin >= 0) t.rz[size_t(bin)] += weight;
-                int voxel = glsl::photonGridVoxel(p, s.pos);
-                if (voxel >= 0) t.grid[size_t(voxel)] += weight;
-            }
-        }
-        return;
-    }
+    b.diffuse += pt.diffuse;
+    b.transmitted += pt.transmitted;
+    b.absorbed += pt.absorbed;
+    b.escaped += pt.escaped;
+    b.scatterings += pt.scatterings;
+    b.interactions += pt.interactions;
+    b.rouletteGain += pt.rouletteGain;
+    b.rouletteLoss += pt.rouletteLoss;
+    b.absorbedWithin[0] += pt.within0;
+    b.absorbedWithin[1] += pt.within1;
+    b.absorbedWithin[2] += pt.within2;
+    b.absorbedWithin[3] += pt.within3;
 }
 
 }  // namespace
@@ -77,10 +78,11 @@ McResult runPhotonMcCpu(const McSetup& setup, int threads) {
     const glsl::PhotonParams params = makePhotonParams(setup);
     const std::vector<float> table = makePhaseTable(setup);
     const size_t rzBins = size_t(setup.bins.rBins) * setup.bins.zBins;
+    const size_t rzWords = setup.binsPerBatch ? rzBins * MC_BATCHES : rzBins;
     const size_t voxels = size_t(params.gridNxy) * params.gridNxy * params.gridNz;
 
     auto start = std::chrono::steady_clock::now();
-    tbb::enumerable_thread_specific<LocalTally> locals([&] { return LocalTally(rzBins, voxels); });
+    tbb::enumerable_thread_specific<LocalTally> locals([&] { return LocalTally(rzWords, voxels); });
     Progress progress("photon Monte Carlo (CPU)", setup.photons);
     // More threads than cores would only make TBB warn: clamp.
     const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
@@ -91,8 +93,11 @@ McResult runPhotonMcCpu(const McSetup& setup, int threads) {
                           [&](const tbb::blocked_range<uint64_t>& range) {
                               glsl::tPhaseTable = table.data();
                               LocalTally& local = locals.local();
+                              glsl::tBins = local.rz.data();
+                              glsl::tVoxels = local.grid.data();
+                              glsl::tBatchStride = setup.binsPerBatch ? uint32_t(rzBins) : 0u;
                               for (uint64_t i = range.begin(); i != range.end(); ++i)
-                                  tracePhoton(params, uint32_t(i), local);
+                                  tracePhoton(params, setup.firstPhoton + i, local);
                               progress.advance(range.size());
                           });
     });
@@ -101,13 +106,14 @@ McResult runPhotonMcCpu(const McSetup& setup, int threads) {
     McResult result;
     result.setup = setup;
     result.launchWeight = params.launchWeight;
-    result.absorbedRZ.assign(rzBins, 0);
+    std::vector<uint64_t> rz(rzWords, 0);
     result.absorbedGrid.assign(voxels, 0);
     for (const LocalTally& local : locals) {
         for (int b = 0; b < MC_BATCHES; ++b) result.batches[size_t(b)] += local.batches[size_t(b)];
-        for (size_t i = 0; i < rzBins; ++i) result.absorbedRZ[i] += local.rz[i];
+        for (size_t i = 0; i < rzWords; ++i) rz[i] += local.rz[i];
         for (size_t i = 0; i < voxels; ++i) result.absorbedGrid[i] += local.grid[i];
     }
+    setBins(result, std::move(rz));
     result.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     result.backend = "cpu (" + std::to_string(threads) + " threads)";

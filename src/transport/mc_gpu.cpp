@@ -45,7 +45,8 @@ McResult runPhotonMcGpu(const McSetup& setup, const std::shared_ptr<gpu::Context
     std::vector<float> table = makePhaseTable(setup);
     const uint64_t rzBins = uint64_t(setup.bins.rBins) * setup.bins.zBins;
     const uint64_t voxels = uint64_t(params.gridNxy) * params.gridNxy * params.gridNz;
-    const uint64_t tallyWords = glsl::PHOTON_BIN_OFFSET + rzBins;
+    const uint64_t rzWords = setup.binsPerBatch ? rzBins * MC_BATCHES : rzBins;
+    const uint64_t tallyWords = glsl::PHOTON_BIN_OFFSET + rzWords;
     for (uint64_t bytes : {tallyWords * 8, voxels * 8})
         if (bytes > info.maxStorageBufferRange)
             throw ResourceError("photon Monte Carlo tally of " + formatBytes(double(bytes)) +
@@ -55,7 +56,7 @@ McResult runPhotonMcGpu(const McSetup& setup, const std::shared_ptr<gpu::Context
 
     auto start = std::chrono::steady_clock::now();
     const uint32_t capacity = uint32_t(std::max<size_t>(table.size(), 1));
-    gpu::Kernel kernel(context, photon_mc_spv, sizeof photon_mc_spv, 3, sizeof(glsl::PhotonParams),
+    gpu::Kernel kernel(context, photon_mc_spv, sizeof photon_mc_spv, 4, sizeof(glsl::PhotonParams),
                        {gpu::SpecConstant{0, capacity}}, LOCAL_SIZE);
     gpu::Buffer tallies(context, tallyWords * 8);
     tallies.fill(0);
@@ -63,16 +64,33 @@ McResult runPhotonMcGpu(const McSetup& setup, const std::shared_ptr<gpu::Context
     if (!table.empty()) tableBuffer.upload(table);
     gpu::Buffer grid(context, std::max<uint64_t>(voxels, 1) * 8);
     grid.fill(0);
+    // Photon states of invocations that ran out of their per-dispatch work budget.
+    gpu::Buffer resume(context, (glsl::PHOTON_RESUME_HEADER +
+                                 uint64_t(MAX_INVOCATIONS) * glsl::PHOTON_RESUME_SLOT) *
+                                    sizeof(uint32_t));
+    resume.fill(0);
 
     Progress progress("photon Monte Carlo (GPU)", setup.photons);
     for (uint64_t first = 0; first < setup.photons; first += PHOTONS_PER_SUBMIT) {
         uint64_t count = std::min(PHOTONS_PER_SUBMIT, setup.photons - first);
-        params.photonStart = uint32_t(first);
-        params.photonEnd = uint32_t(first + count);
+        const uint64_t index = setup.firstPhoton + first;
+        params.photonStart = uint32_t(index);
+        params.photonStartHi = uint32_t(index >> 32);
+        params.photonCount = uint32_t(count);
         params.invocationStride = invocationsFor(count);
-        context->submit([&](gpu::Recorder& r) {
-            r.dispatch1D(kernel, {&tallies, &tableBuffer, &grid}, &params, params.invocationStride);
-        });
+        // Dispatch until no invocation is left suspended (one dispatch in ordinary media).
+        const uint32_t flags = params.estimator & ~glsl::PHOTON_FLAG_RESUME;
+        for (uint32_t suspended = 1, pass = 0; suspended > 0; ++pass) {
+            params.estimator = flags | (pass > 0 ? glsl::PHOTON_FLAG_RESUME : 0u);
+            context->submit([&](gpu::Recorder& r) {
+                r.dispatch1D(kernel, {&tallies, &tableBuffer, &grid, &resume}, &params,
+                             params.invocationStride);
+            });
+            resume.download(&suspended, sizeof suspended);
+            const uint32_t zero = 0;
+            if (suspended > 0) resume.upload(&zero, sizeof zero);
+        }
+        params.estimator = flags;
         progress.advance(count);
     }
     progress.finish();
@@ -84,16 +102,19 @@ McResult runPhotonMcGpu(const McSetup& setup, const std::shared_ptr<gpu::Context
     for (int b = 0; b < MC_BATCHES; ++b) {
         const uint64_t* w = words.data() + size_t(b) * glsl::PHOTON_TALLY_STRIDE;
         BatchTally& t = result.batches[size_t(b)];
-        t.photons = photonsInBatch(setup.photons, b);
+        t.photons = photonsInBatch(setup.firstPhoton, setup.photons, b);
         t.specular = w[glsl::PHOTON_TALLY_SPECULAR];
         t.diffuse = w[glsl::PHOTON_TALLY_DIFFUSE];
         t.transmitted = w[glsl::PHOTON_TALLY_TRANSMITTED];
         t.absorbed = w[glsl::PHOTON_TALLY_ABSORBED];
         t.escaped = w[glsl::PHOTON_TALLY_ESCAPED];
         t.scatterings = w[glsl::PHOTON_TALLY_SCATTERINGS];
+        t.interactions = w[glsl::PHOTON_TALLY_INTERACTIONS];
+        t.rouletteGain = w[glsl::PHOTON_TALLY_ROULETTE_GAIN];
+        t.rouletteLoss = w[glsl::PHOTON_TALLY_ROULETTE_LOSS];
         for (size_t k = 0; k < 4; ++k) t.absorbedWithin[k] = w[glsl::PHOTON_TALLY_WITHIN + k];
     }
-    result.absorbedRZ.assign(words.begin() + glsl::PHOTON_BIN_OFFSET, words.end());
+    setBins(result, std::vector<uint64_t>(words.begin() + glsl::PHOTON_BIN_OFFSET, words.end()));
     if (voxels > 0) result.absorbedGrid = grid.download<uint64_t>(voxels);
     result.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -29,6 +29,25 @@ std::string text(double v) {
 
 }  // namespace
 
+const char* estimatorName(Estimator e) {
+    switch (e) {
+        case Estimator::Analog: return "analog";
+        case Estimator::Implicit: return "implicit";
+        case Estimator::ImplicitTrack: return "implicit-track";
+        case Estimator::Track: return "track-length";
+    }
+    return "track-length";
+}
+
+Estimator parseEstimator(const std::string& text, const std::string& key) {
+    for (Estimator e :
+         {Estimator::Analog, Estimator::Implicit, Estimator::ImplicitTrack, Estimator::Track})
+        if (text == estimatorName(e)) return e;
+    throw InputError(
+        "estimator must be analog, implicit, implicit-track or track-length, got '" + text + "'",
+        "", key);
+}
+
 void validateSetup(const McSetup& s) {
     const auto& o = s.optics;
     require(finite(o.mua) && o.mua >= 0, "mua",
@@ -53,6 +72,8 @@ void validateSetup(const McSetup& s) {
     require(s.photons >= 1 && s.photons <= MAX_PHOTONS, "photons",
             "photon count must be between 1 and " + std::to_string(MAX_PHOTONS) + ", got " +
                 std::to_string(s.photons));
+    require(s.firstPhoton <= MAX_PHOTONS, "first_photon",
+            "first photon index must be at most " + std::to_string(MAX_PHOTONS));
     if (o.phase == optics::PhaseModel::Tabulated) {
         require(o.inverseCdf.size() >= 2, "phase",
                 "tabulated phase function needs >= 2 inverse-CDF entries");
@@ -75,6 +96,13 @@ void validateSetup(const McSetup& s) {
                                 " voxels (" + formatBytes(double(voxels) * 8) +
                                 ") refused: use 1.." + std::to_string(MAX_GRID_VOXELS) + " voxels");
     }
+    require(finite(s.rouletteThreshold) && s.rouletteThreshold > 0 && s.rouletteThreshold <= 0.1,
+            "roulette_threshold",
+            "roulette threshold must lie in (0, 0.1] of the launched weight, got " +
+                text(s.rouletteThreshold));
+    require(!s.binsPerBatch || uint64_t(b.rBins) * b.zBins * MC_BATCHES <= MAX_RZ_BINS, "bins",
+            "per-batch cylindrical tallies need at most " +
+                std::to_string(MAX_RZ_BINS / MC_BATCHES) + " bins");
     require(s.depths.size() <= 4, "depths",
             "at most 4 depths, got " + std::to_string(s.depths.size()));
     for (double d : s.depths)
@@ -85,7 +113,8 @@ glsl::PhotonParams makePhotonParams(const McSetup& s) {
     glsl::PhotonParams p{};
     p.seed = s.seed;
     p.photonStart = 0;
-    p.photonEnd = uint32_t(s.photons);
+    p.photonCount = uint32_t(std::min<uint64_t>(s.photons, 0xffffffffu));
+    p.photonStartHi = 0;
     p.invocationStride = 1;
     p.beamShape =
         s.beam == BeamShape::Gaussian ? glsl::PHOTON_BEAM_GAUSSIAN : glsl::PHOTON_BEAM_PENCIL;
@@ -120,7 +149,15 @@ glsl::PhotonParams makePhotonParams(const McSetup& s) {
     p.depth1 = depth[1];
     p.depth2 = depth[2];
     p.depth3 = depth[3];
-    p.depthCount = uint32_t(s.depths.size());
+    switch (s.estimator) {
+        case Estimator::Analog: p.estimator = glsl::PHOTON_ESTIMATOR_ANALOG; break;
+        case Estimator::Implicit: p.estimator = glsl::PHOTON_ESTIMATOR_IMPLICIT; break;
+        case Estimator::ImplicitTrack: p.estimator = glsl::PHOTON_ESTIMATOR_IMPLICIT_TRACK; break;
+        case Estimator::Track: p.estimator = glsl::PHOTON_ESTIMATOR_TRACK; break;
+    }
+    if (s.binsPerBatch) p.estimator |= glsl::PHOTON_FLAG_BATCH_BINS;
+    // At least 1 quantum: a photon of weight 0 must end.
+    p.rouletteWeight = std::max(1u, uint32_t(std::llround(s.rouletteThreshold * LAUNCH_WEIGHT)));
     return p;
 }
 
@@ -139,8 +176,24 @@ std::vector<float> makePhaseTable(const McSetup& s) {
     return out;
 }
 
-uint64_t photonsInBatch(uint64_t photons, int batch) {
-    return photons / MC_BATCHES + (uint64_t(batch) < photons % MC_BATCHES ? 1 : 0);
+uint64_t photonsInBatch(uint64_t first, uint64_t photons, int batch) {
+    // Indices i < n with i % B == b number ceil((n - b) / B).
+    auto below = [batch](uint64_t n) {
+        return n > uint64_t(batch) ? (n - uint64_t(batch) + MC_BATCHES - 1) / MC_BATCHES : 0;
+    };
+    return below(first + photons) - below(first);
+}
+
+void setBins(McResult& result, std::vector<uint64_t> words) {
+    if (!result.setup.binsPerBatch) {
+        result.absorbedRZ = std::move(words);
+        return;
+    }
+    const size_t bins = words.size() / MC_BATCHES;
+    result.absorbedRZ.assign(bins, 0);
+    for (size_t b = 0; b < size_t(MC_BATCHES); ++b)
+        for (size_t i = 0; i < bins; ++i) result.absorbedRZ[i] += words[b * bins + i];
+    result.absorbedRZBatches = std::move(words);
 }
 
 // ---------------------------------------------------------------------------------- McResult
@@ -201,6 +254,31 @@ Fraction McResult::absorbedWithin(size_t k) const {
     return batchFraction(*this, [k](const BatchTally& b) { return b.absorbedWithin[k]; });
 }
 
+Fraction McResult::rouletteNet() const {
+    // Signed: (gain - loss) per batch through doubles (each is exact below 2^53 quanta per batch).
+    Fraction f;
+    const double launchedAll = double(launched());
+    if (launchedAll <= 0) return f;
+    BatchTally t = total();
+    f.value = (double(t.rouletteGain) - double(t.rouletteLoss)) / launchedAll;
+    double squares = 0;
+    int used = 0;
+    for (const auto& b : batches) {
+        if (b.photons == 0) continue;
+        double fb =
+            (double(b.rouletteGain) - double(b.rouletteLoss)) / double(b.photons * launchWeight);
+        squares += (fb - f.value) * (fb - f.value);
+        ++used;
+    }
+    if (used > 1) f.standardError = std::sqrt(squares / (double(used) * (used - 1)));
+    return f;
+}
+
+double McResult::interactionsPerPhoton() const {
+    BatchTally t = total();
+    return t.photons ? double(t.interactions) / double(t.photons) : 0.0;
+}
+
 double McResult::scatteringsPerPhoton() const {
     BatchTally t = total();
     return t.photons ? double(t.scatterings) / double(t.photons) : 0.0;
@@ -212,8 +290,8 @@ double McResult::photonsPerSecond() const {
 
 bool McResult::energyBalanced() const {
     BatchTally t = total();
-    return t.photons * launchWeight ==
-           t.specular + t.diffuse + t.transmitted + t.absorbed + t.escaped;
+    return t.photons * launchWeight + t.rouletteGain ==
+           t.specular + t.diffuse + t.transmitted + t.absorbed + t.escaped + t.rouletteLoss;
 }
 
 nlohmann::json McResult::summaryJson() const {
@@ -228,7 +306,13 @@ nlohmann::json McResult::summaryJson() const {
     put("transmittance", transmitted());
     put("absorbed", absorbed());
     if (setup.lateralRadius > 0) put("escaped", escaped());
+    j["estimator"] = estimatorName(setup.estimator);
+    if (setup.estimator == Estimator::Implicit || setup.estimator == Estimator::ImplicitTrack) {
+        j["roulette_threshold"] = setup.rouletteThreshold;
+        put("roulette_net", rouletteNet());
+    }
     j["scatterings_per_photon"] = scatteringsPerPhoton();
+    j["interactions_per_photon"] = interactionsPerPhoton();
     j["photons_per_second"] = photonsPerSecond();
     j["seconds"] = seconds;
     j["backend"] = backend;

@@ -1,7 +1,6 @@
 // Saves the Cartesian absorption tally as an OpenVDB grid (OpenVDB headers only here).
 
-#include <openvdb/openvdb.h>
-
+#include "core/vdb_file.h"
 #include "photon_params.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
@@ -13,7 +12,7 @@ void writeAbsorptionVdb(const std::string& path, const McResult& result) {
     const uint64_t voxels = uint64_t(g.nxy) * g.nxy * g.nz;
     if (g.nxy == 0 || result.absorbedGrid.size() != voxels)
         throw InputError("the Monte Carlo run has no Cartesian absorption grid to save", path);
-    openvdb::initialize();
+    vdb::initialise();
     auto grid = openvdb::FloatGrid::create(0.0f);
     grid->setName("absorbed_fraction");
     grid->setGridClass(openvdb::GRID_FOG_VOLUME);
@@ -34,11 +33,7 @@ void writeAbsorptionVdb(const std::string& path, const McResult& result) {
                     access.setValue(openvdb::Coord(int(ix) - half, int(iy) - half, int(iz)),
                                     float(q * scale));
             }
-    writePathAtomic(path, [&](const std::string& temp) {
-        openvdb::io::File file(temp);
-        file.write({grid});
-        file.close();
-    });
+    vdb::writeGrids(path, {grid});
 }
 
 }  // namespace vpsim::transport

@@ -15,6 +15,7 @@ namespace vpsim::transport {
 
 // The push-constant block is 32 four-byte scalars: the 128 bytes every Vulkan device accepts.
 static_assert(sizeof(glsl::PhotonParams) == 128, "PhotonParams must stay 32 x 4 bytes");
+static_assert(MC_BATCHES == int(glsl::PHOTON_BATCHES), "one batch count on both sides");
 
 /// Weight quanta of one launched photon (2^24: specular split resolved to 6e-8).
 constexpr uint32_t LAUNCH_WEIGHT = 1u << 24;
@@ -30,7 +31,10 @@ glsl::PhotonParams makePhotonParams(const McSetup& setup);
 /// The inverse CDF as the shaders read it (resampled to MAX_PHASE_TABLE entries when longer);
 /// empty for Henyey-Greenstein.
 std::vector<float> makePhaseTable(const McSetup& setup);
-/// Photons of batch b among photon indices [0, photons).
-uint64_t photonsInBatch(uint64_t photons, int batch);
+/// Photons of batch b (index % MC_BATCHES == b) among photon indices [first, first + photons).
+uint64_t photonsInBatch(uint64_t first, uint64_t photons, int batch);
+/// Stores the (r,z) tally words of a run: one copy, or MC_BATCHES copies when
+/// result.setup.binsPerBatch (then absorbedRZ is their sum).
+void setBins(McResult& result, std::vector<uint64_t> words);
 
 }  // namespace vpsim::transport

@@ -59,4 +59,30 @@ inline kernel::BeamKernel tableKernel(double power, double rBin, uint32_t rBins,
     return k;
 }
 
+/// Exposure is linear in the plan: doubling every power doubles it, and two plans run together
+/// give the sum of each run alone. Checks every `stride`-th cell of every slice of `layers`
+/// random layers within [-extent, extent]^2. Tolerance: float rounding, 1e-5 relative.
+inline void requireSuperposition(exposure::ExposureModel& engine, int layers, double extent,
+                                 size_t stride) {
+    const double h = engine.layerThickness();
+    plan::ScanPlan a = randomPlan(layers, h, 11, extent), b = randomPlan(layers, h, 12, extent),
+                   sum = a, doubled = a;
+    for (int k = 0; k < layers; ++k) {
+        for (const auto& v : b.layers[k].vectors) sum.layers[k].vectors.push_back(v);
+        for (const auto& p : b.layers[k].points) sum.layers[k].points.push_back(p);
+        for (auto& v : doubled.layers[k].vectors) v.power *= 2;
+        for (auto& p : doubled.layers[k].points) p.energy *= 2;
+    }
+    auto ea = exposeAll(engine, a), eb = exposeAll(engine, b), es = exposeAll(engine, sum),
+         ed = exposeAll(engine, doubled);
+    for (int k = 0; k < layers; ++k)
+        for (size_t s = 0; s < ea[k].size(); ++s)
+            for (size_t c = 0; c < ea[k][s].values.size(); c += stride) {
+                CHECK(es[k][s].values[c] ==
+                      Approx(ea[k][s].values[c] + eb[k][s].values[c]).epsilon(1e-5).margin(1e-7));
+                CHECK(ed[k][s].values[c] ==
+                      Approx(2 * ea[k][s].values[c]).epsilon(1e-5).margin(1e-7));
+            }
+}
+
 }  // namespace vpsim::test

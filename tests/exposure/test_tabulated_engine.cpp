@@ -11,6 +11,7 @@
 #include "vpsim/core/error.h"
 #include "vpsim/exposure/exposure_engine.h"
 #include "vpsim/exposure/tabulated_engine.h"
+#include "vpsim/transport/photon_mc.h"
 
 using namespace vpsim;
 using namespace vpsim::exposure;
@@ -98,10 +99,10 @@ TEST_CASE("a separable table reproduces the fitted exposure engine", "[exposure]
 // A point of energy Q at depth index m puts Q x (power through the plane at d_m) / P into slice m.
 // The kernel is non-separable (W(z) = 50 um (1 + z / 0.2 mm), sub-surface maximum, 80% entering):
 // I = 0.8 (2P / (pi W(z)^2)) g(z) exp(-2 r^2 / W(z)^2), g = (1 + z / 10 um) exp(-z / 50 um), whose
-// plane integral is 2 pi int r I dr = 0.8 P g(z); a Gaussian cut where it falls to 1% keeps exactly
-// 99% of it. The table ends at 0.3 mm, so slices deeper than that must get nothing. Tolerance
-// 0.5%: table interpolation ((1 um / W)^2 and (2.5 um / 50 um)^2 / 8, < 1e-3) and the sub-sampled
-// disk edge, where I is 1% of the axis value.
+// plane integral is 2 pi int r I dr = 0.8 P g(z); each stencil is cut at the radius holding 99.8%
+// of it. The table ends at 0.3 mm, so slices deeper than that must get nothing. Tolerance
+// 0.5%: table interpolation ((1 um / W)^2 and (2.5 um / 50 um)^2 / 8, < 1e-3), the sub-sampled
+// disk edge and the Gaussian beyond the table's 250 um (< 3e-4).
 TEST_CASE("each slice receives the kernel's power through its depth plane",
           "[exposure][tabulated]") {
     const double P = 10.0, W0 = 0.05, h = 0.05, Q = 0.02, pitch = 0.01;
@@ -115,6 +116,10 @@ TEST_CASE("each slice receives the kernel's power through its depth plane",
     TabulatedExposureEngine engine(centredGrid(30, pitch, n), k, h);
     REQUIRE(engine.stencils().size() ==
             12);  // slice centres (m + 0.5) 25 um inside the 300 um table
+    // Issue 14: the truncation keeps at least 99.5% of the kernel's energy (radial cut 0.2%, the
+    // deepest slices all kept here).
+    CHECK(engine.keptEnergyFraction() >= 0.995);
+    CHECK(engine.keptEnergyFraction() <= 1.0005);
     auto slices = test::exposeAll(engine, pointPlan(layers, layers - 1, h, Q));
     for (int kk = 0; kk < layers; ++kk)
         for (int s = 0; s < n; ++s) {
@@ -123,36 +128,17 @@ TEST_CASE("each slice receives the kernel's power through its depth plane",
             const double energy = slices[kk][s].totalEnergy();
             INFO("layer " << kk << " slice " << s << " depth " << d);
             if (m < 12)
-                CHECK(energy == Approx(Q * 0.99 * 0.8 * g(d)).epsilon(0.005));
+                CHECK(energy == Approx(Q * 0.998 * 0.8 * g(d)).epsilon(0.005));
             else
                 CHECK(energy == 0.0);  // beyond the table (and a reused, cleared accumulator)
         }
 }
 
-// Exposure is linear in the plan: doubling every power doubles it, two plans together give the sum
-// of each alone. Tolerance: float rounding of the accumulation, 1e-5 relative.
+// Exposure is linear in the plan (test::requireSuperposition).
 TEST_CASE("tabulated exposure obeys superposition and linearity", "[exposure][tabulated]") {
-    const double h = 0.05;
-    plan::ScanPlan a = test::randomPlan(4, h, 11, 0.2), b = test::randomPlan(4, h, 12, 0.2),
-                   sum = a, doubled = a;
-    for (int k = 0; k < 4; ++k) {
-        for (const auto& v : b.layers[k].vectors) sum.layers[k].vectors.push_back(v);
-        for (const auto& p : b.layers[k].points) sum.layers[k].points.push_back(p);
-        for (auto& v : doubled.layers[k].vectors) v.power *= 2;
-        for (auto& p : doubled.layers[k].points) p.energy *= 2;
-    }
     ExposureGrid grid = ExposureGrid::covering(-0.2, -0.2, 0.2, 0.2, 0.1, 0.01, 2);
-    TabulatedExposureEngine engine(grid, separableKernel(10.0, 0.05, 0.05, 0.4), h);
-    auto ea = test::exposeAll(engine, a), eb = test::exposeAll(engine, b);
-    auto es = test::exposeAll(engine, sum), ed = test::exposeAll(engine, doubled);
-    for (int k = 0; k < 4; ++k)
-        for (int s = 0; s < 2; ++s)
-            for (size_t c = 0; c < ea[k][s].values.size(); c += 7) {
-                CHECK(es[k][s].values[c] ==
-                      Approx(ea[k][s].values[c] + eb[k][s].values[c]).epsilon(1e-5).margin(1e-7));
-                CHECK(ed[k][s].values[c] ==
-                      Approx(2 * ea[k][s].values[c]).epsilon(1e-5).margin(1e-7));
-            }
+    TabulatedExposureEngine engine(grid, separableKernel(10.0, 0.05, 0.05, 0.4), 0.05);
+    test::requireSuperposition(engine, 4, 0.2, 7);
 }
 
 // A point in the top layer prints through to the layers below: with a separable kernel the axis
@@ -250,4 +236,23 @@ TEST_CASE("GPU and CPU tabulated exposure agree", "[exposure][tabulated][gpu]") 
                 REQUIRE(eg[layer][s].values[c] ==
                         Approx(ec[layer][s].values[c]).epsilon(1e-5).margin(1e-7));
     VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
+}
+
+// Issue 14: on seed 000's Monte Carlo kernel (the default job's: W0 50 um, 50 um layers, 5 slices,
+// 10 um pitch) the truncated stencils keep at least 99.5% of the kernel's energy. 100k photons,
+// track-length estimator: the halo's photon noise only widens the stencils.
+TEST_CASE("the tabulated truncation keeps 99.5% of a Monte Carlo kernel's energy",
+          "[exposure][tabulated]") {
+    transport::McSetup s = kernel::kernelSetup(
+        optics::loadMediumOptics(VPSIM_SOURCE_DIR "/examples/materials/alumina-seed000.json"),
+        0.05);
+    s.photons = 100000;
+    s.seed = 1;
+    kernel::BeamKernel k = kernel::kernelFromMonteCarlo(transport::runPhotonMcCpu(s), 10.0);
+    TabulatedExposureEngine engine(centredGrid(30, 0.01, 5), k, 0.05);
+    WARN("kept energy fraction " << engine.keptEnergyFraction() << " with "
+                                 << engine.stencils().size() << " depth stencils, Reff(0) "
+                                 << engine.stencils().front().radius * 1e3 << " um");
+    CHECK(engine.keptEnergyFraction() >= 0.995);
+    CHECK(engine.keptEnergyFraction() <= 1.002);
 }

@@ -73,7 +73,7 @@ TEST_CASE("shared structs have the same layout in C++ and std430 GLSL", "[gpu][l
     checkStruct("PhotonParams", sizeof(PhotonParams),
                 {VPSIM_MEMBER(PhotonParams, seed),
                  VPSIM_MEMBER(PhotonParams, photonStart),
-                 VPSIM_MEMBER(PhotonParams, photonEnd),
+                 VPSIM_MEMBER(PhotonParams, photonCount),
                  VPSIM_MEMBER(PhotonParams, invocationStride),
                  VPSIM_MEMBER(PhotonParams, beamShape),
                  VPSIM_MEMBER(PhotonParams, beamW0),
@@ -100,7 +100,7 @@ TEST_CASE("shared structs have the same layout in C++ and std430 GLSL", "[gpu][l
                  VPSIM_MEMBER(PhotonParams, depth1),
                  VPSIM_MEMBER(PhotonParams, depth2),
                  VPSIM_MEMBER(PhotonParams, depth3),
-                 VPSIM_MEMBER(PhotonParams, depthCount),
-                 VPSIM_MEMBER(PhotonParams, reserved0),
-                 VPSIM_MEMBER(PhotonParams, reserved1)});
+                 VPSIM_MEMBER(PhotonParams, rouletteWeight),
+                 VPSIM_MEMBER(PhotonParams, photonStartHi),
+                 VPSIM_MEMBER(PhotonParams, estimator)});
 }

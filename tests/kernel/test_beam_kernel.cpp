@@ -56,7 +56,12 @@ TEST_CASE("Eq. 12 fit recovers a synthetic Gaussian x exponential field", "[kern
     CHECK(k.fit.de3d == Approx(d).epsilon(1e-4));
     CHECK(k.fit.amplitude == Approx(a0).epsilon(1e-4));
     CHECK(k.fit.residual < 1e-4);
-    CHECK(k.zmax == Approx(0.5 * k.zBin));  // maximum in the first slice
+    CHECK(k.zmax == 0.0);  // Ie(0, z) falls from the surface: exactly 0, not half a bin
+    // Eq. 12 sampled at bin centres against its closed-form integral over the table: the
+    // midpoint rule errs by (zBin / d)^2 / 24 = 0.07% in z and less across r.
+    CHECK(k.fit.energyFraction == Approx(1.0).epsilon(0.003));
+    CHECK(k.energyFit.amplitude == Approx(a0).epsilon(0.003));
+    CHECK(k.energyFit.energyFraction == 1.0);
     for (uint32_t iz = 0; iz < 20; ++iz) CHECK(k.depthRadius[iz] == Approx(w).epsilon(1e-4));
     CHECK(k.fitted(0.01, 0.02) ==
           Approx(a0 * std::exp(-2e-4 / (w * w)) * std::exp(-0.5)).epsilon(1e-4));
@@ -142,9 +147,9 @@ TEST_CASE("beam kernel JSON round trip and output files", "[kernel]") {
 
     const std::string dir = tempPath("figures");
     writeKernelFigures(dir, k);
-    for (const char* name :
-         {"intensity_scattered.png", "intensity_no_scattering.png", "intensity_fit.png",
-          "amplitude_vs_depth.svg", "radius_vs_depth.svg"}) {
+    for (const char* name : {"intensity_scattered.png", "intensity_no_scattering.png",
+                             "intensity_fit.png", "amplitude_vs_depth.svg", "radius_vs_depth.svg",
+                             "contours_scattering.svg", "contours_fit.svg"}) {
         std::ifstream file(dir + "/" + name, std::ios::binary | std::ios::ate);
         INFO(name);
         CHECK(file.good());

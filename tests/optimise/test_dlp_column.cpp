@@ -7,8 +7,8 @@
 
 #include "vpsim/core/error.h"
 #include "vpsim/cure/cure_model.h"
-#include "vpsim/optimise/dlp_column.h"
 #include "vpsim/cure/print_through.h"
+#include "vpsim/optimise/dlp_column.h"
 
 using namespace vpsim;
 using namespace vpsim::optimise;

@@ -1,4 +1,5 @@
-// Photon Monte Carlo (CPU path) against invariants and published values. Statistical checks use
+// Photon Monte Carlo (CPU path, analog estimator: the other estimators are in
+// test_mc_estimators.cpp) against invariants and published values. Statistical checks use
 // fixed seeds and bounds of 3-4 standard errors (binomial or batch), so they fail only when the
 // physics is wrong, not by chance.
 
@@ -25,6 +26,7 @@ McSetup hgSlab(double mua, double mus, double g, double thickness, uint64_t phot
     s.thickness = thickness;
     s.photons = photons;
     s.seed = 12345;
+    s.estimator = Estimator::Analog;
     return s;
 }
 

@@ -2,6 +2,7 @@
 // Gaussian beam, intensity by Eq. 11, fit of Eq. 12, written as kernel.json, kernel.vdb and
 // pictures (Fig. 11-13) into --out.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -14,6 +15,7 @@
 #include "vpsim/core/io.h"
 #include "vpsim/core/units.h"
 #include "vpsim/kernel/beam_kernel.h"
+#include "vpsim/kernel/kernel_cache.h"
 #include "vpsim/transport/photon_mc.h"
 
 namespace {
@@ -30,6 +32,7 @@ struct KernelOptions {
     double nOutside = 1.0;
     std::string rMax, zMax;  ///< empty = chosen from W0 and mua
     uint32_t bins = 80;
+    std::string estimator = "track-length";
     bool json = false;
 };
 
@@ -40,18 +43,18 @@ double quantity(const std::string& text, vpsim::Dimension dimension, const std::
 }
 
 void runKernel(const KernelOptions& o, const vpsim::cli::Globals& g) {
-    const vpsim::optics::MediumOptics optics =
-        vpsim::optics::loadMediumOptics(o.material, g.overrides);
-    if (!(optics.mua > 0))
-        throw InputError(
-            "the beam kernel needs an absorbing material (mua > 0): Eq. 11 divides by mua",
-            o.material, "mua");
     const double power = quantity(o.power, vpsim::dim::POWER, "--power");
     const double thickness =
         o.thickness.empty() ? 0.0 : quantity(o.thickness, vpsim::dim::LENGTH, "--thickness");
-    McSetup s = kernelSetup(optics, quantity(o.w0, vpsim::dim::LENGTH, "--w0"), thickness);
-    s.photons = vpsim::cli::parseCount(o.photons, MAX_PHOTONS, "--photons");
-    s.seed = o.seed;
+    KernelRequest request = kernelRequest(
+        o.material, power, quantity(o.w0, vpsim::dim::LENGTH, "--w0"),
+        vpsim::cli::parseCount(o.photons, MAX_PHOTONS, "--photons"), o.seed, g.overrides);
+    McSetup& s = request.setup;
+    if (thickness > 0) {  // a slab, as kernelSetup(optics, w0, thickness) bins it
+        s.thickness = thickness;
+        s.bins.zMax = std::min(s.bins.zMax, thickness);
+    }
+    s.estimator = parseEstimator(o.estimator, "--estimator");
     s.nAbove = s.nBelow = o.nOutside;
     if (!o.rMax.empty()) s.bins.rMax = quantity(o.rMax, vpsim::dim::LENGTH, "--r-max");
     if (!o.zMax.empty()) s.bins.zMax = quantity(o.zMax, vpsim::dim::LENGTH, "--z-max");
@@ -59,8 +62,10 @@ void runKernel(const KernelOptions& o, const vpsim::cli::Globals& g) {
         throw InputError("--bins: expected 4..1000, got " + std::to_string(o.bins));
     s.bins.rBins = s.bins.zBins = o.bins;
 
-    McResult mc = runPhotonMc(s, g.gpu());
-    BeamKernel k = kernelFromMonteCarlo(mc, power);
+    // The same cache as `vpsim run`: a kernel already computed for these inputs is reused.
+    bool fromCache = false;
+    McResult mc;
+    BeamKernel k = cachedKernel(request, g.runContext(), fromCache, &mc);
     vpsim::createDirectories(o.out);
     k.save(o.out + "/kernel.json");
     writeKernelVdb(o.out + "/kernel.vdb", k);
@@ -72,22 +77,33 @@ void runKernel(const KernelOptions& o, const vpsim::cli::Globals& g) {
                        {"zmax_um", k.zmax * 1000},
                        {"amplitude_mW_per_mm2", k.fit.amplitude},
                        {"residual", k.fit.residual},
+                       {"fit_energy_fraction", k.fit.energyFraction},
+                       {"energy_conserving_amplitude_mW_per_mm2", k.energyFit.amplitude},
+                       {"energy_conserving_residual", k.energyFit.residual},
+                       {"engine_fit", "least-squares"},
+                       {"estimator", estimatorName(s.estimator)},
                        {"W0_um", s.w0 * 1000},
                        {"Dp_no_scattering_um", 1000 / s.optics.mua},
                        {"no_scattering_peak_mW_per_mm2", k.beerLambert(0, 0)},
-                       {"monte_carlo", mc.summaryJson()}};
+                       {"from_cache", fromCache}};
+    if (!fromCache) out["monte_carlo"] = mc.summaryJson();
     if (o.json) {
         vpsim::cli::printJson(out);
         return;
     }
     std::printf("Beam kernel of %s (%llu photons on %s) -> %s\n", o.material.c_str(),
-                static_cast<unsigned long long>(k.photons), mc.backend.c_str(), o.out.c_str());
+                static_cast<unsigned long long>(k.photons),
+                fromCache ? "the kernel cache" : mc.backend.c_str(), o.out.c_str());
     std::printf("  We3D  %.2f um   (incident W0 %.2f um)\n", k.fit.we3d * 1000, s.w0 * 1000);
     std::printf("  De3D  %.2f um   (no scattering 1/mua = %.2f um)\n", k.fit.de3d * 1000,
                 1000 / s.optics.mua);
     std::printf("  zmax  %.2f um   (depth of the largest Ie(0,z))\n", k.zmax * 1000);
     std::printf("  Ie3D(0,0) %.4g mW/mm^2 (no scattering %.4g), fit residual %.3f\n",
                 k.fit.amplitude, k.beerLambert(0, 0), k.fit.residual);
+    std::printf(
+        "  energy: the fit (used by the engines) carries %.3f of the table's absorbed "
+        "power;\n          the energy-conserving fit has Ie3D(0,0) %.4g, residual %.3f\n",
+        k.fit.energyFraction, k.energyFit.amplitude, k.energyFit.residual);
 }
 
 vpsim::cli::CommandRegistration registerKernel{
@@ -107,6 +123,10 @@ vpsim::cli::CommandRegistration registerKernel{
         cmd->add_option("--r-max", o->rMax, "radius of the tabulated kernel (default 4 W0)");
         cmd->add_option("--z-max", o->zMax, "depth of the tabulated kernel (default 3/mua)");
         cmd->add_option("--bins", o->bins, "bins along r and along z");
+        cmd->add_option("--estimator", o->estimator,
+                        "absorption estimator: track-length (default), implicit-track, implicit or "
+                        "analog")
+            ->check(CLI::IsMember({"analog", "implicit", "implicit-track", "track-length"}));
         cmd->add_flag("--json", o->json, "print JSON");
         cmd->callback([o, &g] { runKernel(*o, g); });
     }};

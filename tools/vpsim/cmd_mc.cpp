@@ -32,6 +32,8 @@ struct McOptions {
     uint32_t bins = 100;
     std::string vdb;
     std::string voxel = "5 um";
+    std::string estimator = "track-length";
+    double roulette = DEFAULT_ROULETTE_THRESHOLD;
     bool json = false;
 };
 
@@ -44,6 +46,8 @@ McSetup setupFrom(const McOptions& o, const vpsim::cli::Globals& g) {
     s.optics = vpsim::optics::loadMediumOptics(o.material, g.overrides);
     s.photons = vpsim::cli::parseCount(o.photons, MAX_PHOTONS, "--photons");
     s.seed = o.seed;
+    s.estimator = parseEstimator(o.estimator, "--estimator");
+    s.rouletteThreshold = o.roulette;
     s.thickness = o.thickness.empty() ? 0.0 : length(o.thickness, "--thickness");
     if (!o.thickness.empty() && !(s.thickness > 0))
         throw InputError("--thickness: must be > 0 (leave it out for a semi-infinite medium)");
@@ -93,7 +97,11 @@ void runMc(const McOptions& o, const vpsim::cli::Globals& g) {
         std::snprintf(name, sizeof name, "absorbed above %g um", setup.depths[k] * 1000);
         line(name, r.absorbedWithin(k));
     }
-    std::printf("  %-26s %.3f\n  %-26s %.4g\n", "scatterings/photon", r.scatteringsPerPhoton(),
+    if (setup.estimator == Estimator::Implicit || setup.estimator == Estimator::ImplicitTrack)
+        line("roulette net (gain - loss)", r.rouletteNet());
+    std::printf("  %-26s %s\n", "estimator", estimatorName(setup.estimator));
+    std::printf("  %-26s %.3f\n  %-26s %.3f\n  %-26s %.4g\n", "scatterings/photon",
+                r.scatteringsPerPhoton(), "interactions/photon", r.interactionsPerPhoton(),
                 "photons/s", r.photonsPerSecond());
 }
 
@@ -124,6 +132,14 @@ vpsim::cli::CommandRegistration registerMc{
         cmd->add_option("--vdb", o->vdb,
                         "also tally a Cartesian absorption grid and save it to this .vdb file");
         cmd->add_option("--voxel", o->voxel, "voxel edge of the --vdb grid");
+        cmd->add_option("--estimator", o->estimator,
+                        "absorption estimator: track-length (analog transport, track-length "
+                        "bins; default), implicit-track (implicit capture "
+                        "and roulette, track-length tallies), implicit (MCML's: collision "
+                        "tallies) or analog")
+            ->check(CLI::IsMember({"analog", "implicit", "implicit-track", "track-length"}));
+        cmd->add_option("--roulette", o->roulette,
+                        "implicit capture: roulette below this fraction of the launched weight");
         cmd->add_flag("--json", o->json, "print JSON");
         cmd->callback([o, &g] { runMc(*o, g); });
     }};

@@ -11,10 +11,10 @@
 /// m = (k' - k) n + s has one 2D stencil w_m(di, dj) = pitch^2 <I(r, d_m)> / P (cell average of
 /// 4 x 4 sub-samples) and the exposure is a sum of depth-sliced 2D convolutions (DESIGN.md).
 ///
-/// Truncation: stencils stop at the depth where the on-axis intensity falls below 1e-3 of its
-/// maximum (or the table's depth), and each at the effective radius Reff(d) beyond which I is
-/// below 1% of its on-axis value at that depth (seed 000's Reff); the energy beyond is dropped,
-/// not renormalised (about 1% for a Gaussian profile).
+/// Truncation: each stencil stops at the effective radius Reff(d) that holds all but 0.2% of the
+/// power through its depth plane, and the stencils stop at the depth holding all but 0.2% of the
+/// power summed over the slice depths; the energy beyond is dropped, not renormalised, and the
+/// fraction kept (>= 99.5%) is keptEnergyFraction().
 ///
 /// Layers are processed from the top down; accumulators are kept only for the layers still
 /// receiving contributions, so memory is bounded by the kernel's depth, not the part's height.
@@ -82,6 +82,9 @@ public:
     int layersInFlight() const { return mLayersInFlight; }
     /// Estimated working memory in bytes (accumulators + stencils + one deposit grid).
     double workingBytes() const { return mWorkingBytes; }
+    /// Fraction of the kernel's energy (summed over the slice depths inside the table) that the
+    /// truncated stencils keep.
+    double keptEnergyFraction() const { return mKeptEnergyFraction; }
 
 private:
     struct GpuState;
@@ -98,6 +101,7 @@ private:
     std::vector<DepthStencil> mStencils;
     int mLayersInFlight = 1;
     double mWorkingBytes = 0;
+    double mKeptEnergyFraction = 1.0;
     std::vector<SurfaceGrid> mAccumulators;  ///< ring: layer k's slice s in slot (k mod L) n + s
 };
 

@@ -26,6 +26,9 @@ struct KernelFit {
     double fitDepthStart = 0.0;  ///< first depth used by the fit, mm
     /// Relative RMS misfit over the bins used, volume weighted: sqrt(sum V (I-F)^2 / sum V I^2).
     double residual = 0.0;
+    /// Power the model absorbs over the table's region (z from 0, r up to the table's radius)
+    /// over the power the table absorbs there (mua x sum of I x bin volume).
+    double energyFraction = 0.0;
 };
 
 /// Tabulated and fitted intensity of one beam. Depth z from the surface, r from the beam axis.
@@ -44,8 +47,17 @@ struct BeamKernel {
     /// Per depth slice iz, the Gaussian fitted across r: Ie(0, z) in mW/mm^2 and We(z) in mm
     /// (seed 000 Fig. 12); 0 where a slice has too little signal.
     std::vector<double> depthAmplitude, depthRadius;
-    double zmax = 0.0;  ///< depth of the largest Ie(0, z), mm
+    double zmax = 0.0;  ///< depth of the largest Ie(0, z), mm (0 when it falls from the surface)
+    /// The Eq. 12 fit the planners and the fitted engine use: weighted least squares on log I
+    /// below zmax, which matches the intensity where the cure front lies; it carries
+    /// fit.energyFraction of the table's absorbed power (the rest is in the near-surface peak and
+    /// the wide scattering halo that a Gaussian x exponential cannot hold).
     KernelFit fit;
+    /// The same We3D and De3D with the amplitude scaled so that the model absorbs exactly the
+    /// table's power (energyFraction 1): reported for comparison, not used by the engines.
+    KernelFit energyFit;
+    /// Power absorbed in the table's region over the incident power (no unit).
+    double tableAbsorbedFraction = 0.0;
 
     /// Table value at (r, z), bilinear between bin centres (nearest at the edges), 0 outside.
     double sample(double r, double z) const;
@@ -77,11 +89,17 @@ transport::McSetup kernelSetup(const optics::MediumOptics& optics, double w0,
 /// @throw InputError when mua is 0 (Eq. 11 divides by it) or power/W0 are not positive.
 BeamKernel kernelFromMonteCarlo(const transport::McResult& mc, double power);
 
-/// Fits each depth slice (We(z), Ie(0,z)), finds zmax, and fits Eq. 12 below zmax, by weighted
-/// linear least squares on the logarithm (weights = bin volume x intensity, i.e. proportional to
-/// the photon count of the bin, the inverse variance of log I) over bins above 5% of the maximum.
+/// Fits each depth slice (We(z), Ie(0,z)), finds zmax (sub-bin, see kernel_fit.cpp), and fits
+/// Eq. 12 below zmax, by weighted linear least squares on the logarithm (weights = bin volume x
+/// intensity, i.e. proportional to the photon count of the bin, the inverse variance of log I)
+/// over bins above 5% of the maximum; then the energies of that fit and of the
+/// energy-conserving variant (energyFit).
 /// @throw InputError when the table is empty or holds no usable signal.
 void fitKernel(BeamKernel& kernel);
+
+/// Fills fit.energyFraction, energyFit and tableAbsorbedFraction from the table and fit (called
+/// by fitKernel, and when loading a kernel file written before these fields existed).
+void computeFitEnergies(BeamKernel& kernel);
 
 /// Saves the kernel revolved about the axis onto a Cartesian grid of voxel rBin as OpenVDB float
 /// grids "intensity" (MC) and "intensity_no_scattering" (Beer-Lambert), mW/mm^2, in mm.
@@ -90,7 +108,11 @@ void writeKernelVdb(const std::string& path, const BeamKernel& kernel);
 
 /// Writes the pictures of seed 000 Fig. 11-13 into `directory`: intensity_scattered.png,
 /// intensity_no_scattering.png, intensity_fit.png (heat maps, r horizontal mirrored, z down,
-/// same scale and contour levels) and amplitude_vs_depth.svg, radius_vs_depth.svg.
+/// same scale and contour levels); contours_scattering.svg (Fig. 11: iso-intensity contours
+/// with and without scattering), contours_fit.svg (Fig. 13: the table against the Eq. 12 fit),
+/// amplitude_vs_depth.svg and radius_vs_depth.svg (Fig. 12: Ie(0, z) and We(z), zmax marked),
+/// all with axes in um and intensities in mW/mm^2 or % of the unscattered peak.
+/// @throw InputError when a file cannot be written.
 void writeKernelFigures(const std::string& directory, const BeamKernel& kernel);
 
 }  // namespace vpsim::kernel

@@ -28,8 +28,10 @@ KernelRequest kernelRequest(const std::string& materialFile, double power, doubl
                             const std::vector<std::string>& overrides = {});
 
 /// Loads the kernel from `context.cacheDirectory` or runs the Monte Carlo (on context.gpu when
-/// set) and stores it there. `fromCache` tells which. An unreadable cache entry is recomputed.
-BeamKernel cachedKernel(const KernelRequest& request, const RunContext& context, bool& fromCache);
+/// set) and stores it there. `fromCache` tells which; `monteCarlo`, when given, receives the
+/// Monte Carlo result of a fresh run. An unreadable cache entry is recomputed.
+BeamKernel cachedKernel(const KernelRequest& request, const RunContext& context, bool& fromCache,
+                        transport::McResult* monteCarlo = nullptr);
 
 /// The default cache directory for a user: $VPSIM_CACHE_DIR, else $XDG_CACHE_HOME/vpsim, else
 /// ~/.cache/vpsim. Read by the CLI (the library itself reads no environment).

@@ -18,7 +18,7 @@ enum class KernelSource { MonteCarlo, Given };
 
 struct KernelSpec {
     KernelSource source = KernelSource::MonteCarlo;
-    uint64_t photons = 300000;  ///< Monte Carlo photons (1000 .. 4e9)
+    uint64_t photons = 300000;  ///< Monte Carlo photons (1000 .. 1e12, 64-bit indices)
     uint32_t seed = 1;
     bool tabulated = false;  ///< expose with the Monte Carlo table instead of the Eq. 12 fit
     FittedBeam given;        ///< source == Given: the beam as written in the job

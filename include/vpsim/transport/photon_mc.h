@@ -2,14 +2,16 @@
 /// @file
 /// Photon Monte Carlo of light entering a turbid medium (seed 000 Section II-B): a pencil or
 /// Gaussian beam at normal incidence on a slab or a semi-infinite medium, Fresnel reflection at
-/// both surfaces, analog absorption, scattering by Henyey-Greenstein or a tabulated (Mie) phase
-/// function. The physics is shaders/include/photon_step.glsl, run by a Vulkan compute shader or
-/// by the CPU (TBB) from the same source.
+/// both surfaces, absorption by one of three estimators (Estimator), scattering by
+/// Henyey-Greenstein or a tabulated (Mie) phase function. The physics is
+/// shaders/include/photon_step.glsl, run by a Vulkan compute shader or by the CPU (TBB) from the
+/// same source.
 ///
 /// Weight is counted in integer quanta: a launched photon carries McResult::launchWeight quanta,
-/// the specular part is split off at entry, and the rest ends, whole, in exactly one of diffuse
-/// reflectance, transmittance, absorption or lateral escape. Hence
-/// launched = specular + diffuse + transmitted + absorbed + escaped holds exactly.
+/// the specular part is split off at entry, and the rest ends in diffuse reflectance,
+/// transmittance, absorption, lateral escape or (implicit capture) Russian roulette. Hence
+/// launched + rouletteGain = specular + diffuse + transmitted + absorbed + escaped + rouletteLoss
+/// holds exactly (the roulette terms are 0 for the analog estimator).
 /// Photon i uses the random stream rngSeed(seed, i), so a seed gives the same integer tallies on
 /// any thread count; the CPU and GPU agree within statistics (their log/sin/cos differ in the
 /// last bits, so individual trajectories eventually part).
@@ -52,6 +54,25 @@ struct CartesianGrid {
     uint32_t nz = 0;
 };
 
+/// How absorption is scored (see shaders/include/photon_types.glsl).
+enum class Estimator {
+    Analog,         ///< a photon is absorbed whole with probability mua/mut; point tallies
+    Implicit,       ///< implicit capture + Russian roulette; collision tallies (MCML's)
+    ImplicitTrack,  ///< implicit capture + roulette; track-length bins and depth tallies
+    Track,          ///< analog transport, track-length bins, point depth tallies (default)
+};  /// "analog", "implicit", "implicit-track" or "track-length". The totals (R, T, absorbed) are
+/// exact integer partitions for every estimator; the (r,z) bins of the track-length ones (and
+/// McResult::absorbedWithin of implicit-track) are track-length estimates, which match the
+/// totals only within statistics.
+const char* estimatorName(Estimator e);
+/// Parses estimatorName's spellings. @throw InputError naming `key` for anything else.
+Estimator parseEstimator(const std::string& text, const std::string& key = "estimator");
+
+/// Default roulette threshold of the implicit-capture estimators, as a fraction of the launched
+/// weight (10x MCML's 1e-4, so photons end sooner; not tuned: bench_photon_mc's MCML reference
+/// keeps 1e-4).
+constexpr double DEFAULT_ROULETTE_THRESHOLD = 1e-3;
+
 /// One Monte Carlo run.
 struct McSetup {
     optics::MediumOptics optics;  ///< medium (mua, mus in 1/mm, g, refractive index, phase)
@@ -62,16 +83,27 @@ struct McSetup {
     double w0 = 0.05;            ///< Gaussian beam 1/e^2 intensity radius W0 (Eq. 6), mm
     double lateralRadius = 0.0;  ///< photons interacting beyond this radius escape; 0 = unbounded
     uint64_t photons = 100000;   ///< photons launched (at most MAX_PHOTONS)
+    /// Index of the first photon: the run traces photons [firstPhoton, firstPhoton + photons),
+    /// photon i with its own random stream and in batch i % MC_BATCHES, so disjoint ranges
+    /// (other machines, other runs) add up to one larger run.
+    uint64_t firstPhoton = 0;
     uint32_t seed = 1;
     CylindricalGrid bins;
     CartesianGrid grid;
     std::vector<double> depths;  ///< up to 4 depths (mm) for McResult::absorbedWithin
+    Estimator estimator = Estimator::Track;
+    /// Implicit capture: photons below this fraction of the launched weight play roulette
+    /// (survive 1 in 10 with 10x the weight). In (0, 0.1].
+    double rouletteThreshold = DEFAULT_ROULETTE_THRESHOLD;
+    /// Keep the (r,z) bins per batch (McResult::absorbedRZBatches), for their standard errors.
+    bool binsPerBatch = false;
 };
 
-/// Most photons one run may launch (photon indices are 32-bit).
-constexpr uint64_t MAX_PHOTONS = 4000000000ull;
+/// Most photons one run may launch (64-bit indices; the launched weight, photons x 2^24
+/// quanta, must fit 64 bits).
+constexpr uint64_t MAX_PHOTONS = 1000000000000ull;
 /// Batches used for the standard errors (photon i is in batch i % MC_BATCHES).
-constexpr int MC_BATCHES = 16;
+constexpr int MC_BATCHES = 64;
 
 /// A fraction of the launched weight with its standard error from the batch spread.
 struct Fraction {
@@ -79,10 +111,10 @@ struct Fraction {
     double standardError = 0.0;
 };
 
-/// Integer tallies of one batch, in weight quanta (scatterings is a count).
+/// Integer tallies of one batch, in weight quanta (scatterings and interactions are counts).
 struct BatchTally {
     uint64_t photons = 0, specular = 0, diffuse = 0, transmitted = 0, absorbed = 0, escaped = 0,
-             scatterings = 0;
+             scatterings = 0, interactions = 0, rouletteGain = 0, rouletteLoss = 0;
     std::array<uint64_t, 4> absorbedWithin{};
 
     BatchTally& operator+=(const BatchTally& o) {
@@ -93,6 +125,9 @@ struct BatchTally {
         absorbed += o.absorbed;
         escaped += o.escaped;
         scatterings += o.scatterings;
+        interactions += o.interactions;
+        rouletteGain += o.rouletteGain;
+        rouletteLoss += o.rouletteLoss;
         for (size_t k = 0; k < absorbedWithin.size(); ++k) absorbedWithin[k] += o.absorbedWithin[k];
         return *this;
     }
@@ -103,7 +138,9 @@ struct McResult {
     McSetup setup;              ///< the setup that produced it
     uint64_t launchWeight = 0;  ///< quanta per launched photon
     std::array<BatchTally, MC_BATCHES> batches;
-    std::vector<uint64_t> absorbedRZ;    ///< quanta per cylindrical bin, [iz * rBins + ir]
+    std::vector<uint64_t> absorbedRZ;  ///< quanta per cylindrical bin, [iz * rBins + ir]
+    /// With setup.binsPerBatch: MC_BATCHES copies of absorbedRZ, [b * rBins * zBins + bin].
+    std::vector<uint64_t> absorbedRZBatches;
     std::vector<uint64_t> absorbedGrid;  ///< quanta per Cartesian voxel, [(iz*nxy+iy)*nxy+ix]
     double seconds = 0.0;                ///< wall time of the run
     std::string backend;                 ///< "cpu (N threads)" or the Vulkan device name
@@ -119,10 +156,15 @@ struct McResult {
     Fraction escaped() const;      ///< interacted beyond setup.lateralRadius
     /// Fraction of launched weight absorbed at depths < setup.depths[k].
     Fraction absorbedWithin(size_t k) const;
+    /// Net weight created by roulette, (gain - loss) / launched: 0 in expectation.
+    Fraction rouletteNet() const;
     double scatteringsPerPhoton() const;
+    /// Interactions (scatterings and absorptions) per launched photon.
+    double interactionsPerPhoton() const;
     /// Launched photons over the wall time of the run (setup, transfers and tallies included).
     double photonsPerSecond() const;
-    /// launched == specular + diffuse + transmitted + absorbed + escaped, in integers.
+    /// launched + rouletteGain == specular + diffuse + transmitted + absorbed + escaped +
+    /// rouletteLoss, in integers.
     bool energyBalanced() const;
     /// The fractions, errors and rates as JSON (the `vpsim mc --json` fields).
     nlohmann::json summaryJson() const;
