@@ -49,7 +49,6 @@ Job loadJob(const std::string& path, const Builtins& builtins,
     job.cure = cure::cureLawFromConfig(builtins.cureLaws, root, "cure");
     job.part = geometry::partSpecFromConfig(root.child("part"));
     job.machine = plan::machineFromConfig(root.child("machine"));
-    job.timing = plan::buildTimeOptionsFromConfig(root.child("machine"));
     if (root.has("material")) job.materialFile = resolvePath(root, "material");
     job.kernel = kernel::kernelSpecFromConfig(sectionOrEmpty(root, "kernel"));
     const bool laser = job.machine.process == plan::Process::Laser;

@@ -22,18 +22,19 @@ bool hasTrajectories(const plan::ScanPlan& plan) {
 
 plan::ScanSchedule scanStage(const Job& job, const geometry::LayerStack& layers,
                              plan::ScanPlan& plan) {
+    const plan::BuildTimeOptions timing = plan::buildTimeOptions(job.machine);
     if (hasTrajectories(plan)) {  // a saved plan keeps its own order
         plan::ScanSchedule schedule;
-        schedule.buildTime = plan::estimateBuildTime(plan, job.timing).toJson();
+        schedule.buildTime = plan::estimateBuildTime(plan, timing).toJson();
         return schedule;
     }
     plan::TrajectoryOptions options;
-    options.scanner = job.timing.scanner;
+    options.scanner = timing.scanner;
     options.order = job.scanOrder;
     std::vector<geometry::PolygonSet> regions;
     for (const auto& layer : layers.layers) regions.push_back(layer.region);
     const bool sameLayers = regions.size() == plan.layers.size();
-    return plan::scheduleScans(plan, options, job.timing, sameLayers ? &regions : nullptr);
+    return plan::scheduleScans(plan, options, timing, sameLayers ? &regions : nullptr);
 }
 
 void writeScanFiles(const plan::ScanSchedule& schedule, const plan::ScanPlan& plan,

@@ -7,6 +7,7 @@
 
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
+#include "vpsim/plan/machine.h"
 #include "vpsim/plan/trajectory.h"
 #include "vpsim/plan/transition_arc.h"
 
@@ -119,15 +120,16 @@ std::vector<ScanMove> planOrderMoves(const LayerPlan& layer, double laserPower) 
 
 }  // namespace
 
-BuildTimeOptions buildTimeOptionsFromConfig(const ConfigNode& machine) {
+BuildTimeOptions buildTimeOptions(const Machine& machine) {
     BuildTimeOptions options;
-    if (machine.has("scanner")) options.scanner = scannerFromConfig(machine.child("scanner"));
-    options.recoatTime = machine.quantity("recoat_time", dim::TIME, 0.0);
-    if (!(options.recoatTime >= 0)) throw machine.error("recoat_time", "must not be negative");
-    options.projectorIrradiance = machine.quantity("projector_irradiance", dim::IRRADIANCE, 0.0);
-    if (!(options.projectorIrradiance >= 0))
-        throw machine.error("projector_irradiance", "must not be negative");
+    options.scanner = machine.scanner;
+    options.recoatTime = machine.recoatTime;
+    options.projectorIrradiance = machine.projectorIrradiance;
     return options;
+}
+
+BuildTimeOptions buildTimeOptionsFromConfig(const ConfigNode& machine) {
+    return buildTimeOptions(machineFromConfig(machine));
 }
 
 LayerTime layerMoveTime(const std::vector<ScanMove>& moves, const BuildTimeOptions& options) {

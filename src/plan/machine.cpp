@@ -28,6 +28,12 @@ Machine machineFromConfig(const ConfigNode& section) {
         machine.pixelPitch = positiveQuantity(section, "pixel_pitch", dim::LENGTH, 0.0625);
         machine.beamRadius = positiveQuantity(section, "blur_radius", dim::LENGTH, 0.02);
     }
+    if (section.has("scanner")) machine.scanner = scannerFromConfig(section.child("scanner"));
+    machine.recoatTime = section.quantity("recoat_time", dim::TIME, 0.0);
+    if (!(machine.recoatTime >= 0)) throw section.error("recoat_time", "must not be negative");
+    machine.projectorIrradiance = section.quantity("projector_irradiance", dim::IRRADIANCE, 0.0);
+    if (!(machine.projectorIrradiance >= 0))
+        throw section.error("projector_irradiance", "must not be negative");
     return machine;
 }
 

@@ -44,8 +44,8 @@ TEST_CASE("a run orders, times and exports its scans", "[pipeline][slow]") {
     std::filesystem::remove_all(out);
     pipeline::Job job = pipeline::loadJob(writeJob(scanJob()), pipeline::makeBuiltins());
     CHECK(job.scanOrder == plan::OrderMethod::Exact);
-    CHECK(job.timing.scanner.machine.acceleration == Approx(2e5));
-    CHECK(job.timing.recoatTime == Approx(2.0));
+    CHECK(job.machine.scanner.machine.acceleration == Approx(2e5));
+    CHECK(job.machine.recoatTime == Approx(2.0));
     pipeline::runJob(job, out.string(), RunContext{nullptr, false, ""});
 
     nlohmann::json report = loadJsonFile((out / "report.json").string());

@@ -33,8 +33,12 @@ void runExport(const ExportCliOptions& o, const cli::Globals& globals) {
     plan::BuildTimeOptions timing;
     if (!o.machine.empty()) {
         ConfigNode root = ConfigNode::load(o.machine, globals.overrides);
-        ConfigNode machine = root.has("machine") ? root.child("machine") : root;
-        timing = plan::buildTimeOptionsFromConfig(machine);
+        const bool wrapped = root.has("machine");  // a job file or {"machine": {...}}
+        timing = plan::buildTimeOptionsFromConfig(wrapped ? root.child("machine") : root);
+        const nlohmann::json document = loadJsonFile(o.machine);
+        if (wrapped)  // the other sections of a job file are not this command's business
+            for (const auto& [key, value] : document.items())
+                if (key != "machine") root.raw(key);
         root.checkUnknownKeys();
     }
     nlohmann::json order;

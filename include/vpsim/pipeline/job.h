@@ -17,7 +17,6 @@
 #include "vpsim/geometry/part_spec.h"
 #include "vpsim/kernel/kernel_spec.h"
 #include "vpsim/pipeline/builtins.h"
-#include "vpsim/plan/build_time.h"
 #include "vpsim/plan/machine.h"
 #include "vpsim/plan/part_order.h"
 #include "vpsim/plan/planner.h"
@@ -44,8 +43,6 @@ struct Job {
     std::string strategy;  ///< the planner's registered name
     std::unique_ptr<plan::Planner> planner;
     SimulationSpec simulation;
-    /// `machine.scanner`, `machine.recoat_time`, `machine.projector_irradiance`: the build time
-    plan::BuildTimeOptions timing;
     /// `plan.order` (laser strategies): how each layer's parts are ordered in the trajectories
     plan::OrderMethod scanOrder = plan::OrderMethod::Auto;
     std::vector<validate::FeatureProbe> features;  ///< Z dimensions to measure (seed 001 Table 2)

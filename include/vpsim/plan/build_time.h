@@ -36,8 +36,10 @@ struct BuildTimeOptions {
     bool transitionArcs = false;
 };
 
-/// Reads `scanner` (see scannerFromConfig), `recoat_time` and `projector_irradiance` from a
-/// `machine` section; all optional. @throw InputError naming the key
+/// The build-time options of a machine (its scanner, recoat time and projector irradiance).
+BuildTimeOptions buildTimeOptions(const Machine& machine);
+/// Reads a `machine` section (plan/machine.h machineFromConfig: `scanner`, `recoat_time`,
+/// `projector_irradiance`, all optional). @throw InputError naming the key
 BuildTimeOptions buildTimeOptionsFromConfig(const ConfigNode& machine);
 
 struct LayerTime {

@@ -6,6 +6,8 @@
 
 #include <string>
 
+#include "vpsim/plan/scanner.h"
+
 namespace vpsim {
 class ConfigNode;
 }
@@ -27,6 +29,10 @@ struct Machine {
     /// radius at the resin (DLP)
     double beamRadius = 0.05;
     double pixelPitch = 0.0625;  ///< mm (DLP projector pixel at the resin)
+    /// `scanner`: kinematic limits and delays of the galvanometer scanner (laser build time)
+    ScannerConfig scanner;
+    double recoatTime = 0;           ///< s per layer (`recoat_time`, default 0)
+    double projectorIrradiance = 0;  ///< mW/mm^2 at the resin (`projector_irradiance`, DLP)
 };
 
 /// Reads a job's `machine` section: "process" (laser | dlp, default laser), "layer_thickness"
