@@ -86,11 +86,17 @@ void writeSvgLinePlot(const std::string& path, const std::string& title, const s
     for (size_t k = 0; k < series.size(); ++k) {
         const auto& s = series[k];
         std::string colour = s.colour.empty() ? PALETTE[k % 7] : s.colour;
-        svg << "<polyline fill='none' stroke='" << colour << "' stroke-width='1.8'"
-            << (s.dashed ? " stroke-dasharray='6,4'" : "") << " points='";
-        for (size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
+        // A non-finite point breaks the line (separate segments in one series).
+        const std::string open = "<polyline fill='none' stroke='" + colour +
+                                 "' stroke-width='1.8'" +
+                                 (s.dashed ? " stroke-dasharray='6,4'" : "") + " points='";
+        svg << open;
+        for (size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
             if (std::isfinite(s.x[i]) && std::isfinite(s.y[i]))
                 svg << px(s.x[i]) << ',' << py(s.y[i]) << ' ';
+            else
+                svg << "'/>\n" << open;
+        }
         svg << "'/>\n";
         double ly = TOP + 14 + 18 * double(k);
         svg << "<line x1='" << WIDTH - RIGHT + 10 << "' y1='" << ly << "' x2='"

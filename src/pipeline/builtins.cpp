@@ -5,6 +5,7 @@
 #include "vpsim/exporters/sl1_exporter.h"
 #include "vpsim/optimise/dfbtp_strategy.h"
 #include "vpsim/optimise/dlp_optimised_mask_planner.h"
+#include "vpsim/exporters/cli_exporter.h"
 #include "vpsim/plan/aces_planner.h"
 #include "vpsim/plan/uniform_mask_planner.h"
 
@@ -21,6 +22,7 @@ void registerBuiltins(Builtins& b) {
     cure::registerFppLaw(b.cureLaws);
     // Exporters.
     exporters::registerSl1Exporters(b.exporters);
+    exporters::registerCliExporter(b.exporters);
 }
 
 Builtins makeBuiltins() {

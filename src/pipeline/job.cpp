@@ -5,6 +5,7 @@
 #include "vpsim/core/checks.h"
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
+#include "vpsim/plan/scan_report.h"
 
 namespace vpsim::pipeline {
 namespace {
@@ -98,6 +99,7 @@ Job loadJob(const std::string& path, const Builtins& builtins,
                          "a DLP job needs the resin's penetration depth "
                          "(cure.penetration_depth or cure.attenuation)");
     createPlanner(root, builtins, job);
+    if (laser) job.scanOrder = plan::orderMethodFromConfig(root.child("plan"));
     job.simulation = simulationFromConfig(sectionOrEmpty(root, "simulation"));
     createExporters(root, builtins, job);
     checkScales(root, job);

@@ -103,6 +103,7 @@ PlanResult planJob(const Job& job, const std::string& outDir, const RunContext& 
     StageTimer timer(result.stageSeconds);
     Front f = runFront(job, std::move(part), outDir, context, result, timer);
     PlanResult plan = planStage(job, f.layers, f.bounds, f.beam, context);
+    scanStage(job, f.layers, plan.plan);  // the plan is saved with its trajectories
     plan::saveScanPlan(plan.plan, outDir + "/plan.json");
     exportStage(job, plan.plan, outDir);
     timer.finish("plan");
@@ -135,9 +136,15 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     } else {
         planned = planStage(job, f.layers, f.bounds, f.beam, context);
     }
+    const plan::ScanSchedule schedule = scanStage(job, f.layers, planned.plan);
     plan::saveScanPlan(planned.plan, outDir + "/plan.json");
+    writeScanFiles(schedule, planned.plan, outDir);
     result.plan = {job.strategy, planned.plan.layers.size(), planned.plan.totalEnergy(),
                    planned.summary};
+    result.plan.planner["build_time_s"] = schedule.buildTime;
+    if (!schedule.scanOrder.is_null()) result.plan.planner["scan_order"] = schedule.scanOrder;
+    if (!schedule.pointStrategies.is_null())
+        result.plan.planner["point_build_time_s"] = schedule.pointStrategies;
     if (saved) result.plan.strategy = "saved plan " + options.planFile;
     timer.finish("plan");
     result.exports = exportStage(job, planned.plan, outDir);

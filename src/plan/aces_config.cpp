@@ -20,7 +20,6 @@ void readAcesKeys(const ConfigNode& plan, AcesParameters& p) {
         if (!(offset >= 0)) throw plan.error("border_offset", "must be >= 0");
         p.borderOffset = offset;
     }
-    if (plan.has("direction")) p.direction = plan.number("direction") * M_PI / 180.0;
 }
 
 }  // namespace vpsim::plan

@@ -17,7 +17,9 @@ public:
         for (size_t k = 0; k < in.layers.layers.size(); ++k) {
             const geometry::PolygonSet& region = in.layers.layers[k].region;
             if (region.empty()) continue;
-            AcesDesign design = designAces(aces, region);
+            AcesParameters layerAces = aces;
+            layerAces.direction = scanDirection(region, mOptions.direction);
+            AcesDesign design = designAces(layerAces, region);
             plan.layers[k] = planAcesLayer(region, design, in.machine.laserPower, plan.layers[k].z);
             if (mSummary.empty())
                 mSummary = {

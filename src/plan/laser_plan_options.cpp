@@ -2,11 +2,15 @@
 
 #include <algorithm>
 
+#include "vpsim/plan/scan_report.h"
+
 namespace vpsim::plan {
 
 LaserPlanOptions readLaserPlanOptions(const ConfigNode& plan) {
     LaserPlanOptions options;
     readAcesKeys(plan, options.aces);
+    options.direction = directionRuleFromConfig(plan);
+    options.order = orderMethodFromConfig(plan);
     return options;
 }
 
@@ -18,7 +22,12 @@ std::vector<ConfigKeyDoc> laserPlanKeys() {
              "| cure-at-contour (the cured wall on the contour on average over the layer depth)"},
             {"border_count", "border (contour) scan loops (default 1)"},
             {"border_offset", "inward offset of the first border loop (default: the edge rule's)"},
-            {"direction", "hatch direction in degrees from +x (default: the longest edge)"}};
+            {"direction",
+             "scan direction of each layer: min-edge-projection (default, seed 002 Sec. 3) | "
+             "longest-edge | a fixed angle such as \"0 deg\""},
+            {"order",
+             "order of each layer's parts by jump time: auto (default: exact up to 16 parts, "
+             "heuristic beyond) | exact | heuristic | nearest-neighbour | as-sliced"}};
 }
 
 AcesParameters acesParameters(const LaserPlanOptions& options, const kernel::FittedBeam& beam,

@@ -30,6 +30,12 @@ Machine machineFromConfig(const ConfigNode& section) {
         if (section.has("grey_levels"))
             machine.greyLevels = std::make_shared<const GreyLevels>(greyLevelsFromConfig(section));
     }
+    if (section.has("scanner")) machine.scanner = scannerFromConfig(section.child("scanner"));
+    machine.recoatTime = section.quantity("recoat_time", dim::TIME, 0.0);
+    if (!(machine.recoatTime >= 0)) throw section.error("recoat_time", "must not be negative");
+    machine.projectorIrradiance = section.quantity("projector_irradiance", dim::IRRADIANCE, 0.0);
+    if (!(machine.projectorIrradiance >= 0))
+        throw section.error("projector_irradiance", "must not be negative");
     return machine;
 }
 

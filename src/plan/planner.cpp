@@ -6,7 +6,7 @@ ScanPlan emptyPlan(const geometry::LayerStack& layers, const Machine& machine) {
     ScanPlan plan;
     plan.machine = machine;
     for (const geometry::Layer& layer : layers.layers)
-        plan.layers.push_back({layer.zBottom + layers.layerThickness, {}, {}, {}});
+        plan.layers.push_back({layer.zBottom + layers.layerThickness, {}, {}, {}, {}});
     return plan;
 }
 

@@ -74,6 +74,40 @@ MaskImage maskFromConfig(const ConfigNode& node) {
     return mask;
 }
 
+// Trajectory moves as compact rows (a plan may hold millions of them).
+const char* const TRAJECTORY_KEY = "trajectory_on_x0_y0_x1_y1_power_speed_dwell_part";
+
+nlohmann::json trajectoryJson(const std::vector<ScanMove>& moves) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (const ScanMove& m : moves)
+        rows.push_back(
+            {m.laserOn ? 1 : 0, m.x0, m.y0, m.x1, m.y1, m.power, m.speed, m.dwell, m.part});
+    return rows;
+}
+
+std::vector<ScanMove> trajectoryFromJson(const ConfigNode& node) {
+    std::vector<ScanMove> moves;
+    for (const auto& r : node.raw(TRAJECTORY_KEY)) {
+        bool ok = r.is_array() && r.size() == 9;
+        for (size_t i = 0; ok && i < 9; ++i) ok = r[i].is_number();
+        if (!ok || !(r[5].get<double>() >= 0) || !(r[6].get<double>() >= 0) ||
+            !(r[7].get<double>() >= 0))
+            throw node.error(TRAJECTORY_KEY,
+                             "each move is [on 0|1, x0, y0, x1, y1, power >= 0, "
+                             "speed >= 0, dwell >= 0, part]");
+        ScanMove m;
+        m.laserOn = r[0].get<double>() != 0;
+        m.x0 = r[1].get<double>(), m.y0 = r[2].get<double>();
+        m.x1 = r[3].get<double>(), m.y1 = r[4].get<double>();
+        m.power = r[5].get<double>(), m.speed = r[6].get<double>(), m.dwell = r[7].get<double>();
+        m.part = r[8].get<int>();
+        if (m.laserOn && !(m.speed > 0) && !(m.dwell > 0) && (m.x0 != m.x1 || m.y0 != m.y1))
+            throw node.error(TRAJECTORY_KEY, "a mark that moves needs a positive speed");
+        moves.push_back(m);
+    }
+    return moves;
+}
+
 }  // namespace
 
 double ScanPlan::totalEnergy() const {
@@ -103,10 +137,12 @@ nlohmann::json toJson(const ScanPlan& plan) {
                              {"origin_y", m.originY},
                              {"pixel_pitch", m.pixelPitch},
                              {"dose_mJ_per_mm2", m.dose}});
-        layers.push_back({{"z", layer.z},
-                          {"points_x_y_energy", points},
-                          {"vectors_x0_y0_x1_y1_power_speed", vectors},
-                          {"masks", masks}});
+        nlohmann::json entry = {{"z", layer.z},
+                                {"points_x_y_energy", points},
+                                {"vectors_x0_y0_x1_y1_power_speed", vectors},
+                                {"masks", masks}};
+        if (!layer.trajectory.empty()) entry[TRAJECTORY_KEY] = trajectoryJson(layer.trajectory);
+        layers.push_back(std::move(entry));
     }
     return {{"units", "mm, s, mW, mJ"},
             {"machine",
@@ -153,6 +189,7 @@ ScanPlan scanPlanFromJson(const nlohmann::json& json, const std::string& file) {
         }
         for (const ConfigNode& mask : node.children("masks"))
             layer.masks.push_back(maskFromConfig(mask));
+        if (node.has(TRAJECTORY_KEY)) layer.trajectory = trajectoryFromJson(node);
         plan.layers.push_back(std::move(layer));
     }
     root.checkUnknownKeys();

@@ -80,10 +80,21 @@ void writeHtmlReport(const std::string& outDir, const JobResult& r) {
            "red outside)");
     figure(html, outDir, "deviation_histogram.svg", "histogram of the signed surface deviation");
     figure(html, outDir, "xy_error_per_layer.svg", "XY contour error per layer");
+    figure(html, outDir, "scan_path.svg",
+           "scan path of the busiest layer: marks, jumps within and between parts, part order");
     figure(html, outDir, "kernel/intensity_scattered.png",
            "beam kernel with scattering (Monte Carlo)");
     figure(html, outDir, "kernel/intensity_no_scattering.png", "beam kernel without scattering");
     figure(html, outDir, "kernel/radius_vs_depth.svg", "beam radius against depth");
+    if (r.plan.planner.contains("build_time_s")) {
+        const nlohmann::json& t = r.plan.planner["build_time_s"];
+        html << "<h2>Build time (s, seed 002 Eq. 1-4)</h2><table>\n";
+        for (const char* key : {"total", "mark", "jump", "delays", "recoat", "exposure"})
+            if (t.contains(key))
+                row(html, key, t[key].is_number() ? number(t[key].get<double>(), 4) : "unknown");
+        if (t.contains("note")) row(html, "note", escapeHtml(t["note"].get<std::string>()));
+        html << "</table>\n";
+    }
     html << "<h2>Stages (s)</h2><table>\n";
     for (const auto& [stage, seconds] : r.stageSeconds) row(html, stage, number(seconds, 3));
     html << "</table>\n<h2>Files</h2><p><a href='report.json'>report.json</a>, <a "

@@ -213,5 +213,15 @@ check_files "$work/run/report.json" "$work/run/index.html" "$work/run/cured.stl"
 run_ok run_cached run "$data/small_job.json" --out "$work/run_cached" --json
 check "$work/run_cached.json" '.kernel.from_cache == true'
 
+if "$vpsim" export --help >/dev/null 2>&1; then
+  expect_ok '"vectors": 24' export "$data/plan_two_parts.json" -o "$work/scan.cli" --json
+  expect_ok '"proven_optimal": true' export "$data/plan_two_parts.json" -o "$work/scan_bin.cli" \
+    --format binary --trajectories --machine "$data/machine_scanner.json" --json
+  expect_error "machine_bad_scanner.json: key 'machine.scanner.process_speed'" export \
+    "$data/plan_two_parts.json" -o "$work/bad.cli" --machine "$data/machine_bad_scanner.json"
+  [[ -e "$work/bad.cli" ]] && { failed=$((failed + 1)); echo "FAILED: bad input wrote bad.cli"; }
+  expect_error "missing_plan.json: cannot read" export "$data/missing_plan.json" -o "$work/x.cli"
+fi
+
 echo "cli: $passed passed, $failed failed"
 [[ $failed -eq 0 ]]

@@ -41,7 +41,8 @@ struct PlotSeries {
     std::string colour = "";  ///< CSS colour; empty picks from a palette
     bool dashed = false;
 };
-/// Writes an SVG line chart with axes, ticks, labels and a legend (atomically).
+/// Writes an SVG line chart with axes, ticks, labels and a legend (atomically). A non-finite point
+/// breaks its series's line, so one series can hold separate segments.
 void writeSvgLinePlot(const std::string& path, const std::string& title, const std::string& xLabel,
                       const std::string& yLabel, const std::vector<PlotSeries>& series);
 

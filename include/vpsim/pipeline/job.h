@@ -19,6 +19,7 @@
 #include "vpsim/kernel/kernel_spec.h"
 #include "vpsim/pipeline/builtins.h"
 #include "vpsim/plan/machine.h"
+#include "vpsim/plan/part_order.h"
 #include "vpsim/plan/planner.h"
 #include "vpsim/validate/feature_probe.h"
 
@@ -43,6 +44,8 @@ struct Job {
     std::string strategy;  ///< the planner's registered name
     std::unique_ptr<plan::Planner> planner;
     SimulationSpec simulation;
+    /// `plan.order` (laser strategies): how each layer's parts are ordered in the trajectories
+    plan::OrderMethod scanOrder = plan::OrderMethod::Auto;
     std::vector<validate::FeatureProbe> features;  ///< Z dimensions to measure (seed 001 Table 2)
     /// Machine-file exporters run with the job, by name: those named in the `export` section
     /// ({"sl1": {options}, "cli": {}}), or every registered one when it is absent; each writes

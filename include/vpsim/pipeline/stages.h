@@ -18,6 +18,7 @@
 #include "vpsim/geometry/mesh.h"
 #include "vpsim/kernel/beam_kernel.h"
 #include "vpsim/pipeline/job.h"
+#include "vpsim/plan/scan_report.h"
 #include "vpsim/report/job_result.h"
 
 namespace vpsim::pipeline {
@@ -46,6 +47,18 @@ struct PlanResult {
 PlanResult planStage(const Job& job, const geometry::LayerStack& layers,
                      const geometry::Bounds& partBounds, const BeamResult& beam,
                      const RunContext& context);
+
+/// The scanner's view of the plan (seed 002, seed 000 III-C): each laser layer's parts ordered
+/// (`plan.order`) into mark and jump trajectories stored in the plan, unless the plan already has
+/// them (a saved plan), and the build time (`machine.scanner`, recoat, DLP mask exposure).
+/// @throw InputError from the ordering or the build-time model
+plan::ScanSchedule scanStage(const Job& job, const geometry::LayerStack& layers,
+                             plan::ScanPlan& plan);
+
+/// Writes scan_path.svg (the busiest layer's marks, jumps and order) into `outDir`; the machine
+/// files (scan.cli, ...) come from exportStage.
+void writeScanFiles(const plan::ScanSchedule& schedule, const plan::ScanPlan& plan,
+                    const std::string& outDir);
 
 /// Checks that a saved (or hand-edited) plan fits the job: the same process, layer thickness
 /// and number of layers as the sliced part. @throw InputError naming `file`

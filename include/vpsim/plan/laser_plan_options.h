@@ -10,13 +10,17 @@
 #include "vpsim/core/registry.h"
 #include "vpsim/kernel/fitted_beam.h"
 #include "vpsim/plan/aces.h"
+#include "vpsim/plan/part_order.h"
+#include "vpsim/plan/scan_direction.h"
 
 namespace vpsim::plan {
 
 struct LaserPlanOptions {
-    /// The ACES keys (plan::readAcesKeys): homogeneity, edge, border_count, border_offset,
-    /// direction. The beam, machine and dose fields are filled by acesParameters().
+    /// The ACES keys (plan::readAcesKeys): homogeneity, edge, border_count, border_offset.
+    /// The beam, machine and dose fields are filled by acesParameters().
     AcesParameters aces;
+    DirectionRule direction;                ///< `direction`: scan direction per layer
+    OrderMethod order = OrderMethod::Auto;  ///< `order` of the parts (the pipeline's trajectories)
 };
 
 /// @throw InputError naming the file and key

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "vpsim/plan/grey_levels.h"
+#include "vpsim/plan/scanner.h"
 
 namespace vpsim {
 class ConfigNode;
@@ -32,6 +33,10 @@ struct Machine {
     double pixelPitch = 0.0625;  ///< mm (DLP projector pixel at the resin)
     /// DLP: the projector's grey-level calibration ("grey_levels" + "exposure_time"), or null
     std::shared_ptr<const GreyLevels> greyLevels;
+    /// `scanner`: kinematic limits and delays of the galvanometer scanner (laser build time)
+    ScannerConfig scanner;
+    double recoatTime = 0;           ///< s per layer (`recoat_time`, default 0)
+    double projectorIrradiance = 0;  ///< mW/mm^2 at the resin (`projector_irradiance`, DLP)
 };
 
 /// Reads a job's `machine` section: "process" (laser | dlp, default laser), "layer_thickness"

@@ -35,12 +35,26 @@ struct MaskImage {
     std::vector<float> dose;          ///< mJ/mm^2 per pixel
 };
 
+/// One scanner move in execution order (plan/trajectory.h builds them): a mark (laser on) or a
+/// jump (laser off). A jump's duration follows from the scanner kinematics (plan/scanner.h).
+struct ScanMove {
+    bool laserOn = false;
+    double x0 = 0, y0 = 0, x1 = 0, y1 = 0;  ///< mm
+    double power = 0;                       ///< mW (marks)
+    double speed = 0;                       ///< mm/s (marks; 0 for jumps and dwells)
+    double dwell = 0;                       ///< s at rest at (x1, y1) with the laser on
+    int part = -1;                          ///< index of the layer part it belongs to
+};
+
 /// Everything exposed on one layer.
 struct LayerPlan {
     double z = 0;  ///< mm, top surface of the layer (where the light enters)
     std::vector<LaserPoint> points;
     std::vector<LaserVector> vectors;
     std::vector<MaskImage> masks;
+    /// The ordered scanner moves that execute `points` and `vectors` (empty until trajectories
+    /// are built; saved as "trajectory" only when present).
+    std::vector<ScanMove> trajectory;
 };
 
 /// A plan for a whole part, layers from the bottom (index 0) up.

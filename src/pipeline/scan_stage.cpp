@@ -1,0 +1,50 @@
+// The scan stage of a run (stages.h): trajectories, part order and build time of the plan, and
+// the picture that shows them (scan_path.svg).
+#include "vpsim/pipeline/stages.h"
+
+namespace vpsim::pipeline {
+namespace {
+
+/// Whether every layer that exposes laser points or vectors already has its trajectory.
+bool hasTrajectories(const plan::ScanPlan& plan) {
+    bool any = false;
+    for (const auto& layer : plan.layers) {
+        const bool laser = !layer.vectors.empty() || !layer.points.empty();
+        if (laser && layer.trajectory.empty()) return false;
+        any = any || laser;
+    }
+    return any;
+}
+
+}  // namespace
+
+plan::ScanSchedule scanStage(const Job& job, const geometry::LayerStack& layers,
+                             plan::ScanPlan& plan) {
+    const plan::BuildTimeOptions timing = plan::buildTimeOptions(job.machine);
+    if (hasTrajectories(plan)) {  // a saved plan keeps its own order
+        plan::ScanSchedule schedule;
+        schedule.buildTime = plan::estimateBuildTime(plan, timing).toJson();
+        return schedule;
+    }
+    plan::TrajectoryOptions options;
+    options.scanner = timing.scanner;
+    options.order = job.scanOrder;
+    std::vector<geometry::PolygonSet> regions;
+    for (const auto& layer : layers.layers) regions.push_back(layer.region);
+    const bool sameLayers = regions.size() == plan.layers.size();
+    return plan::scheduleScans(plan, options, timing, sameLayers ? &regions : nullptr);
+}
+
+void writeScanFiles(const plan::ScanSchedule& schedule, const plan::ScanPlan& plan,
+                    const std::string& outDir) {
+    // scan.cli is written by the job's exporters (exportStage), like every machine file.
+    if (!schedule.layers.empty()) {
+        const size_t k = plan::busiestLayer(schedule.layers);
+        plan::writeScanPathSvg(outDir + "/scan_path.svg", schedule.layers[k].moves,
+                               "scan path of layer " + std::to_string(k) + " (" +
+                                   std::to_string(schedule.layers[k].parts) + " parts, " +
+                                   schedule.layers[k].order.method + " order)");
+    }
+}
+
+}  // namespace vpsim::pipeline
