@@ -5,6 +5,7 @@
 #include "vpsim/core/checks.h"
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
+#include "vpsim/core/log.h"
 #include "vpsim/plan/scan_report.h"
 
 namespace vpsim::pipeline {
@@ -37,11 +38,23 @@ void createPlanner(const ConfigNode& root, const Builtins& builtins, Job& job) {
                                               plan::processName(job.machine.process));
 }
 
+/// Without an `export` section every registered exporter runs that can be created from the
+/// machine's projector calibration (grey_levels, exposure_time: the keys it documents); one that
+/// needs more options is skipped with an info line.
 void createExporters(const ConfigNode& root, const Builtins& builtins, Job& job) {
     if (!root.has("export")) {
-        const ConfigNode none(nlohmann::json::object(), root.file());
-        for (const std::string& name : builtins.exporters.names())
-            job.exporters.emplace_back(name, builtins.exporters.create(name, none));
+        const ConfigNode machine = root.child("machine");
+        for (const auto& [name, entry] : builtins.exporters.entries()) {
+            nlohmann::json options = nlohmann::json::object();
+            for (const ConfigKeyDoc& key : entry.keys)
+                if (machine.has(key.key)) options[key.key] = machine.raw(key.key);
+            try {
+                job.exporters.emplace_back(name, entry.factory(ConfigNode(options, root.file())));
+            } catch (const InputError& e) {
+                logInfo("exporter " + name + " not run: " + std::string(e.what()) +
+                        " (give its options in the job's export section)");
+            }
+        }
         return;
     }
     ConfigNode section = root.child("export");

@@ -92,7 +92,7 @@ void writeHtmlReport(const std::string& outDir, const JobResult& r) {
         for (const char* key : {"total", "mark", "jump", "delays", "recoat", "exposure"})
             if (t.contains(key))
                 row(html, key, t[key].is_number() ? number(t[key].get<double>(), 4) : "unknown");
-        if (t.contains("note")) row(html, "note", escapeHtml(t["note"].get<std::string>()));
+        if (t.contains("note")) row(html, "note", htmlEscape(t["note"].get<std::string>()));
         html << "</table>\n";
     }
     html << "<h2>Stages (s)</h2><table>\n";
