@@ -29,12 +29,6 @@ std::string describeValue(const nlohmann::json& value) {
     return escaped(value.dump());
 }
 
-std::string formatLimit(double value) {
-    std::ostringstream s;
-    s << value;
-    return s.str();
-}
-
 /// Refuses documents nested deeper than MAX_JSON_DEPTH before parsing: a job nested 1e5 levels
 /// deep would otherwise overflow the stack in the recursive code that walks it.
 void checkNestingDepth(const std::string& text, const std::string& file) {
@@ -136,8 +130,8 @@ private:
                                  std::to_string(MAX_JSON_STRING) + " accepted",
                              mFile, currentPath());
         if (value.is_number() && !(std::fabs(value.get<double>()) <= MAX_JSON_NUMBER))
-            throw InputError("number " + formatLimit(value.get<double>()) +
-                                 " out of range (beyond +-" + formatLimit(MAX_JSON_NUMBER) + ")",
+            throw InputError("number " + formatNumber(value.get<double>()) +
+                                 " out of range (beyond +-" + formatNumber(MAX_JSON_NUMBER) + ")",
                              mFile, currentPath());
     }
 
@@ -160,7 +154,7 @@ nlohmann::json parseJsonText(const std::string& text, const std::string& file) {
         throw InputError(reason, file, "", lineOfByte(text, e.byte > 0 ? e.byte - 1 : 0));
     } catch (const nlohmann::json::out_of_range&) {
         // The lexer read a number beyond double (1e400); the checker knows which key it was.
-        throw InputError("number out of range (beyond +-" + formatLimit(MAX_JSON_NUMBER) + ")",
+        throw InputError("number out of range (beyond +-" + formatNumber(MAX_JSON_NUMBER) + ")",
                          file, checker.currentPath());
     }
 }

@@ -153,4 +153,10 @@ std::string asciiLower(std::string_view text) {
     return out;
 }
 
+std::string formatNumber(double value, int significantDigits) {
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, "%.*g", significantDigits, value);
+    return buffer;
+}
+
 }  // namespace vpsim

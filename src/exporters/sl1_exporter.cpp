@@ -1,4 +1,5 @@
 #include "vpsim/exporters/sl1_exporter.h"
+#include "vpsim/core/text.h"
 
 #include <png.h>
 #include <zip.h>
@@ -34,13 +35,6 @@ std::vector<uint8_t> displayImage(const plan::MaskImage& mask, const plan::GreyL
     return out;
 }
 
-std::string number(double v) {
-    std::ostringstream s;
-    s.imbue(std::locale::classic());
-    s << v;
-    return s.str();
-}
-
 }  // namespace
 
 std::vector<uint8_t> maskToGrey(const plan::MaskImage& mask, const plan::GreyLevels& levels) {
@@ -50,9 +44,9 @@ std::vector<uint8_t> maskToGrey(const plan::MaskImage& mask, const plan::GreyLev
         if (!(d >= 0.0) || !std::isfinite(d))
             throw InputError("mask dose must be finite and >= 0 for grey levels");
         if (d > levels.maxDose() * 1.005)
-            throw InputError("mask dose " + number(d * 100.0) +
+            throw InputError("mask dose " + formatNumber(d * 100.0) +
                              " mJ/cm^2 exceeds the projector's brightest grey (" +
-                             number(levels.maxDose() * 100.0) + " mJ/cm^2)");
+                             formatNumber(levels.maxDose() * 100.0) + " mJ/cm^2)");
         grey[i] = levels.quantise(d);
     }
     return grey;
@@ -113,22 +107,24 @@ void Sl1Exporter::write(const plan::ScanPlan& plan, const std::string& path) con
     const double t = mLevels.exposureTime();
     const size_t n = plan.layers.size();
     std::ostringstream config;  // config.ini: what the firmware reads
-    config << "action = print\nexpTime = " << number(t) << "\nexpTimeFirst = " << number(t)
+    config << "action = print\nexpTime = " << formatNumber(t)
+           << "\nexpTimeFirst = " << formatNumber(t)
            << "\nexpUserProfile = 0\nfileCreationTimestamp = vpsim\nhollow = 0\njobDir = "
-           << mSettings.jobName << "\nlayerHeight = " << number(plan.machine.layerThickness)
+           << mSettings.jobName << "\nlayerHeight = " << formatNumber(plan.machine.layerThickness)
            << "\nmaterialName = vpsim\nnumFade = " << mSettings.fadeLayers << "\nnumFast = " << n
            << "\nnumSlow = 0\nprintProfile = vpsim optimised-mask"
            << "\nprinterModel = " << mSettings.printerModel
            << "\nprinterProfile = vpsim\nprinterVariant = default\nprintTime = "
-           << number(double(n) * t) << "\nprusaSlicerVersion = vpsim " << VPSIM_VERSION
+           << formatNumber(double(n) * t) << "\nprusaSlicerVersion = vpsim " << VPSIM_VERSION
            << "\nusedMaterial = 0\n";
     std::ostringstream profile;  // prusaslicer.ini: the display geometry tools read
     profile << "printer_technology = SLA\ndisplay_pixels_x = " << px
-            << "\ndisplay_pixels_y = " << py << "\ndisplay_width = " << number(width)
-            << "\ndisplay_height = " << number(height)
+            << "\ndisplay_pixels_y = " << py << "\ndisplay_width = " << formatNumber(width)
+            << "\ndisplay_height = " << formatNumber(height)
             << "\ndisplay_orientation = landscape\ndisplay_mirror_x = 0\ndisplay_mirror_y = 0"
-            << "\nexposure_time = " << number(t) << "\ninitial_exposure_time = " << number(t)
-            << "\nlayer_height = " << number(plan.machine.layerThickness)
+            << "\nexposure_time = " << formatNumber(t)
+            << "\ninitial_exposure_time = " << formatNumber(t)
+            << "\nlayer_height = " << formatNumber(plan.machine.layerThickness)
             << "\nfaded_layers = " << mSettings.fadeLayers
             << "\nprinter_model = " << mSettings.printerModel << "\n";
     std::vector<std::string> texts{config.str(), profile.str()};
@@ -199,9 +195,9 @@ void PngStackExporter::write(const plan::ScanPlan& plan, const std::string& path
     }
     std::ostringstream index;
     index << "{\"layers\": " << plan.layers.size()
-          << ", \"exposure_time_s\": " << number(mLevels.exposureTime())
-          << ", \"pixel_pitch_mm\": " << number(plan.layers[0].masks[0].pixelPitch)
-          << ", \"layer_thickness_mm\": " << number(plan.machine.layerThickness) << "}\n";
+          << ", \"exposure_time_s\": " << formatNumber(mLevels.exposureTime())
+          << ", \"pixel_pitch_mm\": " << formatNumber(plan.layers[0].masks[0].pixelPitch)
+          << ", \"layer_thickness_mm\": " << formatNumber(plan.machine.layerThickness) << "}\n";
     writeFileAtomic(path + "/masks.json", index.str());
 }
 

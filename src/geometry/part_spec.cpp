@@ -34,9 +34,7 @@ PartSpec partSpecFromConfig(const ConfigNode& part) {
 Mesh loadPart(const PartSpec& spec) {
     Mesh part;
     if (!spec.stl.empty()) {
-        StlReadOptions options;
-        options.scale = spec.scale;
-        part = readStl(spec.stl, options);
+        part = readStl(spec.stl, spec.scale);
     } else {
         part = makeTestPart(spec.testPart, spec.testPartOptions);
     }

@@ -321,4 +321,10 @@ void writeStlAscii(const std::string& path, const Mesh& mesh, const std::string&
     });
 }
 
+Mesh readStl(const std::string& path, double scale) {
+    StlReadOptions options;
+    options.scale = scale;
+    return readStl(path, options);
+}
+
 }  // namespace vpsim::geometry

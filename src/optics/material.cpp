@@ -5,6 +5,7 @@
 
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
+#include "vpsim/core/text.h"
 #include "vpsim/optics/material_file.h"
 
 namespace vpsim::optics {
@@ -12,22 +13,17 @@ namespace {
 
 constexpr double MAX_VOLUME_FRACTION = 0.74;
 
-std::string str(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-}
-
 double positiveQuantity(const ConfigNode& node, const std::string& key, Dimension dimension) {
     double v = node.quantity(key, dimension);
     if (!(v > 0.0))
-        throw node.error(key, "must be positive, got " + str(v) + " " + dimension.baseUnit());
+        throw node.error(key,
+                         "must be positive, got " + formatNumber(v) + " " + dimension.baseUnit());
     return v;
 }
 
 double positiveNumber(const ConfigNode& node, const std::string& key) {
     double v = node.number(key);
-    if (!(v > 0.0)) throw node.error(key, "must be positive, got " + str(v));
+    if (!(v > 0.0)) throw node.error(key, "must be positive, got " + formatNumber(v));
     return v;
 }
 
@@ -60,8 +56,8 @@ SizeDistribution sizeDistribution(const ConfigNode& particles) {
     size.kind = SizeDistribution::Kind::LogNormal;
     size.sigmaG = d.number("sigma_g");
     if (!(size.sigmaG >= 1.0 && size.sigmaG <= 5.0))
-        throw d.error("sigma_g",
-                      "geometric standard deviation must be in [1, 5], got " + str(size.sigmaG));
+        throw d.error("sigma_g", "geometric standard deviation must be in [1, 5], got " +
+                                     formatNumber(size.sigmaG));
     long long points = d.integer("points", 96);
     if (points < 8 || points > 4096)
         throw d.error("points", "must be in [8, 4096], got " + std::to_string(points));
@@ -85,7 +81,7 @@ SlurrySpec readSlurry(const ConfigNode& root) {
         throw particles.error("volume_fraction",
                               "must be in (0, 0.74) (0.74 is the densest packing "
                               "of spheres), got " +
-                                  str(s.volumeFraction));
+                                  formatNumber(s.volumeFraction));
     s.size = sizeDistribution(particles);
     long long table = root.integer("phase_table_size", DEFAULT_PHASE_TABLE_SIZE);
     if (table < 16 || table > (1 << 22))
@@ -104,18 +100,21 @@ MediumOptics readPlainOptics(const ConfigNode& root) {
     ConfigNode o = root.child("optics");
     MediumOptics m;
     m.mua = o.quantity("mua", dim::INVERSE_LENGTH);
-    if (!(m.mua >= 0.0)) throw o.error("mua", "must not be negative, got " + str(m.mua) + " 1/mm");
+    if (!(m.mua >= 0.0))
+        throw o.error("mua", "must not be negative, got " + formatNumber(m.mua) + " 1/mm");
     m.mus = o.quantity("mus", dim::INVERSE_LENGTH);
-    if (!(m.mus >= 0.0)) throw o.error("mus", "must not be negative, got " + str(m.mus) + " 1/mm");
+    if (!(m.mus >= 0.0))
+        throw o.error("mus", "must not be negative, got " + formatNumber(m.mus) + " 1/mm");
     if (!(m.mua + m.mus > 0.0))
         throw o.error("mus", "mua + mus must be positive (an empty medium)");
     m.g = o.number("g", 0.0);
-    if (!(std::fabs(m.g) < 1.0)) throw o.error("g", "must be in (-1, 1), got " + str(m.g));
+    if (!(std::fabs(m.g) < 1.0)) throw o.error("g", "must be in (-1, 1), got " + formatNumber(m.g));
     o.choice("phase", {"hg"}, std::string("hg"));
     m.phase = PhaseModel::HenyeyGreenstein;
     m.refractiveIndex = o.number("refractive_index", 1.0);
     if (!(m.refractiveIndex > 0.0))
-        throw o.error("refractive_index", "must be positive, got " + str(m.refractiveIndex));
+        throw o.error("refractive_index",
+                      "must be positive, got " + formatNumber(m.refractiveIndex));
     m.wavelength = o.quantity("wavelength", dim::LENGTH, 0.0);
     if (m.wavelength < 0.0) throw o.error("wavelength", "must not be negative");
     return m;

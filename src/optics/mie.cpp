@@ -9,6 +9,7 @@
 // where psi_{n-1} = (D_n(x) + n/x) psi_n was used to remove the cancellation in the numerators.
 
 #include "vpsim/optics/mie.h"
+#include "vpsim/core/text.h"
 
 #include <algorithm>
 #include <cmath>
@@ -87,12 +88,6 @@ std::vector<T> logDerivatives(T z, int terms) {
     }
     d[0] = dn;
     return d;
-}
-
-std::string formatNumber(double v) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%g", v);
-    return buffer;
 }
 
 }  // namespace

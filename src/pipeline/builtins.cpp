@@ -2,10 +2,10 @@
 
 #include "vpsim/cure/fpp_law.h"
 #include "vpsim/cure/threshold_law.h"
+#include "vpsim/exporters/cli_exporter.h"
 #include "vpsim/exporters/sl1_exporter.h"
 #include "vpsim/optimise/dfbtp_strategy.h"
 #include "vpsim/optimise/dlp_optimised_mask_planner.h"
-#include "vpsim/exporters/cli_exporter.h"
 #include "vpsim/plan/aces_planner.h"
 #include "vpsim/plan/uniform_mask_planner.h"
 

@@ -10,10 +10,7 @@ namespace vpsim::report {
 namespace {
 
 std::string number(double value, int digits = 4) {
-    std::ostringstream text;
-    text.precision(digits);
-    text << value;
-    return text.str();
+    return formatNumber(value, digits);
 }
 
 void figure(std::ostringstream& html, const std::string& outDir, const std::string& file,

@@ -8,6 +8,7 @@
 
 #include "photon_params.h"
 #include "vpsim/core/error.h"
+#include "vpsim/core/text.h"
 
 namespace vpsim::transport {
 
@@ -19,12 +20,6 @@ void require(bool ok, const std::string& key, const std::string& reason) {
 
 bool finite(double v) {
     return std::isfinite(v);
-}
-
-std::string text(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
 }
 
 }  // namespace
@@ -51,13 +46,13 @@ Estimator parseEstimator(const std::string& text, const std::string& key) {
 void validateSetup(const McSetup& s) {
     const auto& o = s.optics;
     require(finite(o.mua) && o.mua >= 0, "mua",
-            "absorption coefficient must be >= 0, got " + text(o.mua));
+            "absorption coefficient must be >= 0, got " + formatNumber(o.mua));
     require(finite(o.mus) && o.mus >= 0, "mus",
-            "scattering coefficient must be >= 0, got " + text(o.mus));
+            "scattering coefficient must be >= 0, got " + formatNumber(o.mus));
     require(finite(o.g) && o.g > -1 && o.g < 1, "g",
-            "anisotropy g must lie in (-1, 1), got " + text(o.g));
+            "anisotropy g must lie in (-1, 1), got " + formatNumber(o.g));
     require(finite(o.refractiveIndex) && o.refractiveIndex >= 1, "refractive_index",
-            "refractive index of the medium must be >= 1, got " + text(o.refractiveIndex));
+            "refractive index of the medium must be >= 1, got " + formatNumber(o.refractiveIndex));
     require(finite(s.nAbove) && s.nAbove >= 1, "n_outside", "refractive index above must be >= 1");
     require(finite(s.nBelow) && s.nBelow >= 1, "n_outside", "refractive index below must be >= 1");
     require(finite(s.thickness) && s.thickness >= 0, "thickness",
@@ -68,7 +63,7 @@ void validateSetup(const McSetup& s) {
             "lateral radius must be >= 0");
     if (s.beam == BeamShape::Gaussian)
         require(finite(s.w0) && s.w0 > 0, "w0",
-                "Gaussian beam radius W0 must be > 0, got " + text(s.w0));
+                "Gaussian beam radius W0 must be > 0, got " + formatNumber(s.w0));
     require(s.photons >= 1 && s.photons <= MAX_PHOTONS, "photons",
             "photon count must be between 1 and " + std::to_string(MAX_PHOTONS) + ", got " +
                 std::to_string(s.photons));
@@ -99,14 +94,14 @@ void validateSetup(const McSetup& s) {
     require(finite(s.rouletteThreshold) && s.rouletteThreshold > 0 && s.rouletteThreshold <= 0.1,
             "roulette_threshold",
             "roulette threshold must lie in (0, 0.1] of the launched weight, got " +
-                text(s.rouletteThreshold));
+                formatNumber(s.rouletteThreshold));
     require(!s.binsPerBatch || uint64_t(b.rBins) * b.zBins * MC_BATCHES <= MAX_RZ_BINS, "bins",
             "per-batch cylindrical tallies need at most " +
                 std::to_string(MAX_RZ_BINS / MC_BATCHES) + " bins");
     require(s.depths.size() <= 4, "depths",
             "at most 4 depths, got " + std::to_string(s.depths.size()));
     for (double d : s.depths)
-        require(finite(d) && d > 0, "depths", "depths must be > 0, got " + text(d));
+        require(finite(d) && d > 0, "depths", "depths must be > 0, got " + formatNumber(d));
 }
 
 glsl::PhotonParams makePhotonParams(const McSetup& s) {

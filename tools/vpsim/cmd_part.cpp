@@ -128,9 +128,7 @@ void runCheck(const CheckOptions& o) {
 }
 
 void runLevelSet(const LevelSetCliOptions& o) {
-    StlReadOptions read;
-    read.scale = o.scale;
-    const Mesh mesh = readStl(o.file, read);
+    const Mesh mesh = readStl(o.file, o.scale);
     LevelSetOptions options;
     options.voxelSize = parseQuantity(o.voxel, dim::LENGTH, "--voxel");
     const Bounds b = mesh.bounds();

@@ -109,9 +109,7 @@ void checkPictureMemory(const Bounds& b, double pitch) {
 }
 
 void runSlice(const SliceCliOptions& o) {
-    StlReadOptions read;
-    read.scale = o.scale;
-    const Mesh mesh = readStl(o.file, read);
+    const Mesh mesh = readStl(o.file, o.scale);
     SliceOptions options;
     options.layerThickness = parseQuantity(o.layer, dim::LENGTH, "--layer");
     if (options.layerThickness > 1.0) {

@@ -36,4 +36,8 @@ std::string htmlEscape(std::string_view text);
 /// ASCII lower case.
 std::string asciiLower(std::string_view text);
 
+/// `value` with `significantDigits` significant digits in the shortest form ("%g" style, the C
+/// locale), for messages and files: 0.1, 1e+07, 2.5.
+std::string formatNumber(double value, int significantDigits = 6);
+
 }  // namespace vpsim

@@ -30,6 +30,8 @@ Mesh parseStlSoup(const std::string& data, const std::string& name, double scale
 /// @throw InputError naming the file and the reason for anything not safely repairable
 Mesh readStl(const std::string& path, const StlReadOptions& options = {},
              MeshReport* report = nullptr);
+/// readStl() with the default checks and repairs, coordinates multiplied by `scale` (to mm).
+Mesh readStl(const std::string& path, double scale);
 
 /// Writes a binary STL (atomically: temp file then rename), with facet normals.
 /// @param solidName written into the 80-byte header (never starting with "solid")
