@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "vpsim/core/checks.h"
 #include "vpsim/core/error.h"
 #include "vpsim/cure/cure_model.h"
 #include "vpsim/cure/print_through.h"
@@ -11,19 +12,11 @@
 namespace vpsim::optimise {
 namespace {
 
-void requirePositive(double value, const char* name) {
-    if (!(value > 0.0) || !std::isfinite(value)) {
-        std::ostringstream reason;
-        reason << "DLP column: " << name << " must be positive and finite, got " << value;
-        throw InputError(reason.str());
-    }
-}
-
 void checkProblem(const DlpColumnProblem& p) {
-    requirePositive(p.layerThickness, "layer thickness");
-    requirePositive(p.rateConstant, "rate constant K");
-    requirePositive(p.attenuation, "attenuation mu");
-    requirePositive(p.maxDose, "maximum dose");
+    requirePositive(p.layerThickness, "DLP column: layer thickness");
+    requirePositive(p.rateConstant, "DLP column: rate constant K");
+    requirePositive(p.attenuation, "DLP column: attenuation mu");
+    requirePositive(p.maxDose, "DLP column: maximum dose");
     if (!(p.gelPoint > 0.0 && p.gelPoint < 1.0))
         throw InputError("DLP column: gel point must lie in (0, 1)");
     if (!(p.targetConversion > 0.0 && p.targetConversion < 1.0))
@@ -57,8 +50,8 @@ std::vector<SolidRun> solidRuns(const std::vector<uint8_t>& solid) {
 
 double bondingDose(double rateConstant, double attenuation, double gelPoint, double layerThickness,
                    int elementsBetween) {
-    requirePositive(attenuation, "attenuation mu");
-    requirePositive(layerThickness, "layer thickness");
+    requirePositive(attenuation, "DLP column: attenuation mu");
+    requirePositive(layerThickness, "DLP column: layer thickness");
     if (elementsBetween < 1) throw InputError("DLP column: n_z must be at least 1");
     return std::exp(attenuation * layerThickness * elementsBetween) *
            cure::fppGelDose(rateConstant, gelPoint);

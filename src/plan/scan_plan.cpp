@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "vpsim/core/checks.h"
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
@@ -14,16 +15,10 @@ namespace {
 
 constexpr long long MAX_MASK_SIDE = 1 << 16;  // pixels; a DLP chip has a few thousand
 
-double positive(const ConfigNode& node, const std::string& key, Dimension dimension) {
-    double value = node.quantity(key, dimension);
-    if (!(value > 0)) throw node.error(key, "must be positive");
-    return value;
-}
-
 /// A machine length: positive and at most 10 mm (layers, beams and pixels are microns to a
 /// millimetre; larger values are unit mistakes that would make grids of one cell).
 double machineLength(const ConfigNode& node, const std::string& key) {
-    const double value = positive(node, key, dim::LENGTH);
+    const double value = positiveQuantity(node, key, dim::LENGTH);
     if (value > 10.0)
         throw node.error(key, "must be at most 10 mm, got " + std::to_string(value) + " mm");
     return value;
@@ -61,7 +56,7 @@ MaskImage maskFromConfig(const ConfigNode& node) {
     mask.height = maskSide(node, "height");
     mask.originX = node.quantity("origin_x", dim::LENGTH);
     mask.originY = node.quantity("origin_y", dim::LENGTH);
-    mask.pixelPitch = positive(node, "pixel_pitch", dim::LENGTH);
+    mask.pixelPitch = positiveQuantity(node, "pixel_pitch", dim::LENGTH);
     const nlohmann::json& dose = node.raw("dose_mJ_per_mm2");
     if (!dose.is_array() || dose.size() != size_t(mask.width) * mask.height)
         throw node.error("dose_mJ_per_mm2", "expected width*height numbers");
