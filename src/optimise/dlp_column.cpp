@@ -8,6 +8,7 @@
 #include "vpsim/core/error.h"
 #include "vpsim/cure/cure_model.h"
 #include "vpsim/cure/print_through.h"
+#include "vpsim/optimise/bounded_least_squares.h"
 
 namespace vpsim::optimise {
 namespace {
@@ -78,14 +79,8 @@ std::vector<double> applyTransmission(const std::vector<double>& dose, double la
 std::vector<double> applyTransmissionTransposed(const std::vector<double>& v, double layerThickness,
                                                 double rateConstant, double attenuation) {
     // (T^T v)_r = -K sum_{p <= r} v_p a^(r-p): the same recursion run upwards.
-    const double a = std::exp(-attenuation * layerThickness);
-    std::vector<double> out(v.size());
-    double carried = 0.0;
-    for (size_t r = 0; r < v.size(); ++r) {
-        carried = v[r] + a * carried;
-        out[r] = -rateConstant * carried;
-    }
-    return out;
+    return Transmission{v.size(), rateConstant, std::exp(-attenuation * layerThickness)}
+        .applyTransposed(v);
 }
 
 std::vector<double> objectivePhotopolymerisation(const std::vector<uint8_t>& solid,

@@ -34,15 +34,6 @@ double volumeOf(const std::string& name, const std::string& bytes) {
     return readStl(path).volume();
 }
 
-std::string messageOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "(no InputError)";
-}
-
 }  // namespace
 
 TEST_CASE("ASCII STL keywords are case-insensitive (admesh writes SOLID, FACET)", "[stl]") {
@@ -71,13 +62,13 @@ TEST_CASE("STL errors quoting file bytes stay one printable line", "[stl]") {
     broken.replace(broken.find("vertex"), 6, "ver\x01\x1b[2J\xff");
     const std::string path = test::tempPath("binary_bytes.stl");
     test::writeBytes(path, broken);
-    const std::string message = messageOf([&] { readStl(path); });
+    const std::string message = test::messageOf([&] { readStl(path); });
     CHECK_THAT(message, Contains("expected 'vertex'") && Contains("\\x01"));
     for (unsigned char c : message) CHECK((c >= 0x20 && c != 0x7F));
     std::string hex = asciiBox();
     hex.replace(hex.find("vertex ") + 7, 1, "0x1");
     test::writeBytes(path, hex);
-    CHECK_THAT(messageOf([&] { readStl(path); }), Contains("expected a number"));
+    CHECK_THAT(test::messageOf([&] { readStl(path); }), Contains("expected a number"));
 }
 
 TEST_CASE("a 1 x 1 x 1e6 mm column encloses volume; a flat sheet does not", "[mesh]") {

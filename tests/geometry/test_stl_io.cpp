@@ -19,15 +19,6 @@ namespace {
 // Volumes of parts whose coordinates are exact in float: only double rounding in the sums.
 constexpr double EXACT = 1e-12;
 
-std::string messageOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "(no InputError)";
-}
-
 }  // namespace
 
 TEST_CASE("binary STL round trip keeps the mesh exactly", "[stl]") {
@@ -77,25 +68,26 @@ TEST_CASE("truncated and size-mismatched binary STL are clear errors", "[stl][ba
     const std::string path = test::tempPath("broken.stl");
 
     test::writeBytes(path, bytes.substr(0, bytes.size() - 30));
-    CHECK_THAT(messageOf([&] { readStl(path); }), Contains("broken.stl") &&
-                                                      Contains("truncated binary STL") &&
-                                                      Contains("12 triangles"));
+    CHECK_THAT(test::messageOf([&] { readStl(path); }), Contains("broken.stl") &&
+                                                            Contains("truncated binary STL") &&
+                                                            Contains("12 triangles"));
 
     // A binary file whose header starts with "solid" is still recognised as a truncated binary.
     const std::string solidHeader = test::binaryStlBytes(makeTestPart("box"), -1, "solid from CAD");
     test::writeBytes(path, solidHeader.substr(0, solidHeader.size() - 50));
-    CHECK_THAT(messageOf([&] { readStl(path); }), Contains("truncated binary STL"));
+    CHECK_THAT(test::messageOf([&] { readStl(path); }), Contains("truncated binary STL"));
 
     test::writeBytes(path, bytes + std::string(50, '\0'));
-    CHECK_THAT(messageOf([&] { readStl(path); }), Contains("disagrees with the file size"));
+    CHECK_THAT(test::messageOf([&] { readStl(path); }), Contains("disagrees with the file size"));
 
     test::writeBytes(path, bytes.substr(0, 40));
-    CHECK_THAT(messageOf([&] { readStl(path); }), Contains("84-byte"));
+    CHECK_THAT(test::messageOf([&] { readStl(path); }), Contains("84-byte"));
 
     test::writeBytes(path, "");
-    CHECK_THAT(messageOf([&] { readStl(path); }), Contains("truncated"));
+    CHECK_THAT(test::messageOf([&] { readStl(path); }), Contains("truncated"));
 
-    CHECK_THAT(messageOf([&] { readStl(test::tempPath("missing.stl")); }), Contains("missing.stl"));
+    CHECK_THAT(test::messageOf([&] { readStl(test::tempPath("missing.stl")); }),
+               Contains("missing.stl"));
 }
 
 TEST_CASE("NaN and infinite coordinates are rejected with the triangle number",
@@ -109,25 +101,26 @@ TEST_CASE("NaN and infinite coordinates are rejected with the triangle number",
     const std::string path = test::tempPath("nan.stl");
     test::writeBytes(path, test::binaryStlBytes(soup));
     CHECK_THAT(
-        messageOf([&] { readStl(path); }),
+        test::messageOf([&] { readStl(path); }),
         Contains("triangle " + std::to_string(first + 1) + " has") && Contains("non-finite"));
 
     test::writeBytes(path,
                      "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 inf\n"
                      "vertex 0 1 0\nendloop\nendfacet\nendsolid x\n");
-    CHECK_THAT(messageOf([&] { readStl(path); }), Contains("nan.stl:3") && Contains("non-finite"));
+    CHECK_THAT(test::messageOf([&] { readStl(path); }),
+               Contains("nan.stl:3") && Contains("non-finite"));
 }
 
 TEST_CASE("malformed ASCII STL names the line", "[stl][bad-input]") {
     const std::string path = test::tempPath("bad_ascii.stl");
     test::writeBytes(path,
                      "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 zero 0\n");
-    CHECK_THAT(messageOf([&] { readStl(path); }),
+    CHECK_THAT(test::messageOf([&] { readStl(path); }),
                Contains("bad_ascii.stl:5") && Contains("expected a number"));
     test::writeBytes(path, "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n");
-    CHECK_THAT(messageOf([&] { readStl(path); }), Contains("end of file"));
+    CHECK_THAT(test::messageOf([&] { readStl(path); }), Contains("end of file"));
     test::writeBytes(path, "solid x\nendsolid x\n");
-    CHECK_THAT(messageOf([&] { readStl(path); }), Contains("no triangles"));
+    CHECK_THAT(test::messageOf([&] { readStl(path); }), Contains("no triangles"));
 }
 
 TEST_CASE("bundled example parts read cleanly with their documented volumes", "[stl]") {

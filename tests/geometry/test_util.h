@@ -8,12 +8,24 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 
+#include "vpsim/core/error.h"
 #include "vpsim/geometry/mesh.h"
 #include "vpsim/geometry/test_parts.h"
 
 namespace vpsim::test {
+
+/// The message of the InputError that `f` throws, or "(no InputError)".
+inline std::string messageOf(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "(no InputError)";
+}
 
 /// A per-process temporary directory, removed when the test program exits.
 class TempDir {
