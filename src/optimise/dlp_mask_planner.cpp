@@ -48,9 +48,13 @@ DlpMaskPlan planOptimisedMasks(const DlpLayerStack& part, const DlpProcess& proc
         DlpXyOptions xy;
         xy.pixelPitch = process.pixelPitch;
         xy.blurRadius = process.blurRadius;
+        xy.margin = settings.margin;
         DlpXyResult joint = optimiseDlpPartXy(part, o, xy, &out.optimised);
         xyJson = {{"seconds", joint.seconds},
+                  {"start", joint.start},
+                  {"iterations", joint.iterations},
                   {"objective_columns", joint.objectiveColumns},
+                  {"objective_start", joint.objectiveStart},
                   {"objective_xy", joint.objectiveXy},
                   {"contour_error_columns_mm", joint.contourErrorColumns},
                   {"contour_error_xy_mm", joint.contourErrorXy}};

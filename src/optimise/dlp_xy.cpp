@@ -3,207 +3,177 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+
+#include <tbb/parallel_for.h>
 
 #include "vpsim/core/error.h"
 #include "vpsim/cure/cure_model.h"
-#include "vpsim/exposure/exposure_engine.h"
 
 namespace vpsim::optimise {
 
 using Field = std::vector<std::vector<float>>;
 
-struct DlpBlurOperator::State {
-    int width, height, layers, sub, margin;
-    double rateConstant;
-    exposure::ExposureGrid grid;
-    std::unique_ptr<exposure::ExposureEngine> engine;
-    std::vector<long> pixelOfCell;
+struct DlpShapeObjective::State {
+    DlpBlurOperator op;
+    int nx = 0, ny = 0;
+    double ec = 0.0, rateConstant = 0.0, margin = 0.0, beta = 0.0, target = 0.0;
+    double pitch = 0.0;
+    double insideCells = 0.0;
+    std::vector<std::vector<uint8_t>> inside;  ///< per layer, per cell: inside the part
+    std::vector<std::vector<float>> weight;    ///< per layer, per cell: w_c
+    std::vector<double> perimeter;             ///< per layer, mm: solid/void cell edges x pitch
+    double maxWeight = 1.0;
+
+    State(const DlpLayerStack& part, const DlpColumnProblem& p, const DlpXyOptions& o)
+        : op(part.width, part.height, int(part.layers.size()), p, o) {}
 };
-
-DlpBlurOperator::DlpBlurOperator(int width, int height, int layers, const DlpColumnProblem& p,
-                                 const DlpXyOptions& o)
-    : mState(std::make_unique<State>()) {
-    if (width <= 0 || height <= 0 || layers <= 0 || o.subsamples < 1 || !(o.blurRadius > 0.0) ||
-        !(o.pixelPitch > 0.0))
-        throw InputError("xy coupling: sizes, subsamples, pixel pitch and blur must be positive");
-    State& s = *mState;
-    s.width = width, s.height = height, s.layers = layers, s.sub = o.subsamples;
-    s.rateConstant = p.rateConstant;
-    const double pitch = o.pixelPitch / o.subsamples;
-    s.margin = exposure::blurHalfWidth(o.blurRadius, pitch) + 1;  // void the blur reaches
-    s.grid.nx = width * s.sub + 2 * s.margin;
-    s.grid.ny = height * s.sub + 2 * s.margin;
-    s.grid.originX = -s.margin * pitch;
-    s.grid.originY = -s.margin * pitch;
-    s.grid.pitch = pitch;
-    s.grid.slicesPerLayer = 1;
-    kernel::FittedBeam beam{o.blurRadius, 1.0 / p.attenuation, 0.0, 1.0};
-    s.engine = std::make_unique<exposure::ExposureEngine>(s.grid, beam, p.layerThickness);
-    s.pixelOfCell.assign(size_t(s.grid.nx) * size_t(s.grid.ny), -1);
-    for (int j = 0; j < s.grid.ny; ++j)
-        for (int i = 0; i < s.grid.nx; ++i) {
-            int x = (i - s.margin), y = (j - s.margin);
-            if (x < 0 || y < 0 || x >= width * s.sub || y >= height * s.sub) continue;
-            s.pixelOfCell[size_t(j) * s.grid.nx + i] = long(y / s.sub) * width + x / s.sub;
-        }
-}
-
-DlpBlurOperator::~DlpBlurOperator() = default;
-int DlpBlurOperator::cellsX() const {
-    return mState->grid.nx;
-}
-int DlpBlurOperator::cellsY() const {
-    return mState->grid.ny;
-}
-long DlpBlurOperator::pixelOf(int i, int j) const {
-    return mState->pixelOfCell[size_t(j) * mState->grid.nx + i];
-}
-
-Field DlpBlurOperator::apply(const Field& dose) {
-    State& s = *mState;
-    std::vector<exposure::SurfaceGrid> deposits(size_t(s.layers), s.grid.surface());
-    for (int k = 0; k < s.layers; ++k)
-        for (size_t c = 0; c < s.pixelOfCell.size(); ++c)
-            if (s.pixelOfCell[c] >= 0) deposits[k].values[c] = dose[k][size_t(s.pixelOfCell[c])];
-    exposure::ExposureField field = s.engine->stack(deposits);
-    Field out(size_t(s.layers));
-    for (int k = 0; k < s.layers; ++k) {
-        out[k] = std::move(field[size_t(k)].values);
-        for (float& v : out[k]) v *= float(-s.rateConstant);
-    }
-    return out;
-}
-
-Field DlpBlurOperator::applyAdjoint(const Field& cells) {
-    State& s = *mState;
-    exposure::ExposureField field(size_t(s.layers), s.grid.surface());
-    for (int k = 0; k < s.layers; ++k) field[size_t(k)].values = cells[size_t(k)];
-    std::vector<exposure::SurfaceGrid> adjoint = s.engine->stackAdjoint(field);
-    Field out(size_t(s.layers), std::vector<float>(size_t(s.width) * s.height, 0.0f));
-    for (int k = 0; k < s.layers; ++k)
-        for (size_t c = 0; c < s.pixelOfCell.size(); ++c)
-            if (s.pixelOfCell[c] >= 0)
-                out[k][size_t(s.pixelOfCell[c])] +=
-                    float(-s.rateConstant) * adjoint[size_t(k)].values[c];
-    return out;
-}
 
 namespace {
 
-double squaredResidual(const Field& phi, const Field& target, Field* residual) {
-    double sum = 0.0;
-    for (size_t k = 0; k < phi.size(); ++k)
-        for (size_t c = 0; c < phi[k].size(); ++c) {
-            double r = double(phi[k][c]) - target[k][c];
-            sum += r * r;
-            if (residual) (*residual)[k][c] = float(r);
-        }
-    return sum;
-}
-
-/// Mean XY displacement (mm) of the cured contour: misclassified cell area / designed perimeter.
-double contourError(const Field& phi, const Field& target, double ecPhi, int nx, int ny,
-                    double pitch) {
-    double wrong = 0.0, perimeter = 0.0;
-    for (size_t k = 0; k < phi.size(); ++k)
-        for (int j = 0; j < ny; ++j)
-            for (int i = 0; i < nx; ++i) {
-                size_t c = size_t(j) * nx + i;
-                bool solid = target[k][c] <= 0.0f;  // phi_obj < 0 inside, penalty >= 0 outside
-                bool cured = phi[k][c] <= ecPhi;
-                wrong += solid != cured;
-                if (i + 1 < nx) perimeter += solid != (target[k][c + 1] <= 0.0f);
-                if (j + 1 < ny) perimeter += solid != (target[k][c + size_t(nx)] <= 0.0f);
-            }
-    return perimeter > 0 ? wrong * pitch / perimeter : 0.0;
+/// Cells within `reach` cells (Chebyshev) of a cell set in `mark`: separable max filter.
+std::vector<uint8_t> dilate(const std::vector<uint8_t>& mark, int nx, int ny, int reach) {
+    std::vector<uint8_t> rows(mark.size(), 0), out(mark.size(), 0);
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i)
+            if (mark[size_t(j) * nx + i])
+                for (int o = std::max(0, i - reach); o <= std::min(nx - 1, i + reach); ++o)
+                    rows[size_t(j) * nx + o] = 1;
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i)
+            if (rows[size_t(j) * nx + i])
+                for (int o = std::max(0, j - reach); o <= std::min(ny - 1, j + reach); ++o)
+                    out[size_t(o) * nx + i] = 1;
+    return out;
 }
 
 }  // namespace
 
-DlpXyResult optimiseDlpPartXy(const DlpLayerStack& part, const DlpPartOptions& options,
-                              const DlpXyOptions& xy, const DlpPartResult* columns) {
-    DlpPartResult own;
-    if (!columns) own = optimiseDlpPart(part, options), columns = &own;
-    const auto start = std::chrono::steady_clock::now();
-    const int layers = int(part.layers.size());
-    const size_t pixels = size_t(part.width) * part.height;
-    DlpBlurOperator op(part.width, part.height, layers, options.problem, xy);
-    // Boxes: each pixel keeps its column pattern and Eq. 10 bounds.
-    Field lo(size_t(layers), std::vector<float>(pixels, 0.0f)), hi = lo;
-    for (size_t p = 0; p < pixels; ++p) {
-        std::vector<uint8_t> solid(size_t(layers), 0), exposed(size_t(layers), 0);
-        bool any = false;
-        for (int k = 0; k < layers; ++k) {
-            solid[k] = part.layers[k][p] ? 1 : 0;
-            exposed[k] = columns->dose[k][p] > 0.0f;
-            any = any || solid[k];
-        }
-        if (!any) continue;
-        std::vector<double> l, h;
-        exposureBounds(exposed, solid, options.problem, l, h);
-        for (int k = 0; k < layers; ++k) lo[k][p] = float(l[k]), hi[k][p] = float(h[k]);
-    }
-    const double inside = std::log1p(-options.problem.targetConversion);
-    Field target(size_t(layers), std::vector<float>(size_t(op.cellsX()) * op.cellsY()));
-    for (int k = 0; k < layers; ++k)
-        for (int j = 0; j < op.cellsY(); ++j)
-            for (int i = 0; i < op.cellsX(); ++i) {
-                long p = op.pixelOf(i, j);
-                bool solid = p >= 0 && part.layers[k][size_t(p)];
-                target[k][size_t(j) * op.cellsX() + i] =
-                    float(solid ? inside : options.problem.penalty);
+DlpShapeObjective::DlpShapeObjective(const DlpLayerStack& part, const DlpColumnProblem& p,
+                                     const DlpXyOptions& o, double uniformityTarget)
+    : mState(std::make_unique<State>(part, p, o)) {
+    if (!(o.margin >= 0.0 && o.margin < 1.0) || !(o.contourWeight >= 0.0) ||
+        o.contourCells < 0 || !(o.uniformityWeight >= 0.0) || !(uniformityTarget > 0.0))
+        throw InputError("xy coupling: margin in [0, 1), contour weight, contour cells and "
+                         "uniformity weight >= 0, uniformity target > 0");
+    State& s = *mState;
+    s.nx = s.op.cellsX(), s.ny = s.op.cellsY();
+    s.ec = cure::fppGelDose(p.rateConstant, p.gelPoint);
+    s.rateConstant = p.rateConstant;
+    s.margin = o.margin, s.beta = o.uniformityWeight, s.target = uniformityTarget;
+    s.pitch = o.pixelPitch / o.subsamples;
+    s.maxWeight = 1.0 + o.contourWeight;
+    const size_t cells = size_t(s.nx) * s.ny, layers = part.layers.size();
+    s.inside.assign(layers, std::vector<uint8_t>(cells, 0));
+    for (size_t k = 0; k < layers; ++k)
+        for (int j = 0; j < s.ny; ++j)
+            for (int i = 0; i < s.nx; ++i) {
+                const long px = s.op.pixelOf(i, j);
+                s.inside[k][size_t(j) * s.nx + i] = px >= 0 && part.layers[k][size_t(px)] != 0;
             }
-    const double scale = 1.0 / double(xy.subsamples * xy.subsamples);
-    // Lipschitz constant of grad F = 2 scale A^T A by power iteration (8 steps, 10 % margin).
-    Field v = hi;
+    s.weight.assign(layers, std::vector<float>(cells, 1.0f));
+    s.perimeter.assign(layers, 0.0);
+    for (size_t k = 0; k < layers; ++k) {
+        const std::vector<uint8_t>& in = s.inside[k];
+        std::vector<uint8_t> change(cells, 0);
+        for (int j = 0; j < s.ny; ++j)
+            for (int i = 0; i < s.nx; ++i) {
+                const size_t c = size_t(j) * s.nx + i;
+                const bool right = i + 1 < s.nx && in[c] != in[c + 1];
+                const bool up = j + 1 < s.ny && in[c] != in[c + size_t(s.nx)];
+                s.perimeter[k] += (double(right) + double(up)) * s.pitch;
+                change[c] |= right || up;
+                if (right) change[c + 1] = 1;
+                if (up) change[c + size_t(s.nx)] = 1;
+                // A solid/void change against the layer above or below (down- and up-facing).
+                if ((k + 1 < layers && s.inside[k + 1][c] != in[c]) ||
+                    (k > 0 && s.inside[k - 1][c] != in[c]))
+                    change[c] = 1;
+            }
+        const std::vector<uint8_t> near = dilate(change, s.nx, s.ny, o.contourCells);
+        for (size_t c = 0; c < cells; ++c) {
+            if (near[c]) s.weight[k][c] = float(s.maxWeight);
+            s.insideCells += in[c];
+        }
+    }
+    if (s.insideCells <= 0.0) throw InputError("xy coupling: the part has no solid cell");
+}
+
+DlpShapeObjective::~DlpShapeObjective() = default;
+
+DlpBlurOperator& DlpShapeObjective::blur() {
+    return mState->op;
+}
+
+double DlpShapeObjective::value(const Field& dose, Field* gradient) {
+    State& s = *mState;
+    Field phi = s.op.apply(dose);  // -K E
+    const size_t layers = phi.size();
+    std::vector<double> perLayer(layers, 0.0);
+    tbb::parallel_for(size_t(0), layers, [&](size_t k) {
+        double sum = 0.0;
+        for (size_t c = 0; c < phi[k].size(); ++c) {
+            const double e = double(phi[k][c]) / -s.rateConstant / s.ec;  // E / Ec
+            const double w = s.weight[k][c];
+            double dJdE = 0.0;  // per Ec
+            if (s.inside[k][c]) {
+                const double h = std::max(0.0, 1.0 + s.margin - e);
+                const double u = (e * s.ec - s.target) / s.target;
+                sum += w * h * h + s.beta * u * u;
+                dJdE = -2.0 * w * h + 2.0 * s.beta * u * s.ec / s.target;
+            } else {
+                const double h = std::max(0.0, e - (1.0 - s.margin));
+                sum += w * h * h;
+                dJdE = 2.0 * w * h;
+            }
+            // d(E/Ec)/d(phi) = -1 / (K Ec); the operator's adjoint carries the -K of A.
+            phi[k][c] = float(dJdE / (-s.rateConstant * s.ec) / s.insideCells);
+        }
+        perLayer[k] = sum;
+    });
+    double total = 0.0;
+    for (double v : perLayer) total += v;
+    if (gradient) *gradient = s.op.applyAdjoint(phi);
+    return total / s.insideCells;
+}
+
+double DlpShapeObjective::contourError(const Field& dose) {
+    State& s = *mState;
+    const Field phi = s.op.apply(dose);
+    const float curedPhi = float(-s.rateConstant * s.ec);  // phi <= this: E >= Ec
+    double sum = 0.0;
+    int counted = 0;
+    for (size_t k = 0; k < phi.size(); ++k) {
+        if (!(s.perimeter[k] > 0.0)) continue;
+        size_t wrong = 0;
+        for (size_t c = 0; c < phi[k].size(); ++c)
+            wrong += (phi[k][c] <= curedPhi) != (s.inside[k][c] != 0);
+        sum += double(wrong) * s.pitch * s.pitch / s.perimeter[k];
+        ++counted;
+    }
+    return counted ? sum / counted : 0.0;
+}
+
+double DlpShapeObjective::lipschitz(const Field& start) {
+    State& s = *mState;
+    // ||A^T A|| by power iteration (8 steps) from the start's doses, 10 % margin; J's Hessian is
+    // at most (2 w_max + 2 beta Ec^2/E_t^2) / (K Ec)^2 / N_inside times A^T A.
+    Field v = start;
     double lambda = 1.0;
     for (int it = 0; it < 8; ++it) {
-        Field w = op.applyAdjoint(op.apply(v));
+        Field w = s.op.applyAdjoint(s.op.apply(v));
         double norm = 0.0, vnorm = 0.0;
         for (size_t k = 0; k < w.size(); ++k)
-            for (size_t p = 0; p < pixels; ++p)
+            for (size_t p = 0; p < w[k].size(); ++p)
                 norm += double(w[k][p]) * w[k][p], vnorm += double(v[k][p]) * v[k][p];
-        lambda = std::sqrt(norm / std::max(vnorm, 1e-300));
+        if (!(vnorm > 0.0) || !(norm > 0.0)) break;
+        lambda = std::sqrt(norm / vnorm);
         for (size_t k = 0; k < w.size(); ++k)
-            for (size_t p = 0; p < pixels; ++p) v[k][p] = float(w[k][p] / lambda);
+            for (size_t p = 0; p < w[k].size(); ++p) v[k][p] = float(w[k][p] / lambda);
     }
-    const double lipschitz = 2.0 * scale * lambda * 1.1;
-    Field x = columns->dose, y = x, residual = target;
-    const Field phi0 = op.apply(x);
-    DlpXyResult out;
-    out.objectiveColumns = scale * squaredResidual(phi0, target, nullptr);
-    double t = 1.0;
-    for (int it = 0; it < xy.iterations; ++it) {
-        squaredResidual(op.apply(y), target, &residual);
-        Field g = op.applyAdjoint(residual);
-        Field next = y;
-        for (size_t k = 0; k < next.size(); ++k)
-            for (size_t p = 0; p < pixels; ++p)
-                next[k][p] = std::clamp(float(y[k][p] - 2.0 * scale * g[k][p] / lipschitz),
-                                        lo[k][p], hi[k][p]);
-        const double tNext = 0.5 * (1.0 + std::sqrt(1.0 + 4.0 * t * t));
-        const float momentum = float((t - 1.0) / tNext);
-        for (size_t k = 0; k < next.size(); ++k)
-            for (size_t p = 0; p < pixels; ++p)
-                y[k][p] =
-                    std::clamp(next[k][p] + momentum * (next[k][p] - x[k][p]), lo[k][p], hi[k][p]);
-        x = std::move(next);
-        t = tNext;
-    }
-    const Field phi = op.apply(x);
-    out.objectiveXy = scale * squaredResidual(phi, target, nullptr);
-    if (out.objectiveXy > out.objectiveColumns)
-        x = columns->dose, out.objectiveXy = out.objectiveColumns;
-    const double ecPhi = std::log1p(-options.problem.gelPoint);  // phi at the gel point
-    const double pitch = xy.pixelPitch / xy.subsamples;
-    out.contourErrorColumns = contourError(phi0, target, ecPhi, op.cellsX(), op.cellsY(), pitch);
-    out.contourErrorXy = contourError(out.objectiveXy < out.objectiveColumns ? phi : phi0, target,
-                                      ecPhi, op.cellsX(), op.cellsY(), pitch);
-    out.doses = *columns;
-    out.doses.dose = std::move(x);
-    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    out.peakFieldMiB = 6.0 * double(layers) * op.cellsX() * op.cellsY() * 4.0 / (1 << 20);
-    return out;
+    const double ke = s.rateConstant * s.ec;
+    const double curvature = 2.0 * s.maxWeight + 2.0 * s.beta * s.ec * s.ec / (s.target * s.target);
+    return 1.1 * lambda * curvature / (ke * ke) / s.insideCells;
 }
 
 }  // namespace vpsim::optimise
