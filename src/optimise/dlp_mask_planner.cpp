@@ -1,5 +1,6 @@
 #include "vpsim/optimise/dlp_mask_planner.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "vpsim/core/config.h"
@@ -20,6 +21,21 @@ DlpMaskPlannerSettings dlpMaskPlannerSettingsFromConfig(const ConfigNode& plan) 
         plan.choice("bonding", {"own-layer", "run-bottom"}, std::string("own-layer")));
     s.xyCoupling = plan.boolean("xy_coupling", false);
     s.margin = plan.numberInRange("margin", 0.0, 0.99, 0.05);
+    if (plan.has("uniform_dose")) {
+        const nlohmann::json& v = plan.raw("uniform_dose");
+        if (v.is_string() && v.get<std::string>() == "mean")
+            s.uniformDose = -1.0;
+        else
+            s.uniformDose =
+                quantityFromJson(v, dim::DOSE, plan.keyPath("uniform_dose"), plan.file());
+        if (!(s.uniformDose == -1.0 || s.uniformDose >= 0.0))
+            throw plan.error("uniform_dose", "must be a dose >= 0 or \"mean\"");
+    }
+    s.figureColumnGiven = plan.has("figure_x") || plan.has("figure_y");
+    s.figureX = plan.quantity("figure_x", dim::LENGTH, 0.0);
+    s.figureY = plan.quantity("figure_y", dim::LENGTH, 0.0);
+    s.figureLayer = long(plan.integer("figure_layer", -1));
+    if (s.figureLayer < -1) throw plan.error("figure_layer", "must be a layer index >= 0");
     return s;
 }
 
@@ -100,7 +116,80 @@ DlpMaskPlan planOptimisedMasks(const DlpLayerStack& part, const DlpProcess& proc
                    {"max_quantisation_error_mJ_per_cm2", quantisationError * 100.0},
                    {"grey_histogram", histogram},
                    {"xy_coupling", xyJson}};
+    out.figures = dlpReportFigureData(out, part, process, settings, levels);
+    const double uniform = settings.uniformDose >= 0.0
+                               ? settings.uniformDose
+                               : out.figures["mean_exposed_dose"].get<double>();
+    if (uniform > 0.0) out.summary["uniform_comparison"] = {{"dose_mJ_per_cm2", uniform * 100.0}};
     return out;
+}
+
+void busiestColumn(const DlpLayerStack& part, int& bestX, int& bestY) {
+    long best = -1;
+    double bestDistance = 0.0;
+    for (int y = 0; y < part.height; ++y)
+        for (int x = 0; x < part.width; ++x) {
+            const std::vector<uint8_t> c = columnProfile(part, x, y);
+            long changes = 0;
+            for (size_t k = 1; k < c.size(); ++k) changes += c[k] != c[k - 1];
+            if (c.empty() || !std::count(c.begin(), c.end(), 1)) continue;
+            const double dx = x - 0.5 * (part.width - 1), dy = y - 0.5 * (part.height - 1);
+            const double distance = dx * dx + dy * dy;
+            if (changes > best || (changes == best && distance < bestDistance))
+                best = changes, bestDistance = distance, bestX = x, bestY = y;
+        }
+    if (best < 0) throw InputError("optimised-mask: the part has no solid pixel");
+}
+
+long busiestGreyLayer(const std::vector<std::vector<uint8_t>>& grey) {
+    long best = 0;
+    size_t bestCount = 0;
+    for (size_t k = 0; k < grey.size(); ++k) {
+        std::vector<uint8_t> seen(256, 0);
+        for (uint8_t g : grey[k]) seen[g] = 1;
+        seen[0] = 0;  // unexposed pixels
+        const size_t count = size_t(std::count(seen.begin(), seen.end(), 1));
+        if (count > bestCount) bestCount = count, best = long(k);
+    }
+    return best;
+}
+
+nlohmann::json dlpReportFigureData(const DlpMaskPlan& plan, const DlpLayerStack& part,
+                                   const DlpProcess& process,
+                                   const DlpMaskPlannerSettings& settings,
+                                   const plan::GreyLevels& levels) {
+    int x = 0, y = 0;
+    if (settings.figureColumnGiven) {
+        x = int(std::floor((settings.figureX - process.originX) / process.pixelPitch));
+        y = int(std::floor((settings.figureY - process.originY) / process.pixelPitch));
+        if (x < 0 || y < 0 || x >= part.width || y >= part.height)
+            throw InputError("optimised-mask: figure_x, figure_y lie outside the masks", "",
+                             "plan.figure_x");
+    } else {
+        busiestColumn(part, x, y);
+    }
+    long layer = settings.figureLayer >= 0 ? settings.figureLayer : busiestGreyLayer(plan.grey);
+    if (layer >= long(part.layers.size()))
+        throw InputError("optimised-mask: figure_layer " + std::to_string(layer) +
+                             " is beyond the part's " + std::to_string(part.layers.size()) +
+                             " layers",
+                         "", "plan.figure_layer");
+    double sum = 0.0, count = 0.0;
+    for (const plan::LayerPlan& l : plan.plan.layers)
+        for (const plan::MaskImage& m : l.masks)
+            for (float d : m.dose)
+                if (d > 0.0f) sum += d, count += 1.0;
+    nlohmann::json greyDose = nlohmann::json::array();
+    for (int g = 0; g < 256; ++g) greyDose.push_back(100.0 * levels.dose(uint8_t(g)));
+    nlohmann::json column = dlpColumnFigureData(plan, part, process, x, y);
+    column["x_mm"] = process.originX + (x + 0.5) * process.pixelPitch;
+    column["y_mm"] = process.originY + (y + 0.5) * process.pixelPitch;
+    column["gel_point"] = process.gelPoint;
+    column["target_conversion"] = settings.targetConversion;
+    return {{"column", column},
+            {"layer", layer},
+            {"grey_dose_mJ_per_cm2", greyDose},
+            {"mean_exposed_dose", count > 0.0 ? sum / count : 0.0}};
 }
 
 nlohmann::json dlpColumnFigureData(const DlpMaskPlan& plan, const DlpLayerStack& part,

@@ -51,6 +51,7 @@ public:
                 "", "machine.grey_levels");
         DlpMaskPlan result = planOptimisedMasks(part, process, mSettings, *levels);
         mSummary = result.summary;
+        mSummary["figures"] = std::move(result.figures);  // the pipeline draws and removes it
         plan::ScanPlan out = plan::emptyPlan(in.layers, in.machine);
         for (size_t k = 0; k < out.layers.size(); ++k)
             out.layers[k].masks = std::move(result.plan.layers[k].masks);
@@ -79,6 +80,12 @@ void registerOptimisedMaskPlanner(plan::PlannerRegistry& registry) {
           {"bonding", "Eq. 10 for a run's first exposure: own-layer (default) | run-bottom"},
           {"xy_coupling", "optimise jointly through the projector blur (default false)"},
           {"margin", "geometric: outside nodes below (1 - margin) Ec (default 0.05)"},
+          {"uniform_dose",
+           "uniform process simulated for the report's comparison: a dose, \"mean\" (the "
+           "plan's mean exposed dose, default) or 0 (none)"},
+          {"figure_x", "x of the column drawn along Z (mm; default: most solid/void changes)"},
+          {"figure_y", "y of that column (mm)"},
+          {"figure_layer", "layer whose mask is drawn (default: most distinct grey levels)"},
           {"grey_levels", "optional override of machine.grey_levels: [[grey, irradiance], ...]"},
           {"exposure_time", "with grey_levels: s per layer (dose = irradiance(grey) x time)"}},
          [](const ConfigNode& section) {

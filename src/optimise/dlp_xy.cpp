@@ -52,10 +52,11 @@ std::vector<uint8_t> dilate(const std::vector<uint8_t>& mark, int nx, int ny, in
 DlpShapeObjective::DlpShapeObjective(const DlpLayerStack& part, const DlpColumnProblem& p,
                                      const DlpXyOptions& o, double uniformityTarget)
     : mState(std::make_unique<State>(part, p, o)) {
-    if (!(o.margin >= 0.0 && o.margin < 1.0) || !(o.contourWeight >= 0.0) ||
-        o.contourCells < 0 || !(o.uniformityWeight >= 0.0) || !(uniformityTarget > 0.0))
-        throw InputError("xy coupling: margin in [0, 1), contour weight, contour cells and "
-                         "uniformity weight >= 0, uniformity target > 0");
+    if (!(o.margin >= 0.0 && o.margin < 1.0) || !(o.contourWeight >= 0.0) || o.contourCells < 0 ||
+        !(o.uniformityWeight >= 0.0) || !(uniformityTarget > 0.0))
+        throw InputError(
+            "xy coupling: margin in [0, 1), contour weight, contour cells and "
+            "uniformity weight >= 0, uniformity target > 0");
     State& s = *mState;
     s.nx = s.op.cellsX(), s.ny = s.op.cellsY();
     s.ec = cure::fppGelDose(p.rateConstant, p.gelPoint);

@@ -39,7 +39,8 @@ double columnScore(const Field& dose, size_t pixel, const DlpLayerStack& part,
                             (k > 0 && (part.layers[k - 1][pixel] != 0) != in);
         const double w = change ? 1.0 + o.contourWeight : 1.0;
         if (in) {
-            const double h = std::max(0.0, 1.0 + o.margin - e[k] / ec), u = (e[k] - target) / target;
+            const double h = std::max(0.0, 1.0 + o.margin - e[k] / ec),
+                         u = (e[k] - target) / target;
             sum += w * h * h + o.uniformityWeight * u * u;
         } else {
             const double h = std::max(0.0, e[k] / ec - (1.0 - o.margin));
@@ -95,9 +96,10 @@ DlpXyResult optimiseDlpPartXy(const DlpLayerStack& part, const DlpPartOptions& o
     const DlpColumnProblem& p = options.problem;
     const bool l2 = options.objective == DlpObjective::ConversionL2;
     DlpXyResult out;
-    out.uniformityTarget = l2 ? -std::log1p(-p.targetConversion) / p.rateConstant
-                              : meanInsideDose(part, p, *columns);
-    if (!(out.uniformityTarget > 0.0)) out.uniformityTarget = cure::fppGelDose(p.rateConstant, p.gelPoint);
+    out.uniformityTarget =
+        l2 ? -std::log1p(-p.targetConversion) / p.rateConstant : meanInsideDose(part, p, *columns);
+    if (!(out.uniformityTarget > 0.0))
+        out.uniformityTarget = cure::fppGelDose(p.rateConstant, p.gelPoint);
     DlpShapeObjective objective(part, p, xy, out.uniformityTarget);
     // Warm starts: the column optimum; with conversion-l2 also the geometric optimum and the
     // per-pixel mix of the two (each pixel keeps the pattern its own column scores better with).
@@ -116,11 +118,12 @@ DlpXyResult optimiseDlpPartXy(const DlpLayerStack& part, const DlpPartOptions& o
             if (columnScore(geometric.dose, px, part, p, xy, out.uniformityTarget) <
                 columnScore(x, px, part, p, xy, out.uniformityTarget))
                 for (size_t k = 0; k < mixed.size(); ++k) mixed[k][px] = geometric.dose[k][px];
-        for (auto [name, candidate] : {std::pair<const char*, const Field*>{"geometric",
-                                                                            &geometric.dose},
-                                       {"mixed", &mixed}}) {
+        for (auto [name, candidate] :
+             {std::pair<const char*, const Field*>{"geometric", &geometric.dose},
+              {"mixed", &mixed}}) {
             const double value = objective.value(*candidate);
-            if (value < out.objectiveStart) out.objectiveStart = value, x = *candidate, out.start = name;
+            if (value < out.objectiveStart)
+                out.objectiveStart = value, x = *candidate, out.start = name;
         }
     }
     Field lo, hi;
@@ -143,8 +146,8 @@ DlpXyResult optimiseDlpPartXy(const DlpLayerStack& part, const DlpPartOptions& o
         const float momentum = float((t - 1.0) / tNext);
         for (size_t k = 0; k < next.size(); ++k)
             for (size_t q = 0; q < next[k].size(); ++q)
-                y[k][q] = std::clamp(next[k][q] + momentum * (next[k][q] - x[k][q]), lo[k][q],
-                                     hi[k][q]);
+                y[k][q] =
+                    std::clamp(next[k][q] + momentum * (next[k][q] - x[k][q]), lo[k][q], hi[k][q]);
         x = std::move(next);
         t = tNext;
         ++out.iterations;
@@ -158,8 +161,8 @@ DlpXyResult optimiseDlpPartXy(const DlpLayerStack& part, const DlpPartOptions& o
     out.doses.dose = std::move(best);
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const DlpBlurOperator& op = objective.blur();
-    out.peakFieldMiB = 4.0 * double(part.layers.size()) * op.cellsX() * op.cellsY() * 4.5 /
-                       double(1 << 20);
+    out.peakFieldMiB =
+        4.0 * double(part.layers.size()) * op.cellsX() * op.cellsY() * 4.5 / double(1 << 20);
     return out;
 }
 

@@ -8,6 +8,7 @@
 #include "vpsim/core/output_directory.h"
 #include "vpsim/geometry/stl_io.h"
 #include "vpsim/gpu/context.h"
+#include "vpsim/pipeline/dlp_report_stage.h"
 #include "vpsim/report/figures.h"
 #include "vpsim/report/html_report.h"
 #include "vpsim/validate/feature_probe.h"
@@ -183,6 +184,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     result.validation = validateStage(job, f.part, cured, validator.summary(), features.result(),
                                       job.simulation.writeVdb ? outDir + "/reference.vdb" : "");
     timer.finish("validate");
+    dlpReportStage(job, f.layers, f.bounds, planned.plan, *model, result, outDir);
 
     sections.write(outDir);
     report::writeDeviationFigures(outDir, cured, result.validation.vertexDeviations);

@@ -5,6 +5,7 @@
 
 #include "vpsim/core/io.h"
 #include "vpsim/core/text.h"
+#include "vpsim/report/dlp_figures.h"
 
 namespace vpsim::report {
 namespace {
@@ -68,6 +69,7 @@ void writeHtmlReport(const std::string& outDir, const JobResult& r) {
         }
         html << "</table>\n";
     }
+    writeDlpHtmlSection(html, outDir, r);
     html << "<h2>Pictures</h2><p>Exposure in mJ/mm&sup2; from 0 to twice the critical dose; red: "
             "the model's outline, white: the cured outline at the critical dose.</p>\n";
     figure(html, outDir, "exposure_xz.png", "x-z cross-section through the middle of the part");

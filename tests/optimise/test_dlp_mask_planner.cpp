@@ -23,6 +23,20 @@ TEST_CASE("optimised-mask: settings from the plan section", "[optimise]") {
     REQUIRE(s.objective == DlpObjective::Geometric);
     REQUIRE(s.targetConversion == 0.95);
     REQUIRE(s.penalty == 5.5);
+    REQUIRE(s.uniformDose == -1.0);  // "mean" by default
+    REQUIRE(s.figureLayer == -1);
+    ConfigNode figures(nlohmann::json::parse(R"({"plan": {"uniform_dose": "78 mJ/cm^2",
+        "figure_x": "3.5 mm", "figure_y": 0, "figure_layer": 12}})"),
+                       "job.json");
+    s = dlpMaskPlannerSettingsFromConfig(figures.child("plan"));
+    REQUIRE(s.uniformDose == Approx(0.78).epsilon(1e-12));
+    REQUIRE(s.figureColumnGiven);
+    REQUIRE(s.figureX == Approx(3.5));
+    REQUIRE(s.figureLayer == 12);
+    ConfigNode negative(nlohmann::json::parse(R"({"plan": {"uniform_dose": "-1 mJ/cm^2"}})"),
+                        "job.json");
+    REQUIRE_THROWS_WITH(dlpMaskPlannerSettingsFromConfig(negative.child("plan")),
+                        Catch::Contains("uniform_dose"));
     ConfigNode bad(nlohmann::json::parse(R"({"plan": {"bonding": "glue"}})"), "job.json");
     REQUIRE_THROWS_WITH(dlpMaskPlannerSettingsFromConfig(bad.child("plan")),
                         Catch::Contains("bonding"));
@@ -58,6 +72,10 @@ TEST_CASE("optimised-mask: quantised hole column keeps Table 2 within 0.2 mm", "
     REQUIRE(std::abs(top - (1.35 + 1.31 + 1.39) / 3) <= 0.2);
     REQUIRE(std::abs(bottom - (2.85 + 3.02 + 2.96) / 3) <= 0.2);
     REQUIRE(r.summary["distinct_columns"] == 1);
+    // Figure data: the only column, the layer with the most grey levels, the uniform request.
+    REQUIRE(r.figures["column"]["z_mm"].size() == 220);
+    REQUIRE(r.figures["layer"].get<long>() == busiestGreyLayer(r.grey));
+    REQUIRE(r.summary["uniform_comparison"]["dose_mJ_per_cm2"].get<double>() > 0.0);
     // Fig. 13-14 data: conversion inside the solid runs near Phi_obj, below the gel point deep
     // in the holes (mid-hole nodes).
     nlohmann::json fig = dlpColumnFigureData(r, part, process, 0, 0);

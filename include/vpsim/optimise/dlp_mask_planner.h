@@ -13,6 +13,13 @@
 ///   bonding            "own-layer" (default: reproduces Table 2) | "run-bottom"
 ///   xy_coupling        bool, default false (joint optimisation through the blur)
 ///   margin             geometric objective: outside nodes below (1 - margin) Ec, default 0.05
+///   uniform_dose       the uniform process the report compares with, simulated in the same run
+///                      (a dose, "mean": the plan's mean exposed dose, i.e. the same light spread
+///                      uniformly, or 0: none), default "mean"
+///   figure_x, figure_y the pixel column of the dose/conversion-along-Z figure (mm); default
+///                      the column with the most solid/void changes (down-facing surfaces)
+///   figure_layer       the layer whose mask the report draws; default the layer with the most
+///                      distinct grey levels
 
 #include <string>
 
@@ -36,6 +43,10 @@ struct DlpMaskPlannerSettings {
     Bonding bonding = Bonding::OwnLayer;
     bool xyCoupling = false;
     double margin = 0.05;
+    double uniformDose = -1.0;  ///< mJ/mm^2; -1: the plan's mean exposed dose; 0: no comparison
+    bool figureColumnGiven = false;
+    double figureX = 0.0, figureY = 0.0;  ///< mm
+    long figureLayer = -1;                ///< -1: the layer with the most distinct grey levels
 };
 
 /// Reads the keys above from the plan section. @throw InputError naming the file and key
@@ -57,6 +68,8 @@ struct DlpMaskPlan {
     DlpPartResult optimised;                 ///< the optimiser's doses before quantisation
     std::vector<std::vector<uint8_t>> grey;  ///< per layer, per pixel grey level
     nlohmann::json summary;  ///< figures for the report (columns, gaps, grey histogram)
+    /// Data of the report's DLP figures (dlpReportFigureData), kept out of report.json.
+    nlohmann::json figures;
 };
 
 /// Optimises, quantises and builds the plan. @throw InputError on bad inputs, or when d_max
@@ -70,6 +83,21 @@ DlpMaskPlan planOptimisedMasks(const DlpLayerStack& part, const DlpProcess& proc
 /// the node after quantisation (print-through included):
 /// {"z_mm", "solid", "dose_mJ_per_cm2", "quantised_dose_mJ_per_cm2", "conversion"}.
 /// @throw InputError when (x, y) is outside the part's masks
+/// The data of the report's DLP figures: {"column": dlpColumnFigureData of the figure column
+/// with "x_mm", "y_mm", "gel_point", "target_conversion"; "layer": the mask layer to draw;
+/// "grey_dose_mJ_per_cm2": dose of each grey level 0..255; "mean_exposed_dose": mJ/mm^2}.
+/// @throw InputError when figure_x/y or figure_layer lie outside the part
+nlohmann::json dlpReportFigureData(const DlpMaskPlan& plan, const DlpLayerStack& part,
+                                   const DlpProcess& process,
+                                   const DlpMaskPlannerSettings& settings,
+                                   const plan::GreyLevels& levels);
+
+/// The pixel column with the most solid/void changes along Z (ties: nearest the centre).
+void busiestColumn(const DlpLayerStack& part, int& x, int& y);
+
+/// The layer with the most distinct grey levels among its exposed pixels (ties: the lowest).
+long busiestGreyLayer(const std::vector<std::vector<uint8_t>>& grey);
+
 nlohmann::json dlpColumnFigureData(const DlpMaskPlan& plan, const DlpLayerStack& part,
                                    const DlpProcess& process, int x, int y);
 

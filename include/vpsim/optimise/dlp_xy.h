@@ -45,7 +45,7 @@ struct DlpXyOptions {
     double margin = 0.05;        ///< inside cells >= (1 + margin) Ec, outside <= (1 - margin) Ec
     double contourWeight = 4.0;  ///< extra weight of cells near a solid/void change (>= 0)
     int contourCells = 2;        ///< "near": within this many cells in x or y (>= 0)
-    double uniformityWeight = 0.01;    ///< beta (>= 0)
+    double uniformityWeight = 0.01;   ///< beta (>= 0)
     bool tryGeometricPattern = true;  ///< conversion-l2: also start from the geometric pattern
 };
 

@@ -1,0 +1,84 @@
+// The DLP report figures: each SVG is written from its data, with axes, units and scales, and
+// index.html's DLP section shows the uniform and the optimised features side by side.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "vpsim/report/dlp_figures.h"
+
+using namespace vpsim;
+
+namespace {
+
+std::string readText(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+}  // namespace
+
+TEST_CASE("DLP figures: features, along Z, mask and histogram with axes and scales", "[report]") {
+    const auto dir = std::filesystem::temp_directory_path() / "vpsim_test_dlp_figures";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    // A 3-layer plan of 4 x 2 pixels; grey g has dose g/255 x 1.35 mJ/mm^2.
+    plan::ScanPlan plan;
+    nlohmann::json greyDose = nlohmann::json::array();
+    for (int g = 0; g < 256; ++g) greyDose.push_back(135.0 * g / 255.0);
+    for (int k = 0; k < 3; ++k) {
+        plan::LayerPlan layer;
+        layer.z = 0.05 * (k + 1);
+        plan::MaskImage m;
+        m.width = 4, m.height = 2, m.pixelPitch = 0.0625, m.originX = -0.125;
+        for (int p = 0; p < 8; ++p)
+            m.dose.push_back(p % 4 == 0 ? 0.0f : float(1.35 * (150 + p) / 255));
+        layer.masks.push_back(m);
+        plan.layers.push_back(layer);
+    }
+    nlohmann::json data = {{"layer", 1},
+                           {"grey_dose_mJ_per_cm2", greyDose},
+                           {"column",
+                            {{"z_mm", {0.05, 0.1, 0.15}},
+                             {"solid", {true, false, true}},
+                             {"dose_mJ_per_cm2", {80.0, 0.0, 90.0}},
+                             {"quantised_dose_mJ_per_cm2", {79.4, 0.0, 90.0}},
+                             {"conversion", {0.9, 0.3, 0.95}},
+                             {"x_mm", 0.03},
+                             {"y_mm", 0.03},
+                             {"gel_point", 0.276},
+                             {"target_conversion", 0.95}}}};
+    report::JobResult r;
+    std::vector<double> histogram(256, 0.0);
+    histogram[151] = 3, histogram[155] = 1000;
+    r.plan.planner["grey_histogram"] = histogram;
+    r.plan.planner["uniform_comparison"] = {
+        {"dose_mJ_per_cm2", 78.0}, {"features", {{{"name", "hole"}, {"simulated_mm", 0.72}}}}};
+    validate::FeatureProbe hole;
+    hole.name = "hole", hole.objective = 1.5, hole.measured = {1.35, 1.31};
+    r.validation.features = {{hole}, {1.34}};
+    report::writeDlpFigures(dir.string(), plan, data, r);
+    for (const char* file : report::DLP_FIGURE_FILES) {
+        INFO(file);
+        REQUIRE(std::filesystem::exists(dir / file));
+        REQUIRE(readText(dir / file).find("<svg") == 0);
+    }
+    REQUIRE(readText(dir / "dlp_features.svg").find("length (mm)") != std::string::npos);
+    REQUIRE(readText(dir / "dlp_features.svg").find("uniform plan") != std::string::npos);
+    REQUIRE(readText(dir / "dlp_dose_along_z.svg").find("dose (mJ/cm^2)") != std::string::npos);
+    REQUIRE(readText(dir / "dlp_conversion_along_z.svg").find("gel point") != std::string::npos);
+    const std::string mask = readText(dir / "dlp_mask.svg");
+    REQUIRE(mask.find("x (mm)") != std::string::npos);
+    REQUIRE(mask.find("Mask of layer 1") != std::string::npos);
+    REQUIRE(mask.find("grey 255: 135 mJ/cm^2") != std::string::npos);  // the grey/dose scale
+    REQUIRE(mask.find("rgb(151,151,151)") != std::string::npos);       // pixel 1's grey level
+    REQUIRE(readText(dir / "dlp_grey_histogram.svg").find("grey level") != std::string::npos);
+    std::ostringstream html;
+    report::writeDlpHtmlSection(html, dir.string(), r);
+    REQUIRE(html.str().find("uniform plan, 78 mJ/cm&sup2;") != std::string::npos);
+    REQUIRE(html.str().find("<td>0.72</td><td>1.34</td><td>1.33</td>") != std::string::npos);
+    std::filesystem::remove_all(dir);
+}
