@@ -42,11 +42,36 @@ private:
     std::unique_ptr<glp_prob, void (*)(glp_prob*)> mP;
 };
 
-}  // namespace
+/// The column's mixed-integer programme (file comment of dlp_geometric.h).
+struct GeometricModel {
+    Programme lp;
+    std::vector<int> x, z;
+    double ec = 0.0, r = 0.0;
+    size_t n = 0;
+    std::vector<uint8_t> solid;
 
-DlpGeometricResult optimiseColumnGeometric(const std::vector<uint8_t>& solid,
+    /// The programme's LP with the pattern fixed (z = pattern); +inf when infeasible.
+    double solveFixed(const std::vector<uint8_t>& pattern, std::vector<double>& doses) {
+        for (size_t k = 0; k < n; ++k)
+            if (solid[k]) glp_set_col_bnds(lp.get(), z[k], GLP_FX, pattern[k], pattern[k]);
+        glp_smcp sm;
+        glp_init_smcp(&sm);
+        sm.msg_lev = GLP_MSG_OFF;
+        if (glp_simplex(lp.get(), &sm) != 0 || glp_get_status(lp.get()) != GLP_OPT)
+            return std::numeric_limits<double>::infinity();
+        doses.assign(n, 0.0);
+        for (size_t k = 0; k < n; ++k)
+            if (solid[k] && pattern[k]) doses[k] = glp_get_col_prim(lp.get(), x[k]) * ec;
+        return glp_get_obj_val(lp.get());
+    }
+};
+
+/// Builds the programme. @throw InputError on bad parameters
+std::unique_ptr<GeometricModel> buildModel(const std::vector<uint8_t>& solid,
                                            const DlpColumnProblem& p,
                                            const DlpGeometricOptions& o) {
+    auto model = std::make_unique<GeometricModel>();
+    Programme& lp = model->lp;
     std::vector<double> lo, hi;
     exposureBounds(std::vector<uint8_t>(solid.size(), 0), solid, p, lo, hi);  // checks p
     if (!(o.margin >= 0.0 && o.margin < 1.0))
@@ -57,7 +82,6 @@ DlpGeometricResult optimiseColumnGeometric(const std::vector<uint8_t>& solid,
     const int window = int(std::floor(std::log(cap) / mule + 1e-12));  // longest allowed n_z
     if (window < 1) throw InputError("DLP geometric: d_max is below the bonding dose (Eq. 10)");
     const size_t n = solid.size();
-    Programme lp;
     glp_term_out(GLP_OFF);
     std::vector<int> x(n, 0), z(n, 0), y(n, 0), d(n);
     for (size_t k = 0; k < n; ++k) {
@@ -126,27 +150,64 @@ DlpGeometricResult optimiseColumnGeometric(const std::vector<uint8_t>& solid,
             }
         }
     }
-    // Search: exposure patterns from the L2 optimum and a short MILP, improved by local moves,
-    // each pattern's programme solved as an LP (z fixed); the LP relaxation bounds the gap.
+    model->x = x, model->z = z, model->ec = ec, model->r = r, model->n = n, model->solid = solid;
+    return model;
+}
+
+/// The result of doses `dose` with objective `best` and lower bound `bound`.
+DlpGeometricResult finish(const std::vector<uint8_t>& solid, const DlpColumnProblem& p,
+                          const DlpGeometricOptions& o, const std::vector<double>& dose,
+                          double best, double bound) {
+    DlpGeometricResult out;
+    const size_t n = solid.size();
+    const double ec = cure::fppGelDose(p.rateConstant, p.gelPoint);
+    const double r = std::exp(-p.attenuation * p.layerThickness);
+    out.dose = dose;
+    out.accumulated.assign(n, 0.0);
+    out.objective = best;
+    out.lowerBound = bound;
+    out.gap = (best - out.lowerBound) / std::max(std::abs(best), 1e-12);
+    out.optimal = out.gap <= 1e-9;
+    // Recompute D from the doses (not GLPK's values) so the result is self-consistent.
+    double carried = 0.0;
+    for (size_t k = n; k-- > 0;) out.accumulated[k] = carried = out.dose[k] + r * carried;
+    double high = 0.0, low = INFINITY;
+    for (size_t k = 0; k < n; ++k) {
+        const double v = out.accumulated[k] / ec;
+        if (solid[k]) {
+            out.violation += std::max(0.0, 1.0 - v);
+            high = std::max(high, v), low = std::min(low, v);
+        } else {
+            out.violation += std::max(0.0, v - (1.0 - o.margin));
+        }
+    }
+    out.spread = high >= low ? high - low : 0.0;
+    return out;
+}
+
+}  // namespace
+
+DlpGeometricResult optimiseColumnGeometric(const std::vector<uint8_t>& solid,
+                                           const DlpColumnProblem& p,
+                                           const DlpGeometricOptions& o) {
+    size_t solidLayers = 0;
+    for (uint8_t v : solid) solidLayers += v ? 1 : 0;
+    if (solidLayers <= std::min<size_t>(o.enumerationLimit, 20))
+        return enumerateColumnGeometric(solid, p, o);
+    std::unique_ptr<GeometricModel> model = buildModel(solid, p, o);
+    GeometricModel& m = *model;
+    const size_t n = solid.size();
     auto solveFixed = [&](const std::vector<uint8_t>& pattern, std::vector<double>& doses) {
-        for (size_t k = 0; k < n; ++k)
-            if (solid[k]) glp_set_col_bnds(lp.get(), z[k], GLP_FX, pattern[k], pattern[k]);
-        glp_smcp sm;
-        glp_init_smcp(&sm);
-        sm.msg_lev = GLP_MSG_OFF;
-        if (glp_simplex(lp.get(), &sm) != 0 || glp_get_status(lp.get()) != GLP_OPT)
-            return std::numeric_limits<double>::infinity();
-        doses.assign(n, 0.0);
-        for (size_t k = 0; k < n; ++k)
-            if (solid[k] && pattern[k]) doses[k] = glp_get_col_prim(lp.get(), x[k]) * ec;
-        return glp_get_obj_val(lp.get());
+        return m.solveFixed(pattern, doses);
     };
     glp_smcp sm;
     glp_init_smcp(&sm);
     sm.msg_lev = GLP_MSG_OFF;
     double bound = -INFINITY;
-    if (glp_simplex(lp.get(), &sm) == 0 && glp_get_status(lp.get()) == GLP_OPT)
-        bound = glp_get_obj_val(lp.get());  // LP relaxation of the MILP
+    for (size_t k = 0; k < n; ++k)
+        if (solid[k]) glp_set_col_bnds(m.lp.get(), m.z[k], GLP_DB, 0.0, 1.0);
+    if (glp_simplex(m.lp.get(), &sm) == 0 && glp_get_status(m.lp.get()) == GLP_OPT)
+        bound = glp_get_obj_val(m.lp.get());  // LP relaxation of the MILP
     DlpColumnProblem l2 = p;
     l2.penalty = 5.5;
     std::vector<uint8_t> pattern = solveColumnExactly(solid, l2).best.exposed;
@@ -187,28 +248,67 @@ DlpGeometricResult optimiseColumnGeometric(const std::vector<uint8_t>& solid,
         if (!improved) break;
     }
     if (!std::isfinite(best)) throw InputError("DLP geometric: no printable exposure pattern");
-    DlpGeometricResult out;
-    out.dose = bestDose;
-    out.accumulated.assign(n, 0.0);
-    out.objective = best;
-    out.lowerBound = std::min(bound, best);
-    out.gap = (best - out.lowerBound) / std::max(std::abs(best), 1e-12);
-    out.optimal = out.gap <= 1e-9;
-    // Recompute D from the doses (not GLPK's values) so the result is self-consistent.
-    double carried = 0.0;
-    for (size_t k = n; k-- > 0;) out.accumulated[k] = carried = out.dose[k] + r * carried;
-    double high = 0.0, low = INFINITY;
-    for (size_t k = 0; k < n; ++k) {
-        const double v = out.accumulated[k] / ec;
+    return finish(solid, p, o, bestDose, best, std::min(bound, best));
+}
+
+double geometricObjective(const std::vector<uint8_t>& solid, const DlpColumnProblem& p,
+                          const DlpGeometricOptions& o, const std::vector<double>& dose) {
+    if (dose.size() != solid.size())
+        throw InputError("DLP geometric: one dose per layer is needed");
+    const double ec = cure::fppGelDose(p.rateConstant, p.gelPoint);
+    const double r = std::exp(-p.attenuation * p.layerThickness);
+    double carried = 0.0, violation = 0.0, high = -INFINITY, low = INFINITY, light = 0.0;
+    for (size_t k = solid.size(); k-- > 0;) {
+        carried = dose[k] / ec + r * carried;  // D_k / Ec
+        light += dose[k] / ec;
         if (solid[k]) {
-            out.violation += std::max(0.0, 1.0 - v);
-            high = std::max(high, v), low = std::min(low, v);
+            violation += std::max(0.0, 1.0 - carried);
+            high = std::max(high, carried), low = std::min(low, carried);
         } else {
-            out.violation += std::max(0.0, v - (1.0 - o.margin));
+            violation += std::max(0.0, carried - (1.0 - o.margin));
         }
     }
-    out.spread = high >= low ? high - low : 0.0;
-    return out;
+    const double spread = high >= low ? high - std::max(low, 0.0) : 0.0;
+    return o.violationWeight * violation + o.spreadWeight * spread + 1e-4 * light;
+}
+
+DlpGeometricResult enumerateColumnGeometric(const std::vector<uint8_t>& solid,
+                                            const DlpColumnProblem& p,
+                                            const DlpGeometricOptions& o) {
+    std::vector<size_t> layers;
+    for (size_t k = 0; k < solid.size(); ++k)
+        if (solid[k]) layers.push_back(k);
+    if (layers.size() > 20)
+        throw InputError("DLP geometric: enumeration is limited to 20 solid layers");
+    std::unique_ptr<GeometricModel> model = buildModel(solid, p, o);
+    std::vector<uint8_t> pattern(solid.size(), 0);
+    std::vector<double> bestDose, doses;
+    double best = std::numeric_limits<double>::infinity();
+    for (uint64_t mask = 0; mask < (uint64_t(1) << layers.size()); ++mask) {
+        for (size_t i = 0; i < layers.size(); ++i) pattern[layers[i]] = (mask >> i) & 1;
+        const double value = model->solveFixed(pattern, doses);
+        if (value < best) best = value, bestDose = doses;
+    }
+    if (!std::isfinite(best)) throw InputError("DLP geometric: no printable exposure pattern");
+    return finish(solid, p, o, bestDose, best, best);  // every pattern seen: gap 0
+}
+
+DlpGeometricResult branchAndCutColumnGeometric(const std::vector<uint8_t>& solid,
+                                               const DlpColumnProblem& p,
+                                               const DlpGeometricOptions& o) {
+    std::unique_ptr<GeometricModel> model = buildModel(solid, p, o);
+    glp_iocp io;
+    glp_init_iocp(&io);
+    io.msg_lev = GLP_MSG_OFF;
+    io.presolve = GLP_ON;
+    io.mip_gap = 0.0;
+    if (glp_intopt(model->lp.get(), &io) != 0 || glp_mip_status(model->lp.get()) != GLP_OPT)
+        throw InputError("DLP geometric: GLPK's branch and cut found no optimum");
+    std::vector<double> dose(solid.size(), 0.0);
+    for (size_t k = 0; k < solid.size(); ++k)
+        if (solid[k]) dose[k] = glp_mip_col_val(model->lp.get(), model->x[k]) * model->ec;
+    const double best = glp_mip_obj_val(model->lp.get());
+    return finish(solid, p, o, dose, best, best);
 }
 
 }  // namespace vpsim::optimise

@@ -71,7 +71,7 @@ DlpPartResult optimiseDlpPart(const DlpLayerStack& part, const DlpPartOptions& o
                 DlpGeometricResult r =
                     optimiseColumnGeometric(solid, options.problem, options.geometric);
                 dose = std::move(r.dose);
-                gaps[i] = 0.0;  // local search: no certificate (the LP bound is not tight)
+                gaps[i] = r.gap;  // 0 when enumerated; else against the LP relaxation
             } else {
                 DlpSearchResult r = solveColumnExactly(solid, options.problem, options.search);
                 dose = std::move(r.best.dose);

@@ -36,6 +36,9 @@ struct DlpGeometricOptions {
     int maxPasses = 3;               ///< local-search passes over the exposure pattern
     int moves = 1;                   ///< 1: switch a layer on/off; 3: also move an exposure +-1
     int searchDepth = 24;            ///< layers above each run's bottom the local search moves
+    /// Columns with at most this many solid layers are solved by enumerating every pattern
+    /// (exact, gap 0); 2^limit LPs.
+    size_t enumerationLimit = 10;
 };
 
 /// Result of the geometric programme for one column.
@@ -50,7 +53,30 @@ struct DlpGeometricResult {
     bool optimal = false;             ///< gap closed (the bound is attained)
 };
 
-/// Solves the geometric programme for one column (solid[k] != 0: layer k in the part).
+/// The programme's objective for doses `dose` (mJ/mm^2 per layer), computed directly from the
+/// print-through recursion: violationWeight x (sum of gel violations, per Ec) + spreadWeight x
+/// (max - min of D/Ec inside) + 1e-4 x (sum of doses, per Ec). Eq. 10 is not checked here.
+/// @throw InputError when the sizes differ
+double geometricObjective(const std::vector<uint8_t>& solid, const DlpColumnProblem& problem,
+                          const DlpGeometricOptions& options, const std::vector<double>& dose);
+
+/// The exact optimum by enumeration of every exposure pattern of the solid layers, each
+/// pattern's LP solved by GLPK's simplex (gap 0, optimal). @throw InputError beyond 20 solid
+/// layers, or as optimiseColumnGeometric
+DlpGeometricResult enumerateColumnGeometric(const std::vector<uint8_t>& solid,
+                                            const DlpColumnProblem& problem,
+                                            const DlpGeometricOptions& options = {});
+
+/// The exact optimum of the same MILP by GLPK's branch and cut (glp_intopt, zero gap): the
+/// reference the enumeration is tested against (slow beyond a few dozen layers).
+/// @throw InputError when GLPK finds no optimum
+DlpGeometricResult branchAndCutColumnGeometric(const std::vector<uint8_t>& solid,
+                                               const DlpColumnProblem& problem,
+                                               const DlpGeometricOptions& options = {});
+
+/// Solves the geometric programme for one column (solid[k] != 0: layer k in the part): by
+/// enumeration (exact) up to options.enumerationLimit solid layers, else by the local search
+/// with the LP-relaxation bound and its gap.
 /// `problem.targetConversion` and `penalty` are not used; bonding, d_max, K, mu, Phi_c are.
 /// @throw InputError on bad parameters, d_max below the bonding dose, or when GLPK fails
 DlpGeometricResult optimiseColumnGeometric(const std::vector<uint8_t>& solid,
