@@ -6,7 +6,7 @@
 //
 // A solid sphere has few distinct solid/void profiles (each column is one run whose ends depend
 // only on the distance from the axis: ~100 profiles for 2e4 columns), so the benchmark also
-// optimises a porous sphere: the same sphere with 400 spherical cavities (radius 0.25-0.6 mm,
+// optimises a porous sphere: the same sphere with 600 spherical cavities (radius 0.25-0.6 mm,
 // fixed seed), whose columns cross several cavities and have ~2e4 distinct profiles, each with
 // down-facing surfaces. The geometric objective is timed on a sample of its distinct columns
 // (every `geometric_stride`-th) and its total extrapolated, since it costs far more per column.
@@ -16,7 +16,9 @@
 // XY contour error against the column optimum's (the comparison it is judged by).
 //
 // Usage: bench_dlp_optimiser [diameter_mm] [pixel_mm] [max_nodes] [every_column 0|1]
-//                            [geometric_stride]
+//                            [geometric_stride] [cavities] [enumeration_limit] [sections]
+// sections: letters s (solid sphere: L2, every column, geometric), p (porous sphere L2),
+// g (porous geometric sample), x (xy coupling); default "spgx".
 
 #include <sys/resource.h>
 
@@ -27,6 +29,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <iostream>
+#include <string>
 #include <random>
 #include <set>
 #include <thread>
@@ -110,7 +113,10 @@ int main(int argc, char** argv) {
     const double diameter = argc > 1 ? std::atof(argv[1]) : 10.0;
     const double pixel = argc > 2 ? std::atof(argv[2]) : 0.0625;
     const size_t maxNodes = argc > 3 ? size_t(std::atol(argv[3])) : 4000;
-    const bool everyColumn = argc > 4 ? std::atoi(argv[4]) != 0 : true;
+    const std::string sections = argc > 8 ? argv[8] : "spgx";
+    auto run = [&](char section) { return sections.find(section) != std::string::npos; };
+    const bool everyColumn = (argc > 4 ? std::atoi(argv[4]) != 0 : true) && run('s');
+    const int cavities = argc > 6 ? std::atoi(argv[6]) : 600;
     DlpLayerStack part = sphere(diameter, pixel, 0.05);
     DlpPartOptions o;
     o.problem.rateConstant = 0.528080236;  // seed 001 resin (Table 1)
@@ -118,12 +124,13 @@ int main(int argc, char** argv) {
     o.problem.gelPoint = 0.276;
     o.problem.maxDose = 1.3;
     o.search.maxNodes = maxNodes;
+    if (argc > 7) o.search.enumerationLimit = size_t(std::atol(argv[7]));
     const double loadBefore = loadAverage();
     // CPU seconds (all threads) beside wall seconds: the 2 cores are shared, so wall time
     // depends on the load; CPU time / 2 is what an idle 2-core machine would take at best.
     auto cpu = [] { return double(std::clock()) / CLOCKS_PER_SEC; };
     double c0 = cpu();
-    DlpPartResult l2 = optimiseDlpPart(part, o);
+    DlpPartResult l2 = run('s') || run('x') ? optimiseDlpPart(part, o) : DlpPartResult{};
     const double l2Cpu = cpu() - c0;
 
     // Every pixel column solved on its own (no merging of equal profiles): the per-column cost.
@@ -148,18 +155,18 @@ int main(int argc, char** argv) {
     DlpPartOptions g = o;
     g.objective = DlpObjective::Geometric;
     c0 = cpu();
-    DlpPartResult geometric = optimiseDlpPart(part, g);
+    DlpPartResult geometric = run('s') ? optimiseDlpPart(part, g) : DlpPartResult{};
     const double geometricCpu = cpu() - c0;
 
     // The porous sphere: ~2e4 distinct profiles.
     const int stride = argc > 5 ? std::max(1, std::atoi(argv[5])) : 40;
-    const DlpLayerStack holes = porous(part, diameter, pixel, 0.05, 400);
+    const DlpLayerStack holes = porous(part, diameter, pixel, 0.05, cavities);
     c0 = cpu();
-    DlpPartResult porousL2 = optimiseDlpPart(holes, o);
+    DlpPartResult porousL2 = run('p') ? optimiseDlpPart(holes, o) : DlpPartResult{};
     const double porousL2Cpu = cpu() - c0;
     const std::vector<std::vector<uint8_t>> profiles = distinctProfiles(holes);
     std::vector<size_t> sample;
-    for (size_t i = 0; i < profiles.size(); i += size_t(stride)) sample.push_back(i);
+    for (size_t i = 0; run('g') && i < profiles.size(); i += size_t(stride)) sample.push_back(i);
     std::vector<double> sampleGaps(sample.size()), sampleSolid(sample.size());
     c0 = cpu();
     start = std::chrono::steady_clock::now();
@@ -184,7 +191,7 @@ int main(int argc, char** argv) {
     DlpXyOptions xy;
     xy.pixelPitch = pixel;
     c0 = cpu();
-    DlpXyResult joint = optimiseDlpPartXy(part, o, xy, &l2);
+    DlpXyResult joint = run('x') ? optimiseDlpPartXy(part, o, xy, &l2) : DlpXyResult{};
     const double xyCpu = cpu() - c0;
 
     nlohmann::json out = {
@@ -228,7 +235,7 @@ int main(int argc, char** argv) {
           {"contour_error_xy_mm", joint.contourErrorXy},
           {"fields_mib", joint.peakFieldMiB}}},
         {"porous_sphere",
-         {{"cavities", 400},
+         {{"cavities", cavities},
           {"distinct_columns_counted", profiles.size()},
           {"conversion_l2",
            {{"seconds", porousL2.seconds},

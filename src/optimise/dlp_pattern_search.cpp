@@ -28,10 +28,14 @@ DlpColumnResult resultFrom(const Transmission& t, const std::vector<uint8_t>& ex
     r.objective = solved.objective;
     r.iterations = solved.iterations;
     r.converged = solved.converged;
-    std::vector<double> phi = t.apply(r.dose);
+    return r;  // conversion: only for the result handed out (withConversion), a third of the cost
+}
+
+/// Fills r.conversion (Phi = 1 - exp(T d)) of a result handed out.
+void withConversion(const Transmission& t, DlpColumnResult& r) {
+    const std::vector<double> phi = t.apply(r.dose);
     r.conversion.resize(phi.size());
     for (size_t k = 0; k < phi.size(); ++k) r.conversion[k] = -std::expm1(phi[k]);
-    return r;
 }
 
 void requirePrintable(const std::vector<uint8_t>& solid, const DlpColumnProblem& p) {
@@ -224,6 +228,7 @@ DlpColumnResult solveColumnPattern(const std::vector<uint8_t>& solid,
         throw InputError(
             "DLP column: an exposure in this pattern needs more than the maximum dose to bond "
             "(Eq. 10)");
+    withConversion(search.transmission(), result);
     return result;
 }
 
@@ -249,6 +254,7 @@ DlpSearchResult enumerateColumnPatterns(const std::vector<uint8_t>& solid,
     }
     out.lowerBound = out.best.objective;
     out.solves = search.solves();
+    withConversion(search.transmission(), out.best);
     return out;
 }
 
@@ -316,6 +322,7 @@ DlpSearchResult branchAndBoundColumn(const std::vector<uint8_t>& solid,
     out.lowerBound = bound;
     out.gap = (out.best.objective - bound) / std::max(out.best.objective, 1e-300);
     out.solves = search.solves();
+    withConversion(search.transmission(), out.best);
     return out;
 }
 
