@@ -60,6 +60,7 @@ DlpMaskPlan planOptimisedMasks(const DlpLayerStack& part, const DlpProcess& proc
     DlpMaskPlan out;
     out.optimised = optimiseDlpPart(part, o);
     nlohmann::json xyJson = nullptr;
+    std::vector<std::vector<float>> columnDoses;
     if (settings.xyCoupling) {
         DlpXyOptions xy;
         xy.pixelPitch = process.pixelPitch;
@@ -74,6 +75,7 @@ DlpMaskPlan planOptimisedMasks(const DlpLayerStack& part, const DlpProcess& proc
                   {"objective_xy", joint.objectiveXy},
                   {"contour_error_columns_mm", joint.contourErrorColumns},
                   {"contour_error_xy_mm", joint.contourErrorXy}};
+        columnDoses = std::move(out.optimised.dose);
         out.optimised = std::move(joint.doses);
     }
     std::vector<size_t> histogram(256, 0);
@@ -103,6 +105,13 @@ DlpMaskPlan planOptimisedMasks(const DlpLayerStack& part, const DlpProcess& proc
         layer.masks.push_back(std::move(mask));
         out.plan.layers.push_back(std::move(layer));
         out.grey.push_back(std::move(grey));
+    }
+    if (!columnDoses.empty()) {  // the column optimum as the printer would get it
+        out.columnPlan = out.plan;
+        for (size_t k = 0; k < columnDoses.size(); ++k)
+            for (size_t p = 0; p < columnDoses[k].size(); ++p)
+                out.columnPlan.layers[k].masks[0].dose[p] =
+                    float(levels.dose(levels.quantise(columnDoses[k][p])));
     }
     out.summary = {{"planner", "optimised-mask"},
                    {"objective",

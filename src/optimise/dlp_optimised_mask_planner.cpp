@@ -52,6 +52,13 @@ public:
         DlpMaskPlan result = planOptimisedMasks(part, process, mSettings, *levels);
         mSummary = result.summary;
         mSummary["figures"] = std::move(result.figures);  // the pipeline draws and removes it
+        mColumnPlan = std::move(result.columnPlan);
+        if (!mColumnPlan.layers.empty()) {  // on the job's layers, as the returned plan
+            plan::ScanPlan columns = plan::emptyPlan(in.layers, in.machine);
+            for (size_t k = 0; k < columns.layers.size(); ++k)
+                columns.layers[k].masks = std::move(mColumnPlan.layers[k].masks);
+            mColumnPlan = std::move(columns);
+        }
         plan::ScanPlan out = plan::emptyPlan(in.layers, in.machine);
         for (size_t k = 0; k < out.layers.size(); ++k)
             out.layers[k].masks = std::move(result.plan.layers[k].masks);
@@ -59,14 +66,23 @@ public:
     }
 
     nlohmann::json summary() const override { return mSummary; }
+    const plan::ScanPlan* columnPlan() const {
+        return mColumnPlan.layers.empty() ? nullptr : &mColumnPlan;
+    }
 
 private:
     DlpMaskPlannerSettings mSettings;
     std::shared_ptr<const plan::GreyLevels> mLevels;
     nlohmann::json mSummary = nlohmann::json::object();
+    plan::ScanPlan mColumnPlan;
 };
 
 }  // namespace
+
+const plan::ScanPlan* optimisedMaskColumnPlan(const plan::Planner& planner) {
+    const auto* p = dynamic_cast<const OptimisedMaskPlanner*>(&planner);
+    return p ? p->columnPlan() : nullptr;
+}
 
 void registerOptimisedMaskPlanner(plan::PlannerRegistry& registry) {
     registry.add(

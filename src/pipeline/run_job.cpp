@@ -184,7 +184,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     result.validation = validateStage(job, f.part, cured, validator.summary(), features.result(),
                                       job.simulation.writeVdb ? outDir + "/reference.vdb" : "");
     timer.finish("validate");
-    dlpReportStage(job, f.layers, f.bounds, planned.plan, *model, result, outDir);
+    dlpReportStage(job, f.part, f.layers, f.bounds, planned.plan, *model, result, outDir);
 
     sections.write(outDir);
     report::writeDeviationFigures(outDir, cured, result.validation.vertexDeviations);

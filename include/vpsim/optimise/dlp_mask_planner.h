@@ -70,6 +70,9 @@ struct DlpMaskPlan {
     nlohmann::json summary;  ///< figures for the report (columns, gaps, grey histogram)
     /// Data of the report's DLP figures (dlpReportFigureData), kept out of report.json.
     nlohmann::json figures;
+    /// With xy_coupling: the column optimum's plan (quantised the same way), which the report
+    /// simulates beside the joint one to compare their XY contour errors; else empty.
+    plan::ScanPlan columnPlan;
 };
 
 /// Optimises, quantises and builds the plan. @throw InputError on bad inputs, or when d_max

@@ -11,6 +11,11 @@
 
 namespace vpsim::optimise {
 
+/// The column optimum's plan of the last plan() of an "optimised-mask" planner run with
+/// xy_coupling (what the joint optimisation started from, quantised), or nullptr for other
+/// planners or without xy_coupling: the report simulates it to compare XY contour errors.
+const plan::ScanPlan* optimisedMaskColumnPlan(const plan::Planner& planner);
+
 /// Registers "optimised-mask".
 void registerOptimisedMaskPlanner(plan::PlannerRegistry& registry);
 
