@@ -11,9 +11,9 @@
 namespace vpsim::pipeline {
 
 void dlpReportStage(const Job& job, const geometry::Mesh& part, const geometry::LayerStack& layers,
-                    const geometry::Bounds& b,
-                    const plan::ScanPlan& plan, exposure::ExposureModel& model,
-                    report::JobResult& result, const std::string& outDir) {
+                    const geometry::Bounds& b, const plan::ScanPlan& plan,
+                    exposure::ExposureModel& model, report::JobResult& result,
+                    const std::string& outDir) {
     nlohmann::json& summary = result.plan.planner;
     if (!summary.contains("figures")) return;
     const nlohmann::json figures = summary["figures"];

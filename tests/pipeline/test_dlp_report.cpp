@@ -1,0 +1,61 @@
+// An optimised-mask run's report: the uniform plan simulated beside it for the features table,
+// the DLP figures written and linked from index.html, the figure data kept out of report.json,
+// and with xy_coupling both XY contour errors from the run's own validation, the joint one lower.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "vpsim/pipeline/run_job.h"
+#include "vpsim/report/dlp_figures.h"
+
+using namespace vpsim;
+
+TEST_CASE("optimised-mask run: uniform comparison, DLP figures, xy comparison", "[pipeline]") {
+    // A small frustum wider at the top (down-facing walls), seed 001's resin and projector.
+    const nlohmann::json job = nlohmann::json::parse(R"({
+      "cure": {"model": "fpp", "K": "0.0052808 cm^2/mJ", "gel_point": 0.276,
+               "penetration_depth": "0.36594 mm"},
+      "part": {"test_part": "bottom-narrow", "size": "1.5 mm", "top_size": "0.75 mm",
+               "height": "0.6 mm"},
+      "machine": {"process": "dlp", "pixel_pitch": "62.5 um", "blur_radius": "40 um",
+                  "layer_thickness": "50 um",
+                  "grey_levels": [[150, "12.2 mW/cm^2"], [200, "17 mW/cm^2"],
+                                  [255, "27 mW/cm^2"]], "exposure_time": "5 s"},
+      "plan": {"strategy": "optimised-mask", "xy_coupling": true, "uniform_dose": "78 mJ/cm^2"},
+      "simulation": {"voxel": "31.25 um", "slices_per_layer": 5, "write_vdb": false},
+      "features": [{"name": "wall", "kind": "solid", "x": "0.6 mm", "y": 0, "z_min": 0,
+                    "z_max": "1 mm", "objective": "0.24 mm"}]})");
+    const auto dir = std::filesystem::temp_directory_path() / "vpsim_test_dlp_report";
+    const auto jobPath = std::filesystem::temp_directory_path() / "vpsim_test_dlp_report.json";
+    std::ofstream(jobPath) << job.dump(1);
+    pipeline::Job loaded = pipeline::loadJob(jobPath.string(), pipeline::makeBuiltins());
+    report::JobResult r = pipeline::runJob(loaded, dir.string(), RunContext{});
+    const nlohmann::json& p = r.plan.planner;
+    REQUIRE_FALSE(p.contains("figures"));
+    REQUIRE(p["uniform_comparison"]["dose_mJ_per_cm2"].get<double>() == Approx(78.0));
+    REQUIRE(p["uniform_comparison"]["features"][0]["name"] == "wall");
+    // Uniform 78 mJ/cm^2 over-cures the down-facing walls' print-through: thicker than planned.
+    REQUIRE(p["uniform_comparison"]["features"][0]["simulated_mm"].get<double>() >
+            r.validation.features.simulated[0]);
+    for (const char* file : report::DLP_FIGURE_FILES) {
+        INFO(file);
+        REQUIRE(std::filesystem::exists(dir / file));
+    }
+    std::stringstream html;
+    html << std::ifstream(dir / "index.html").rdbuf();
+    REQUIRE(html.str().find("dlp_mask.svg") != std::string::npos);
+    const nlohmann::json& xy = p["xy_coupling"];
+    INFO("XY contour error columns " << xy["validation_xy_contour_error_columns_mm"] << " joint "
+                                     << xy["validation_xy_contour_error_xy_mm"]);
+    REQUIRE(xy["validation_xy_contour_error_xy_mm"].get<double>() ==
+            Approx(r.validation.slices.xyContourErrorMean));
+    REQUIRE(xy["validation_xy_contour_error_xy_mm"].get<double>() <
+            xy["validation_xy_contour_error_columns_mm"].get<double>());
+    REQUIRE(xy["objective_xy"].get<double>() <= xy["objective_columns"].get<double>());
+    std::filesystem::remove_all(dir);
+    std::filesystem::remove(jobPath);
+}
