@@ -49,21 +49,6 @@ struct GeometricModel {
     double ec = 0.0, r = 0.0;
     size_t n = 0;
     std::vector<uint8_t> solid;
-
-    /// The programme's LP with the pattern fixed (z = pattern); +inf when infeasible.
-    double solveFixed(const std::vector<uint8_t>& pattern, std::vector<double>& doses) {
-        for (size_t k = 0; k < n; ++k)
-            if (solid[k]) glp_set_col_bnds(lp.get(), z[k], GLP_FX, pattern[k], pattern[k]);
-        glp_smcp sm;
-        glp_init_smcp(&sm);
-        sm.msg_lev = GLP_MSG_OFF;
-        if (glp_simplex(lp.get(), &sm) != 0 || glp_get_status(lp.get()) != GLP_OPT)
-            return std::numeric_limits<double>::infinity();
-        doses.assign(n, 0.0);
-        for (size_t k = 0; k < n; ++k)
-            if (solid[k] && pattern[k]) doses[k] = glp_get_col_prim(lp.get(), x[k]) * ec;
-        return glp_get_obj_val(lp.get());
-    }
 };
 
 /// Builds the programme. @throw InputError on bad parameters
@@ -154,6 +139,69 @@ std::unique_ptr<GeometricModel> buildModel(const std::vector<uint8_t>& solid,
     return model;
 }
 
+/// One exposure pattern's LP, built once per column: the doses' boxes come from exposureBounds
+/// (Eq. 10 for that pattern), so no on/off variables or window rows are needed; only the bounds
+/// change between patterns and the simplex restarts from the previous basis.
+class PatternModel {
+public:
+    PatternModel(const std::vector<uint8_t>& solid, const DlpColumnProblem& p,
+                 const DlpGeometricOptions& o)
+        : mSolid(solid), mP(p), mEc(cure::fppGelDose(p.rateConstant, p.gelPoint)) {
+        const size_t n = solid.size();
+        const double r = std::exp(-p.attenuation * p.layerThickness);
+        mX.assign(n, 0);
+        std::vector<int> d(n);
+        for (size_t k = 0; k < n; ++k) {
+            if (solid[k]) mX[k] = mLp.column(0.0, 0.0, 1e-4);
+            d[k] = mLp.column(0.0, INFINITY, 0.0);
+        }
+        const int dMax = mLp.column(0.0, INFINITY, o.spreadWeight),
+                  dMin = mLp.column(0.0, INFINITY, -o.spreadWeight);
+        for (size_t k = 0; k < n; ++k) {
+            std::vector<std::pair<int, double>> rec{{d[k], 1.0}};
+            if (k + 1 < n) rec.push_back({d[k + 1], -r});
+            if (solid[k]) rec.push_back({mX[k], -1.0});
+            mLp.row(rec, GLP_FX, 0.0, 0.0);
+            const int slack = mLp.column(0.0, INFINITY, o.violationWeight);
+            if (solid[k]) {
+                mLp.row({{d[k], 1.0}, {slack, 1.0}}, GLP_LO, 1.0, 0.0);
+                mLp.row({{d[k], 1.0}, {dMax, -1.0}}, GLP_UP, 0.0, 0.0);
+                mLp.row({{d[k], 1.0}, {dMin, -1.0}}, GLP_LO, 0.0, 0.0);
+            } else {
+                mLp.row({{d[k], 1.0}, {slack, -1.0}}, GLP_UP, 0.0, 1.0 - o.margin);
+            }
+        }
+    }
+
+    /// The pattern's optimum (doses in mJ/mm^2); +inf when Eq. 10 cannot be met within d_max.
+    double solve(const std::vector<uint8_t>& pattern, std::vector<double>& doses) {
+        std::vector<double> lo, hi;
+        if (!exposureBounds(pattern, mSolid, mP, lo, hi))
+            return std::numeric_limits<double>::infinity();
+        for (size_t k = 0; k < mSolid.size(); ++k)
+            if (mSolid[k]) {
+                const double l = lo[k] / mEc, h = hi[k] / mEc;
+                glp_set_col_bnds(mLp.get(), mX[k], l == h ? GLP_FX : GLP_DB, l, h);
+            }
+        glp_smcp sm;
+        glp_init_smcp(&sm);
+        sm.msg_lev = GLP_MSG_OFF;
+        if (glp_simplex(mLp.get(), &sm) != 0 || glp_get_status(mLp.get()) != GLP_OPT)
+            return std::numeric_limits<double>::infinity();
+        doses.assign(mSolid.size(), 0.0);
+        for (size_t k = 0; k < mSolid.size(); ++k)
+            if (mSolid[k] && pattern[k]) doses[k] = glp_get_col_prim(mLp.get(), mX[k]) * mEc;
+        return glp_get_obj_val(mLp.get());
+    }
+
+private:
+    Programme mLp;
+    std::vector<uint8_t> mSolid;
+    DlpColumnProblem mP;
+    double mEc;
+    std::vector<int> mX;
+};
+
 /// The result of doses `dose` with objective `best` and lower bound `bound`.
 DlpGeometricResult finish(const std::vector<uint8_t>& solid, const DlpColumnProblem& p,
                           const DlpGeometricOptions& o, const std::vector<double>& dose,
@@ -197,8 +245,9 @@ DlpGeometricResult optimiseColumnGeometric(const std::vector<uint8_t>& solid,
     std::unique_ptr<GeometricModel> model = buildModel(solid, p, o);
     GeometricModel& m = *model;
     const size_t n = solid.size();
+    PatternModel patterns(solid, p, o);
     auto solveFixed = [&](const std::vector<uint8_t>& pattern, std::vector<double>& doses) {
-        return m.solveFixed(pattern, doses);
+        return patterns.solve(pattern, doses);
     };
     glp_smcp sm;
     glp_init_smcp(&sm);
@@ -280,13 +329,14 @@ DlpGeometricResult enumerateColumnGeometric(const std::vector<uint8_t>& solid,
         if (solid[k]) layers.push_back(k);
     if (layers.size() > 20)
         throw InputError("DLP geometric: enumeration is limited to 20 solid layers");
-    std::unique_ptr<GeometricModel> model = buildModel(solid, p, o);
+    buildModel(solid, p, o);  // checks the parameters
+    PatternModel model(solid, p, o);
     std::vector<uint8_t> pattern(solid.size(), 0);
     std::vector<double> bestDose, doses;
     double best = std::numeric_limits<double>::infinity();
     for (uint64_t mask = 0; mask < (uint64_t(1) << layers.size()); ++mask) {
         for (size_t i = 0; i < layers.size(); ++i) pattern[layers[i]] = (mask >> i) & 1;
-        const double value = model->solveFixed(pattern, doses);
+        const double value = model.solve(pattern, doses);
         if (value < best) best = value, bestDose = doses;
     }
     if (!std::isfinite(best)) throw InputError("DLP geometric: no printable exposure pattern");
