@@ -252,11 +252,13 @@ DlpGeometricResult optimiseColumnGeometric(const std::vector<uint8_t>& solid,
     glp_smcp sm;
     glp_init_smcp(&sm);
     sm.msg_lev = GLP_MSG_OFF;
-    double bound = -INFINITY;
+    // Every term of the objective is >= 0 (doses, slacks, max - min of D), so 0 is a valid bound
+    // when the relaxation is weaker or fails.
+    double bound = 0.0;
     for (size_t k = 0; k < n; ++k)
         if (solid[k]) glp_set_col_bnds(m.lp.get(), m.z[k], GLP_DB, 0.0, 1.0);
     if (glp_simplex(m.lp.get(), &sm) == 0 && glp_get_status(m.lp.get()) == GLP_OPT)
-        bound = glp_get_obj_val(m.lp.get());  // LP relaxation of the MILP
+        bound = std::max(0.0, glp_get_obj_val(m.lp.get()));  // LP relaxation of the MILP
     DlpColumnProblem l2 = p;
     l2.penalty = 5.5;
     std::vector<uint8_t> pattern = solveColumnExactly(solid, l2).best.exposed;
