@@ -29,9 +29,9 @@
 #include <cstdlib>
 #include <ctime>
 #include <iostream>
-#include <string>
 #include <random>
 #include <set>
+#include <string>
 #include <thread>
 
 #include <tbb/parallel_for.h>
