@@ -270,6 +270,21 @@ void writeDlpHtmlSection(std::ostringstream& html, const std::string& outDir, co
         }
         html << "</table>\n";
     }
+    if (p.contains("xy_coupling") && p["xy_coupling"].is_object()) {
+        const nlohmann::json& xy = p["xy_coupling"];
+        auto cell = [&](const char* key) {
+            return xy.contains(key) ? formatNumber(xy[key].get<double>(), 4) : std::string();
+        };
+        html << "<table><tr><th>xy coupling (from " << htmlEscape(xy.value("start", ""))
+             << ")</th><th>column optimum</th><th>joint optimum</th></tr>\n<tr><th>XY contour "
+                "error, this run's validation (mm)</th><td>"
+             << cell("validation_xy_contour_error_columns_mm") << "</td><td>"
+             << cell("validation_xy_contour_error_xy_mm") << "</td></tr>\n<tr><th>XY contour "
+             << "error, optimiser's model (mm)</th><td>" << cell("contour_error_columns_mm")
+             << "</td><td>" << cell("contour_error_xy_mm") << "</td></tr>\n<tr><th>shape "
+             << "objective J</th><td>" << cell("objective_columns") << "</td><td>"
+             << cell("objective_xy") << "</td></tr></table>\n";
+    }
     const char* captions[] = {
         "features: objective, the uniform plan and this plan simulated, measured (mm)",
         "dose per layer along Z through one pixel column (seed 001 Fig. 13-16)",
