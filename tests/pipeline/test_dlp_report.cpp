@@ -48,6 +48,7 @@ TEST_CASE("optimised-mask run: uniform comparison, DLP figures, xy comparison", 
     std::stringstream html;
     html << std::ifstream(dir / "index.html").rdbuf();
     REQUIRE(html.str().find("dlp_mask.svg") != std::string::npos);
+    REQUIRE(html.str().find("XY contour error, this run") != std::string::npos);
     const nlohmann::json& xy = p["xy_coupling"];
     INFO("XY contour error columns " << xy["validation_xy_contour_error_columns_mm"] << " joint "
                                      << xy["validation_xy_contour_error_xy_mm"]);
