@@ -94,7 +94,9 @@ void registerOptimisedMaskPlanner(plan::PlannerRegistry& registry) {
           {"max_dose", "d_max per layer (default \"130 mJ/cm^2\")"},
           {"objective", "conversion-l2 (default) | geometric"},
           {"bonding", "Eq. 10 for a run's first exposure: own-layer (default) | run-bottom"},
-          {"xy_coupling", "optimise jointly through the projector blur (default false)"},
+          {"xy_coupling",
+           "optimise all pixels jointly through the projector blur on a 3D gel-point shape "
+           "objective, from the column optimum (default false)"},
           {"margin", "geometric: outside nodes below (1 - margin) Ec (default 0.05)"},
           {"uniform_dose",
            "uniform process simulated for the report's comparison: a dose, \"mean\" (the "

@@ -11,7 +11,7 @@
 ///   max_dose           d_max, dose (e.g. "130 mJ/cm^2"), default 130 mJ/cm^2
 ///   objective          "conversion-l2" (default) | "geometric"
 ///   bonding            "own-layer" (default: reproduces Table 2) | "run-bottom"
-///   xy_coupling        bool, default false (joint optimisation through the blur)
+///   xy_coupling        bool, default false (joint optimisation through the blur, dlp_xy.h)
 ///   margin             geometric objective: outside nodes below (1 - margin) Ec, default 0.05
 ///   uniform_dose       the uniform process the report compares with, simulated in the same run
 ///                      (a dose, "mean": the plan's mean exposed dose, i.e. the same light spread
