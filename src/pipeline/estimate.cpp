@@ -29,10 +29,12 @@
 //  slice consumers   validate::SliceValidator: a raster, three per-column arrays and the reference
 //                    raster of each slice (8 B per cell) and its over-cure runs (4 B per cell);
 //                    report::SectionRecorder: x-z section (5 B per column and slice) and x-y map.
-//  cured mesh        DoseVolume::isosurface (OpenVDB volumeToMesh): about one quad per surface
-//                    voxel (area / (pitch x min(pitch, dz))); our Mesh keeps 24 B per vertex and
-//                    2 x 12 B per quad; volumeToMesh's points, quads and its edge/sign masks ~100 B
-//                    per surface voxel while it runs.
+//  cured mesh        DoseVolume::isosurface (OpenVDB volumeToMesh): one quad per surface voxel
+//                    face; the cured surface is rougher and larger than the part's (the default
+//                    job: 2.8e5 triangles for 1e5 faces of the part's area), so 2 x area /
+//                    (pitch x min(pitch, dz)) quads. Our Mesh keeps 24 B per vertex and 2 x 12 B
+//                    per quad; volumeToMesh's points, quads and edge/sign masks ~100 B per quad
+//                    while it runs.
 //  level set         validateStage: geometry::LevelSet::estimateBytes at max(voxel, 20 um).
 //  runtime           TBB worker stacks, OpenVDB's registries and library pages first touched.
 namespace vpsim::pipeline {
@@ -107,7 +109,7 @@ void gridSizes(const Job& job, Sizes& s) {
                          VDB_LEAF * std::max(sim.voxel, s.voxelHeight);
     const double grown = s.volume + s.area * reach;
     s.activeVoxels = std::min(s.voxels, grown / (sim.voxel * sim.voxel * s.voxelHeight));
-    s.surfaceVoxels = s.area / (sim.voxel * std::min(sim.voxel, s.voxelHeight));
+    s.surfaceVoxels = 2.0 * s.area / (sim.voxel * std::min(sim.voxel, s.voxelHeight));
 }
 
 Sizes sizesOf(const Job& job, const geometry::Mesh& part) {
@@ -208,7 +210,7 @@ void exposureTerms(const Job& job, const Sizes& s, JobEstimate& e) {
                                             " slices",
         COARSER);
     add(e, "cured mesh", s.surfaceVoxels * 48.0, Stage::Cure, Stage::Validate,
-        fmt(s.surfaceVoxels) + " surface voxels, a quad each", COARSER);
+        fmt(s.surfaceVoxels) + " surface quads", COARSER);
     add(e, "isosurface extraction (volumeToMesh)", s.surfaceVoxels * 100.0, Stage::Cure,
         Stage::Cure, "points, quads and edge masks of " + fmt(s.surfaceVoxels) + " voxels",
         COARSER);
@@ -261,7 +263,7 @@ void outputTerms(const Job& job, const geometry::Mesh& part, const Sizes& s,
 }  // namespace
 
 JobEstimate estimateJob(const Job& job, const geometry::Mesh& part, bool planOnly,
-                        bool savedPlan) {
+                        bool savedPlan, bool gpuDriver) {
     JobEstimate e;
     e.job = job.name;
     e.planOnly = planOnly;
@@ -274,6 +276,8 @@ JobEstimate estimateJob(const Job& job, const geometry::Mesh& part, bool planOnl
                  {"stored_voxels", s.activeVoxels},
                  {"surface_voxels", s.surfaceVoxels}};
     frontTerms(job, part, s, e);
+    if (gpuDriver)  // measured: lavapipe's LLVM and the loader, from the first Vulkan call
+        add(e, "Vulkan driver", 64 * MIB, Stage::Part, Stage::Validate, "loader and driver");
     plan::PlanSize plan;
     planTerms(job, s, savedPlan, e, plan);
     e.figures["plan_elements"] = plan.elements;
@@ -286,8 +290,8 @@ JobEstimate estimateJob(const Job& job, const geometry::Mesh& part, bool planOnl
     return e;
 }
 
-JobEstimate estimateJob(const Job& job, bool planOnly, bool savedPlan) {
-    return estimateJob(job, partStage(job), planOnly, savedPlan);
+JobEstimate estimateJob(const Job& job, bool planOnly, bool savedPlan, bool gpuDriver) {
+    return estimateJob(job, partStage(job), planOnly, savedPlan, gpuDriver);
 }
 
 }  // namespace vpsim::pipeline

@@ -65,13 +65,15 @@ struct JobEstimate {
 };
 
 /// What a run (or `vpsim plan`, planOnly) of `job` on `part` (the loaded part mesh) will hold,
-/// write and take. `savedPlan`: the plan comes from a file, so the planner does not run.
+/// write and take. `savedPlan`: the plan comes from a file, so the planner does not run;
+/// `gpuDriver`: a Vulkan context is open (its driver's memory counts, ~64 MiB for lavapipe).
 /// Allocates nothing large; O(triangles log triangles).
 JobEstimate estimateJob(const Job& job, const geometry::Mesh& part, bool planOnly = false,
-                        bool savedPlan = false);
+                        bool savedPlan = false, bool gpuDriver = false);
 
 /// The same, loading the part first (partStage). @throw InputError for an unreadable part
-JobEstimate estimateJob(const Job& job, bool planOnly = false, bool savedPlan = false);
+JobEstimate estimateJob(const Job& job, bool planOnly = false, bool savedPlan = false,
+                        bool gpuDriver = false);
 
 /// @throw ResourceError when the estimate's peak exceeds memoryBudget(): the message names the
 /// job, the peak and its stage, the largest items with their sizes, the budget and how to fit.
