@@ -17,8 +17,8 @@
 //                    plane, dvec2 (16 B) in the PolygonSet plus Clipper's int64 copy and the
 //                    linked segments while slicing (x3), plus the slicer's 4 B buckets.
 //  plan              the planner's term (planner_estimates.cpp); saveScanPlan builds the whole
-//                    nlohmann::json tree before dumping it: ~100 B per number (map node, key,
-//                    value) for vectors and moves, 16 B per mask pixel, for the plan stage.
+//                    nlohmann::json tree before dumping it: the planner's jsonBytes (a json
+//                    array per vector and move, 16 B per mask pixel), for the plan stage.
 //  exposure engine   ExposureEngine: deposit, blur pass, running sum, slice (SurfaceGrid floats)
 //                    and ExposureModel::forward's deposit: 5 x 4 B per cell. Tabulated engine:
 //                    4 B per cell per slice in flight ((layers in flight) x slices + 1) + stencils.
@@ -47,28 +47,6 @@ constexpr double VDB_LEAF = 8;  ///< voxels per leaf edge
 
 std::string fmt(double value, int digits = 3) {
     return formatNumber(value, digits);
-}
-
-/// Contour vertices of all layers: triangles crossing each layer's slicing plane (mid-layer).
-double contourVertices(const geometry::Mesh& part, int layers, double thickness) {
-    std::vector<double> lo, hi;
-    lo.reserve(part.triangles.size());
-    hi.reserve(part.triangles.size());
-    for (const auto& t : part.triangles) {
-        const double a = part.vertices[t[0]].z, b = part.vertices[t[1]].z,
-                     c = part.vertices[t[2]].z;
-        lo.push_back(std::min({a, b, c}));
-        hi.push_back(std::max({a, b, c}));
-    }
-    std::sort(lo.begin(), lo.end());
-    std::sort(hi.begin(), hi.end());
-    double total = 0;
-    for (int k = 0; k < layers; ++k) {
-        const double z = (k + 0.5) * thickness;
-        total += double(std::upper_bound(lo.begin(), lo.end(), z) - lo.begin()) -
-                 double(std::lower_bound(hi.begin(), hi.end(), z) - hi.begin());
-    }
-    return std::max(total, 0.0);
 }
 
 /// The sizes every term follows from.
@@ -121,7 +99,7 @@ Sizes sizesOf(const Job& job, const geometry::Mesh& part) {
     slicing.layerThickness = job.machine.layerThickness;
     slicing.zStart = 0.0;
     s.layers = geometry::layerCount(part, slicing);
-    s.contourVertices = contourVertices(part, s.layers, job.machine.layerThickness);
+    s.contourVertices = contourVertexCount(part, s.layers, job.machine.layerThickness, 0.0, 0.5);
     gridSizes(job, s);
     return s;
 }
@@ -229,7 +207,7 @@ void validateTerms(const Job& job, const geometry::Mesh& part, const Sizes& s, J
     add(e, "reference level set", bytes, Stage::Validate, Stage::Validate,
         "narrow band of " + fmt(referenceVoxels) + " voxels at " +
             fmt(options.voxelSize * 1e3) + " um",
-        "a coarser simulation.voxel (the reference uses at least 20 um)");
+        "a smaller part (the reference level set uses max(simulation.voxel, 20 um))");
     add(e, "surface deviations", s.surfaceVoxels * 8.0, Stage::Validate, Stage::Validate,
         "one per cured vertex");
     e.stageSeconds.emplace_back("validate", 5e-9 * s.voxels + 1e-7 * referenceVoxels);
@@ -261,6 +239,28 @@ void outputTerms(const Job& job, const geometry::Mesh& part, const Sizes& s,
 }
 
 }  // namespace
+
+double contourVertexCount(const geometry::Mesh& part, int layers, double thickness,
+                          double zStart, double planePosition) {
+    std::vector<double> lo, hi;
+    lo.reserve(part.triangles.size());
+    hi.reserve(part.triangles.size());
+    for (const auto& t : part.triangles) {
+        const double a = part.vertices[t[0]].z, b = part.vertices[t[1]].z,
+                     c = part.vertices[t[2]].z;
+        lo.push_back(std::min({a, b, c}));
+        hi.push_back(std::max({a, b, c}));
+    }
+    std::sort(lo.begin(), lo.end());
+    std::sort(hi.begin(), hi.end());
+    double total = 0;
+    for (int k = 0; k < layers; ++k) {  // triangles with lo <= z minus those with hi < z
+        const double z = zStart + (k + planePosition) * thickness;
+        total += double(std::upper_bound(lo.begin(), lo.end(), z) - lo.begin()) -
+                 double(std::lower_bound(hi.begin(), hi.end(), z) - hi.begin());
+    }
+    return std::max(total, 0.0);
+}
 
 JobEstimate estimateJob(const Job& job, const geometry::Mesh& part, bool planOnly,
                         bool savedPlan, bool gpuDriver) {

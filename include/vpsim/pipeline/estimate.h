@@ -79,6 +79,12 @@ JobEstimate estimateJob(const Job& job, bool planOnly = false, bool savedPlan = 
 /// job, the peak and its stage, the largest items with their sizes, the budget and how to fit.
 void checkEstimate(const JobEstimate& estimate);
 
+/// Contour vertices of `layers` slices of `part` (one per triangle crossing a slicing plane at
+/// zStart + (k + planePosition) x thickness), for sizing a layer stack before slicing (16 B per
+/// vertex in a PolygonSet). O(triangles log triangles + layers log triangles).
+double contourVertexCount(const geometry::Mesh& part, int layers, double thickness,
+                          double zStart, double planePosition);
+
 /// The plan's size and the planner's working set of `job` (the planner's estimateSize, else the
 /// pipeline's term for the strategy, else a generic one by process): planner_estimates.cpp.
 plan::PlanSize estimatePlan(const Job& job, const plan::PlanSizeInputs& inputs);
