@@ -83,8 +83,8 @@ void gridSizes(const Job& job, Sizes& s) {
     // falls under 2% of Ec; print-through a few attenuation lengths down) plus a leaf of
     // partial leaves on each side of the surface.
     const double depth = job.cure->hasPenetrationDepth() ? job.cure->penetrationDepth() : 0.0;
-    const double reach = std::max(1.5 * s.beamRadius, 4.0 * depth) +
-                         VDB_LEAF * std::max(sim.voxel, s.voxelHeight);
+    const double reach =
+        std::max(1.5 * s.beamRadius, 4.0 * depth) + VDB_LEAF * std::max(sim.voxel, s.voxelHeight);
     const double grown = s.volume + s.area * reach;
     s.activeVoxels = std::min(s.voxels, grown / (sim.voxel * sim.voxel * s.voxelHeight));
     s.surfaceVoxels = 2.0 * s.area / (sim.voxel * std::min(sim.voxel, s.voxelHeight));
@@ -136,15 +136,11 @@ void frontTerms(const Job& job, const geometry::Mesh& part, const Sizes& s, JobE
 
 void planTerms(const Job& job, const Sizes& s, bool savedPlan, JobEstimate& e,
                plan::PlanSize& size) {
-    const plan::PlanSizeInputs inputs{s.bounds,
-                                      s.volume,
-                                      s.layers,
-                                      job.machine,
-                                      s.beamRadius,
-                                      job.cure->hasPenetrationDepth() ? job.cure->penetrationDepth()
-                                                                      : 0.0,
-                                      job.planSection,
-                                      s.contourVertices};
+    const plan::PlanSizeInputs inputs{
+        s.bounds,        s.volume,
+        s.layers,        job.machine,
+        s.beamRadius,    job.cure->hasPenetrationDepth() ? job.cure->penetrationDepth() : 0.0,
+        job.planSection, s.contourVertices};
     size = estimatePlan(job, inputs);
     add(e, "scan plan", size.planBytes, Stage::Plan, Stage::Validate, size.detail,
         "thicker layers or a smaller part");
@@ -170,22 +166,22 @@ void exposureTerms(const Job& job, const Sizes& s, JobEstimate& e) {
     if (job.kernel.tabulated && job.machine.process == plan::Process::Laser) {
         // The kernel's depth (3/mua) is not known before the Monte Carlo run: at most every layer.
         const double inFlight = double(s.layers) * n + 1;
-        add(e, "tabulated exposure engine", s.cells * 4.0 * inFlight, Stage::Expose,
-            Stage::Expose, fmt(s.cells) + " cells x " + fmt(inFlight) + " slices in flight",
+        add(e, "tabulated exposure engine", s.cells * 4.0 * inFlight, Stage::Expose, Stage::Expose,
+            fmt(s.cells) + " cells x " + fmt(inFlight) + " slices in flight",
             "a coarser simulation.voxel or kernel.use = fitted");
     } else {
         add(e, "exposure engine (2D grids)", s.cells * 4.0 * 5.0, Stage::Expose, Stage::Expose,
             fmt(s.nx) + " x " + fmt(s.ny) + " cells, 5 float grids", COARSER);
     }
-    add(e, "exposure dose volume (OpenVDB)",
-        s.activeVoxels * VDB_BYTES_PER_VOXEL + s.cells * 32.0, Stage::Expose, Stage::Validate,
+    add(e, "exposure dose volume (OpenVDB)", s.activeVoxels * VDB_BYTES_PER_VOXEL + s.cells * 32.0,
+        Stage::Expose, Stage::Validate,
         fmt(s.activeVoxels) + " stored voxels of " + fmt(s.voxels) + " (" + gridText(job, s) +
             "), 4.5 B each, and an 8-slice buffer",
         COARSER);
-    add(e, "slice validation and sections", s.cells * 17.0 + s.nx * s.slices * 5.0,
-        Stage::Expose, Stage::Validate, "rasters and per-column arrays of " + fmt(s.cells) +
-                                            " cells, an x-z section of " + fmt(s.slices) +
-                                            " slices",
+    add(e, "slice validation and sections", s.cells * 17.0 + s.nx * s.slices * 5.0, Stage::Expose,
+        Stage::Validate,
+        "rasters and per-column arrays of " + fmt(s.cells) + " cells, an x-z section of " +
+            fmt(s.slices) + " slices",
         COARSER);
     add(e, "cured mesh", s.surfaceVoxels * 48.0, Stage::Cure, Stage::Validate,
         fmt(s.surfaceVoxels) + " surface quads", COARSER);
@@ -205,8 +201,8 @@ void validateTerms(const Job& job, const geometry::Mesh& part, const Sizes& s, J
     const double bytes = geometry::LevelSet::estimateBytes(part, options);
     referenceVoxels = bytes / 32.0;
     add(e, "reference level set", bytes, Stage::Validate, Stage::Validate,
-        "narrow band of " + fmt(referenceVoxels) + " voxels at " +
-            fmt(options.voxelSize * 1e3) + " um",
+        "narrow band of " + fmt(referenceVoxels) + " voxels at " + fmt(options.voxelSize * 1e3) +
+            " um",
         "a smaller part (the reference level set uses max(simulation.voxel, 20 um))");
     add(e, "surface deviations", s.surfaceVoxels * 8.0, Stage::Validate, Stage::Validate,
         "one per cured vertex");
@@ -240,8 +236,8 @@ void outputTerms(const Job& job, const geometry::Mesh& part, const Sizes& s,
 
 }  // namespace
 
-double contourVertexCount(const geometry::Mesh& part, int layers, double thickness,
-                          double zStart, double planePosition) {
+double contourVertexCount(const geometry::Mesh& part, int layers, double thickness, double zStart,
+                          double planePosition) {
     std::vector<double> lo, hi;
     lo.reserve(part.triangles.size());
     hi.reserve(part.triangles.size());
@@ -262,8 +258,8 @@ double contourVertexCount(const geometry::Mesh& part, int layers, double thickne
     return std::max(total, 0.0);
 }
 
-JobEstimate estimateJob(const Job& job, const geometry::Mesh& part, bool planOnly,
-                        bool savedPlan, bool gpuDriver) {
+JobEstimate estimateJob(const Job& job, const geometry::Mesh& part, bool planOnly, bool savedPlan,
+                        bool gpuDriver) {
     JobEstimate e;
     e.job = job.name;
     e.planOnly = planOnly;

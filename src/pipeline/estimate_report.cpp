@@ -11,8 +11,8 @@
 namespace vpsim::pipeline {
 namespace {
 
-constexpr Stage STAGES[] = {Stage::Part, Stage::Kernel, Stage::Slice,   Stage::Plan,
-                            Stage::Expose, Stage::Cure, Stage::Validate};
+constexpr Stage STAGES[] = {Stage::Part,   Stage::Kernel, Stage::Slice,   Stage::Plan,
+                            Stage::Expose, Stage::Cure,   Stage::Validate};
 
 bool alive(const EstimateItem& item, Stage stage) {
     return int(item.first) <= int(stage) && int(stage) <= int(item.last);
@@ -131,7 +131,8 @@ void checkEstimate(const JobEstimate& e) {
                         " at its peak (the " + stageName(peak) + " stage): " + parts +
                         "; more than the " + formatBytes(budget) +
                         " allowed (half the memory, at most 16 GiB; VPSIM_MEMORY_LIMIT sets it): "
-                        "use " + (hint.empty() ? std::string("a smaller job") : hint) +
+                        "use " +
+                        (hint.empty() ? std::string("a smaller job") : hint) +
                         " (--dry-run prints the whole estimate)");
 }
 

@@ -97,7 +97,8 @@ Front runFront(const Job& job, geometry::Mesh part, const std::string& outDir,
 
 PlanResult planJob(const Job& job, const std::string& outDir, const RunContext& context) {
     geometry::Mesh part = checkedPart(job);
-    checkEstimate(estimateJob(job, part, true, false, context.gpu != nullptr));  // before the kernel or anything written
+    checkEstimate(estimateJob(job, part, true, false,
+                              context.gpu != nullptr));  // before the kernel or anything written
     // Removes the previous manifest and dead runs' temporaries; manifest.json is written last.
     OutputDirectory output(outDir,
                            {{"command", "plan"}, {"job", job.name}, {"job_file", job.file}});

@@ -98,9 +98,9 @@ nlohmann::json measure(const nlohmann::json& job) {
 void checkJob(const nlohmann::json& job) {
     const nlohmann::json r = measure(job);
     const double estimate = r["estimate"], measured = r["measured"];
-    INFO(job["name"].get<std::string>() << ": estimate " << formatBytes(estimate)
-                                        << ", measured peak growth " << formatBytes(measured)
-                                        << ", stage of the peak " << r["stage"]);
+    INFO(job["name"].get<std::string>()
+         << ": estimate " << formatBytes(estimate) << ", measured peak growth "
+         << formatBytes(measured) << ", stage of the peak " << r["stage"]);
     CHECK(measured <= estimate);
     CHECK(measured >= MIN_RATIO * estimate);
 }
@@ -117,11 +117,10 @@ TEST_CASE("estimate child", "[.estimate-child]") {
     const double before = statusKb("VmRSS");
     pipeline::runJob(job, base + "/out", RunContext{nullptr, false, ""});
     const double peak = statusKb("VmHWM");
-    std::ofstream(base + "/measured.json")
-        << nlohmann::json{{"estimate", estimate.peakBytes()},
-                          {"stage", pipeline::stageName(estimate.peakStage())},
-                          {"measured", (peak - before) * 1024.0}}
-               .dump();
+    std::ofstream(base + "/measured.json") << nlohmann::json{
+        {"estimate", estimate.peakBytes()},
+        {"stage", pipeline::stageName(estimate.peakStage())},
+        {"measured", (peak - before) * 1024.0}}.dump();
 }
 
 TEST_CASE("the estimate bounds a laser run's peak memory", "[pipeline][estimate]") {
@@ -136,16 +135,15 @@ TEST_CASE("the estimate bounds an inverse-planned run's peak memory", "[pipeline
     checkJob(inverseJob());
 }
 
-TEST_CASE("a job that does not fit is refused before anything is written",
-          "[pipeline][estimate]") {
+TEST_CASE("a job that does not fit is refused before anything is written", "[pipeline][estimate]") {
     nlohmann::json job = laserJob();
     job["part"]["size"] = "1000 mm";  // a 1 m part at 10 um: ~1e11 voxels
     const auto dir = std::filesystem::temp_directory_path() / "vpsim_estimate_refused";
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     std::ofstream(dir / "job.json") << job.dump(1);
-    const pipeline::Job loaded = pipeline::loadJob((dir / "job.json").string(),
-                                                   pipeline::makeBuiltins());
+    const pipeline::Job loaded =
+        pipeline::loadJob((dir / "job.json").string(), pipeline::makeBuiltins());
     const pipeline::JobEstimate estimate = pipeline::estimateJob(loaded);
     CHECK(estimate.peakBytes() > 100.0 * (1ull << 30));
     CHECK(estimate.peakStage() != pipeline::Stage::Plan);

@@ -10,8 +10,8 @@
 
 #include "commands.h"
 #include "vpsim/core/error.h"
-#include "vpsim/core/text.h"
 #include "vpsim/core/resources.h"
+#include "vpsim/core/text.h"
 #include "vpsim/core/units.h"
 #include "vpsim/geometry/level_set.h"
 #include "vpsim/geometry/stl_io.h"

@@ -41,7 +41,8 @@ void planCommand(const PlanOptions& options, const vpsim::cli::Globals& globals)
     if (options.job.empty()) throw InputError("vpsim plan needs a job file (or --list)");
     const pipeline::Job job = pipeline::loadJob(options.job, builtins, globals.overrides);
     if (options.dryRun) {  // the estimate only: nothing computed, nothing written
-        const pipeline::JobEstimate estimate = pipeline::estimateJob(job, true, false, globals.backend != "cpu");
+        const pipeline::JobEstimate estimate =
+            pipeline::estimateJob(job, true, false, globals.backend != "cpu");
         if (options.json) return cli::printJson(estimate.toJson());
         std::cout << estimate.table();
         return;

@@ -10,7 +10,6 @@
 #include <vector>
 
 #include "commands.h"
-#include "vpsim/pipeline/estimate.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/image.h"
 #include "vpsim/core/io.h"
@@ -21,6 +20,7 @@
 #include "vpsim/geometry/raster.h"
 #include "vpsim/geometry/slicer.h"
 #include "vpsim/geometry/stl_io.h"
+#include "vpsim/pipeline/estimate.h"
 
 namespace {
 

@@ -29,8 +29,8 @@ const char* stageName(Stage stage);
 
 /// One structure of the run and its memory.
 struct EstimateItem {
-    std::string name;    ///< e.g. "exposure dose volume (OpenVDB)"
-    double bytes = 0;    ///< upper estimate
+    std::string name;                                   ///< e.g. "exposure dose volume (OpenVDB)"
+    double bytes = 0;                                   ///< upper estimate
     Stage first = Stage::Part, last = Stage::Validate;  ///< alive in [first, last]
     std::string detail;  ///< how the figure follows from the job (sizes, bytes per element)
     std::string hint;    ///< how to make it smaller (for refusals), "" when nothing helps
@@ -82,8 +82,8 @@ void checkEstimate(const JobEstimate& estimate);
 /// Contour vertices of `layers` slices of `part` (one per triangle crossing a slicing plane at
 /// zStart + (k + planePosition) x thickness), for sizing a layer stack before slicing (16 B per
 /// vertex in a PolygonSet). O(triangles log triangles + layers log triangles).
-double contourVertexCount(const geometry::Mesh& part, int layers, double thickness,
-                          double zStart, double planePosition);
+double contourVertexCount(const geometry::Mesh& part, int layers, double thickness, double zStart,
+                          double planePosition);
 
 /// The plan's size and the planner's working set of `job` (the planner's estimateSize, else the
 /// pipeline's term for the strategy, else a generic one by process): planner_estimates.cpp.

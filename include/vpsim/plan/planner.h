@@ -49,10 +49,10 @@ struct PlanSizeInputs {
     double partVolume;                   ///< mm^3
     int layers;                          ///< layers the part is sliced into
     const Machine& machine;
-    double beamRadius;                     ///< mm, an upper guess of the fitted beam's We3D
-    double penetrationDepth;               ///< mm, the cure law's (0 when it has none)
-    const nlohmann::json& options;         ///< the job's plan section as written
-    double contourVertices;                ///< slice contour vertices of all layers
+    double beamRadius;              ///< mm, an upper guess of the fitted beam's We3D
+    double penetrationDepth;        ///< mm, the cure law's (0 when it has none)
+    const nlohmann::json& options;  ///< the job's plan section as written
+    double contourVertices;         ///< slice contour vertices of all layers
 };
 
 /// A planner's share of a job's estimate, bytes and seconds (order of magnitude).
