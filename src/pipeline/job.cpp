@@ -119,6 +119,7 @@ Job loadJob(const std::string& path, const Builtins& builtins,
     if (root.has("features"))
         job.features = validate::featureProbesFromConfig(root.children("features"));
     root.checkUnknownKeys();
+    job.planSection = root.raw("plan");  // after the check: raw() marks the subtree as known
     return job;
 }
 
