@@ -76,75 +76,95 @@ double modelWall(double h, const AcesNeighbour* neighbour, double signedToIt) {
     return -signedToIt * std::abs(h) / neighbour->distance;
 }
 
+/// The wall problem of one layer, tabulated once: per contour sample, what the layers above
+/// send at outward positions t on [-T, T] and the model's wall at each depth sample.
+struct WallTables {
+    static constexpr int STEPS = 161, DEPTHS = 8;
+    double W = 0, T = 0, dt = 0, totalWeight = 0;
+    std::vector<WallSample> samples;
+    std::vector<double> sent, wall, levels;
+};
+
+WallTables tabulate(const AcesParameters& p, const geometry::PolygonSet& region,
+                    const ProfileTable& profile, double targetDose, const AcesStack& stack) {
+    const int steps = WallTables::STEPS, depths = WallTables::DEPTHS;
+    const double De = p.attenuationLength, zmax = p.depthOfMaximum;
+    const double depthRange = p.layerThickness - zmax;
+    WallTables w;
+    w.W = p.beamRadius;
+    w.T = 2.5 * w.W;
+    w.dt = 2 * w.T / (steps - 1);
+    w.samples = wallSamples(region, w.W);
+    w.sent.assign(w.samples.size() * steps, 0.0);
+    w.wall.assign(w.samples.size() * depths, 0.0);
+    const AcesNeighbour* up = stack.above.empty() ? nullptr : &stack.above.front();
+    const AcesNeighbour* down = stack.below ? &*stack.below : nullptr;
+    for (size_t s = 0; s < w.samples.size(); ++s) {
+        const glm::dvec2 point = w.samples[s].point;
+        for (const AcesNeighbour& a : stack.above) {
+            const double sd = signedDistance(*a.region, point), gain = std::exp(-a.distance / De);
+            for (int i = 0; i < steps; ++i)
+                w.sent[s * steps + i] += gain * profile((sd - w.T + i * w.dt + a.edgeOffset) / w.W);
+        }
+        const double sdUp = up ? signedDistance(*up->region, point) : 0.0;
+        const double sdDown = down ? signedDistance(*down->region, point) : 0.0;
+        for (int m = 0; m < depths; ++m) {
+            const double h = 0.5 * p.layerThickness - (zmax + (m + 0.5) / depths * depthRange);
+            w.wall[s * depths + m] = h > 0 ? modelWall(h, up, sdUp) : modelWall(h, down, sdDown);
+        }
+        w.totalWeight += w.samples[s].weight * depths;
+    }
+    for (int m = 0; m < depths; ++m)
+        w.levels.push_back(
+            std::clamp(p.criticalDose / targetDose * std::exp((m + 0.5) / depths * depthRange / De),
+                       1e-6, 0.97));
+    return w;
+}
+
+/// Mean signed distance (mm) of the cured wall from the model's wall for edge offset e: at each
+/// sample and depth, the outermost position where the exposure still reaches the depth's level.
+/// `meanByDepth` receives the contour-mean wall position per depth.
+double meanWallError(const WallTables& w, const ProfileTable& profile, double e,
+                     std::vector<double>& meanByDepth) {
+    const int steps = WallTables::STEPS, depths = WallTables::DEPTHS;
+    std::vector<double> field(steps);
+    meanByDepth.assign(depths, 0.0);
+    double sum = 0;
+    for (size_t s = 0; s < w.samples.size(); ++s) {
+        for (int i = 0; i < steps; ++i)
+            field[i] = profile((-w.T + i * w.dt + e) / w.W) + w.sent[s * steps + i];
+        for (int m = 0; m < depths; ++m) {
+            int i = steps - 1;
+            while (i >= 0 && field[i] < w.levels[m]) --i;
+            double t = i < 0 ? -w.T : i == steps - 1 ? w.T : -w.T + i * w.dt;
+            if (i >= 0 && i < steps - 1)  // linear between the last cured and first not
+                t += w.dt * (field[i] - w.levels[m]) / (field[i] - field[i + 1]);
+            sum += w.samples[s].weight * (t - w.wall[s * depths + m]);
+            meanByDepth[m] += w.samples[s].weight * depths * t / w.totalWeight;
+        }
+    }
+    return sum / w.totalWeight;
+}
+
 }  // namespace
 
 double acesStackContourOffset(const AcesParameters& p, const geometry::PolygonSet& region,
                               double hatchRatio, double targetDose, const AcesStack& stack,
                               double* scallop) {
-    const double W = p.beamRadius, De = p.attenuationLength, zmax = p.depthOfMaximum;
     const ProfileTable profile(hatchRatio);
-    const std::vector<WallSample> samples = wallSamples(region, W);
-    // Outward positions t of the wall searched on [-T, T]; the own line field's tail and what
-    // the layers above send there, per sample.
-    const int steps = 161;
-    const double T = 2.5 * W, dt = 2 * T / (steps - 1);
-    const int depths = 8;
-    const double depthRange = p.layerThickness - zmax;
-    std::vector<double> sent(samples.size() * steps, 0.0), wall(samples.size() * depths, 0.0);
-    const AcesNeighbour* up = stack.above.empty() ? nullptr : &stack.above.front();
-    const AcesNeighbour* down = stack.below ? &*stack.below : nullptr;
-    for (size_t s = 0; s < samples.size(); ++s) {
-        const WallSample& w = samples[s];
-        for (const AcesNeighbour& a : stack.above) {
-            const double sd = signedDistance(*a.region, w.point), gain = std::exp(-a.distance / De);
-            for (int i = 0; i < steps; ++i)
-                sent[s * steps + i] += gain * profile((sd + (-T + i * dt) + a.edgeOffset) / W);
-        }
-        const double sdUp = up ? signedDistance(*up->region, w.point) : 0.0;
-        const double sdDown = down ? signedDistance(*down->region, w.point) : 0.0;
-        for (int m = 0; m < depths; ++m) {
-            const double h = 0.5 * p.layerThickness - (zmax + (m + 0.5) / depths * depthRange);
-            wall[s * depths + m] = h > 0 ? modelWall(h, up, sdUp) : modelWall(h, down, sdDown);
-        }
-    }
-    std::vector<double> levels(depths), meanByDepth(depths);
-    for (int m = 0; m < depths; ++m)
-        levels[m] =
-            std::clamp(p.criticalDose / targetDose * std::exp((m + 0.5) / depths * depthRange / De),
-                       1e-6, 0.97);
-    double totalWeight = 0;
-    for (const auto& w : samples) totalWeight += w.weight * depths;
-    // Mean signed distance of the cured wall from the model's wall for edge offset e (mm):
-    // the outermost grid position where the exposure still reaches the depth's level.
-    std::vector<double> field(steps);
-    auto meanError = [&](double e) {
-        double sum = 0;
-        std::fill(meanByDepth.begin(), meanByDepth.end(), 0.0);
-        for (size_t s = 0; s < samples.size(); ++s) {
-            for (int i = 0; i < steps; ++i)
-                field[i] = profile((-T + i * dt + e) / W) + sent[s * steps + i];
-            for (int m = 0; m < depths; ++m) {
-                int i = steps - 1;
-                while (i >= 0 && field[i] < levels[m]) --i;
-                double t = i < 0 ? -T : i == steps - 1 ? T : -T + i * dt;
-                if (i >= 0 && i < steps - 1)  // linear between the last cured and first not
-                    t += dt * (field[i] - levels[m]) / (field[i] - field[i + 1]);
-                sum += samples[s].weight * (t - wall[s * depths + m]);
-                meanByDepth[m] += samples[s].weight * depths * t / totalWeight;
-            }
-        }
-        return sum / totalWeight;
-    };
-    double lo = 0, hi = 3 * W;  // the error falls as the offset grows
-    double e = meanError(lo) <= 0 ? lo : meanError(hi) >= 0 ? hi : -1;
+    const WallTables w = tabulate(p, region, profile, targetDose, stack);
+    std::vector<double> meanByDepth;
+    auto error = [&](double e) { return meanWallError(w, profile, e, meanByDepth); };
+    double lo = 0, hi = 3 * p.beamRadius;  // the error falls as the offset grows
+    double e = error(lo) <= 0 ? lo : error(hi) >= 0 ? hi : -1;
     if (e < 0) {
         for (int i = 0; i < 30; ++i) {  // 3 W / 2^30: far below a nanometre
             double mid = 0.5 * (lo + hi);
-            (meanError(mid) > 0 ? lo : hi) = mid;
+            (error(mid) > 0 ? lo : hi) = mid;
         }
         e = 0.5 * (lo + hi);
     }
-    meanError(e);
+    error(e);
     if (scallop) {
         auto [nearest, farthest] = std::minmax_element(meanByDepth.begin(), meanByDepth.end());
         *scallop = 0.5 * (*farthest - *nearest);

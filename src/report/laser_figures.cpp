@@ -50,6 +50,31 @@ std::string heatMapPng(const std::string& path, const exposure::SurfaceGrid& map
     return bytes;
 }
 
+/// Colour bar in mJ/cm^2 (x100 the internal mJ/mm^2) at x `bx`, with Etar and Ec marked.
+void colourBar(std::ostringstream& svg, double bx, double top, double h, double hi,
+               double targetDose, double criticalDose) {
+    const double bw = 16;
+    for (int k = 0; k < 64; ++k) {
+        uint8_t r, g, b;
+        viridis((k + 0.5) / 64, r, g, b);
+        svg << "<rect x='" << bx << "' y='" << top + h * (1 - (k + 1) / 64.0) << "' width='" << bw
+            << "' height='" << h / 64 + 0.5 << "' fill='rgb(" << int(r) << ',' << int(g) << ','
+            << int(b) << ")'/>\n";
+    }
+    auto mark = [&](double dose, const std::string& label) {
+        double y = top + h * (1 - dose / hi);
+        svg << "<line x1='" << bx << "' x2='" << bx + bw + 4 << "' y1='" << y << "' y2='" << y
+            << "' stroke='black'/><text x='" << bx + bw + 6 << "' y='" << y + 4 << "'>"
+            << htmlEscape(label) << "</text>\n";
+    };
+    mark(0, "0");
+    mark(hi, formatNumber(hi * 100, 3));
+    mark(targetDose, "Etar " + formatNumber(targetDose * 100, 3));
+    if (criticalDose > 0 && criticalDose < hi)
+        mark(criticalDose, "Ec " + formatNumber(criticalDose * 100, 3));
+    svg << "<text x='" << bx << "' y='" << top - 8 << "'>mJ/cm&#178;</text>\n";
+}
+
 }  // namespace
 
 void writeSortedErrorFigure(const std::string& path,
@@ -108,27 +133,8 @@ void writeLayerExposureFigure(const std::string& path, const exposure::SurfaceGr
         << "' text-anchor='middle'>x (mm)</text><text x='15' y='" << top + h / 2
         << "' transform='rotate(-90 15 " << top + h / 2
         << ")' text-anchor='middle'>y (mm)</text>\n";
-    // Colour bar in mJ/cm^2 (x100 the internal mJ/mm^2), with Etar and Ec marked.
-    const double bx = left + w + 20, bw = 16;
-    for (int k = 0; k < 64; ++k) {
-        uint8_t r, g, b;
-        viridis((k + 0.5) / 64, r, g, b);
-        svg << "<rect x='" << bx << "' y='" << top + h * (1 - (k + 1) / 64.0) << "' width='" << bw
-            << "' height='" << h / 64 + 0.5 << "' fill='rgb(" << int(r) << ',' << int(g) << ','
-            << int(b) << ")'/>\n";
-    }
-    auto mark = [&](double dose, const std::string& label) {
-        double y = top + h * (1 - dose / hi);
-        svg << "<line x1='" << bx << "' x2='" << bx + bw + 4 << "' y1='" << y << "' y2='" << y
-            << "' stroke='black'/><text x='" << bx + bw + 6 << "' y='" << y + 4 << "'>"
-            << htmlEscape(label) << "</text>\n";
-    };
-    mark(0, "0");
-    mark(hi, formatNumber(hi * 100, 3));
-    mark(targetDose, "Etar " + formatNumber(targetDose * 100, 3));
-    if (criticalDose > 0 && criticalDose < hi)
-        mark(criticalDose, "Ec " + formatNumber(criticalDose * 100, 3));
-    svg << "<text x='" << bx << "' y='" << top - 8 << "'>mJ/cm&#178;</text>\n</svg>\n";
+    colourBar(svg, left + w + 20, top, h, hi, targetDose, criticalDose);
+    svg << "</svg>\n";
     writeFileAtomic(path, svg.str());
 }
 
