@@ -21,7 +21,11 @@
 /// the cured wall of a layer is not vertical: at the top of the layer it lies where the surface
 /// exposure is Ec, at the bottom where it is Ec exp(lt/De3D) (less the print-through of the layers
 /// above). vpsim places the outermost line so that the wall position averaged over the layer's
-/// depth lies on the contour and reports the half peak-to-peak scallop of the wall.
+/// depth lies on the contour and reports the half peak-to-peak scallop of the wall. Alone
+/// (acesContourDistance) the rule assumes identical layers above; the planner "aces" designs the
+/// layers top down and uses the stack-aware rule (acesStackContourOffset), which counts what the
+/// real layers above send to this layer's wall (little above a taper, much under an overhang)
+/// and the wall's slope through the layer.
 /// Border scans: `borderCount` loops along the contour (the first at the edge offset, the next
 /// ones one hatch spacing further in each) so curved and slanted walls follow the contour; the
 /// hatch field fills what is inside the last loop. Small features (parts of the region that the
