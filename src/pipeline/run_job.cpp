@@ -9,6 +9,7 @@
 #include "vpsim/geometry/stl_io.h"
 #include "vpsim/gpu/context.h"
 #include "vpsim/pipeline/estimate.h"
+#include "vpsim/pipeline/laser_report.h"
 #include "vpsim/report/figures.h"
 #include "vpsim/report/html_report.h"
 #include "vpsim/validate/feature_probe.h"
@@ -153,6 +154,9 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     timer.finish("plan");
     result.exports = exportStage(job, planned.plan, outDir);
     timer.finish("export");
+    nlohmann::json laserError = laserErrorStage(job, f.layers, planned.plan, f.beam, outDir);
+    if (!laserError.is_null()) result.plan.planner["layer_exposure_error"] = std::move(laserError);
+    timer.finish("exposure_error");
 
     const int layers = int(f.layers.layers.size());
     const exposure::ExposureGrid grid = exposureGrid(job, f.bounds, f.beam);
