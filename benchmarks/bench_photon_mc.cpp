@@ -4,16 +4,17 @@
 //   - the diffuse reflectance, the fraction absorbed within 30 um and within 84 um,
 //   - the kernel's (r,z) bins at the cure front (depths De3D..3 De3D, r < We3D; sigma^2 is the
 //     mean relative variance of those bins),
-// for each estimator (analog, implicit, implicit-track, track-length) and for an in-process
-// reference of MCML's algorithm (benchmarks/mcml_reference.h: implicit capture, roulette at 1e-4,
-// double precision, one thread), all in the same run. sigma comes from the 64 batch means; t is CPU
-// time (getrusage, all threads of the process, lavapipe's included), because the machine is shared:
-// "per machine" divides vpsim's CPU time by the threads it ran on (the machine's cores), and the
-// single-threaded reference's CPU time is its time on the machine; "per core" compares CPU
+// for each estimator (analog, collision, track-length, implicit, implicit-track) and for an
+// in-process reference of MCML's algorithm (benchmarks/mcml_reference.h: implicit capture, roulette
+// at 1e-4, double precision, one thread), all in the same run. sigma comes from the 64 batch means;
+// t is CPU time (getrusage, all threads of the process, lavapipe's included), because the machine
+// is shared: "per machine" divides vpsim's CPU time by the threads it ran on (the machine's cores),
+// and the single-threaded reference's CPU time is its time on the machine; "per core" compares CPU
 // seconds directly. The reference is pinned to MCML 1.2.2 built here (-O3): 19 million
 // interactions per CPU-second on the slurry-like case; it must land within +-40%.
 // Usage: bench_photon_mc [auto|cpu|vulkan] [scale]   (run from the repository root; scale
-// multiplies every photon count, default 1)
+// multiplies every photon count, default 1; auto: the shader on a hardware GPU, else the CPU
+// path, as vpsim chooses; vulkan forces the shader, also on lavapipe)
 
 #include <sys/resource.h>
 
@@ -22,6 +23,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <string>
 #include <thread>
 
@@ -183,7 +185,7 @@ nlohmann::json ratios(const Figures& a, const Figures& b, bool perMachine) {
             {"cure_front_bins", r(a.binsRelVar, b.binsRelVar)}};
 }
 
-nlohmann::json runCase(const std::string& name, const vpsim::optics::MediumOptics& optics,
+nlohmann::json runCase(const std::string& caseName, const vpsim::optics::MediumOptics& optics,
                        const std::shared_ptr<vpsim::gpu::Context>& context, double scale) {
     McSetup s = vpsim::kernel::kernelSetup(optics, 0.05);
     s.depths = {0.030, 0.084};
@@ -199,54 +201,59 @@ nlohmann::json runCase(const std::string& name, const vpsim::optics::MediumOptic
         out = runPhotonMc(run, context);
         return cpuSeconds() - start;
     };
-    // The cure front from a kernel fitted to the track-length run (the default estimator).
-    McResult track, implicitTrack, implicit, analog;
-    double cpuTrack = runOne(Estimator::Track, 3000000, track);
-    vpsim::kernel::BeamKernel k = vpsim::kernel::kernelFromMonteCarlo(track, 10.0);
+    // Every estimator (the analog-transport ones at more photons: they are cheaper per photon).
+    // The cure front comes from a kernel fitted to the default estimator's run.
+    const Estimator fallback = McSetup{}.estimator;
+    std::map<std::string, Figures> f;
+    std::map<std::string, McResult> runs;
+    std::map<std::string, double> cpu;
+    for (Estimator e : {fallback, Estimator::Collision, Estimator::Track, Estimator::ImplicitTrack,
+                        Estimator::Implicit, Estimator::Analog}) {
+        const std::string name = estimatorName(e);
+        if (runs.count(name)) continue;
+        const bool implicitCapture = e == Estimator::Implicit || e == Estimator::ImplicitTrack;
+        cpu[name] = runOne(e, implicitCapture ? 400000 : 3000000, runs[name]);
+    }
+    const std::string defaultName = estimatorName(fallback);
+    vpsim::kernel::BeamKernel k = vpsim::kernel::kernelFromMonteCarlo(runs[defaultName], 10.0);
     std::vector<size_t> bins = cureFrontBins(s.bins, k.fit.we3d, k.fit.de3d);
-    double cpuImplicitTrack = runOne(Estimator::ImplicitTrack, 400000, implicitTrack);
-    double cpuImplicit = runOne(Estimator::Implicit, 400000, implicit);
-    double cpuAnalog = runOne(Estimator::Analog, 3000000, analog);
-
-    Figures fTrack = vpsimFigures(track, bins, cpuTrack, threads);
-    Figures fImplicitTrack = vpsimFigures(implicitTrack, bins, cpuImplicitTrack, threads);
-    Figures fImplicit = vpsimFigures(implicit, bins, cpuImplicit, threads);
-    Figures fAnalog = vpsimFigures(analog, bins, cpuAnalog, threads);
+    for (const auto& [name, run] : runs) f[name] = vpsimFigures(run, bins, cpu[name], threads);
+    const Figures& fDefault = f[defaultName];
+    const Figures& fAnalog = f["analog"];
     McSetup reference = s;
     reference.photons = std::max<uint64_t>(64, uint64_t(150000 * scale));
     Figures fMcml = mcmlFigures(reference, bins);
 
     nlohmann::json j;
-    j["case"] = name;
+    j["case"] = caseName;
     j["mua_per_mm"] = optics.mua;
     j["mus_per_mm"] = optics.mus;
     j["g"] = optics.g;
-    j["backend"] = track.backend;
+    j["backend"] = runs[defaultName].backend;
     j["We3D_um"] = k.fit.we3d * 1e3;
     j["De3D_um"] = k.fit.de3d * 1e3;
     j["cure_front_bin_count"] = bins.size();
-    j["default_estimator"] = estimatorName(McSetup{}.estimator);
-    j["estimators"] = {{"track-length", fTrack.json()},
-                       {"implicit-track", fImplicitTrack.json()},
-                       {"implicit", fImplicit.json()},
-                       {"analog", fAnalog.json()}};
+    j["default_estimator"] = defaultName;
+    for (const auto& [name, figures] : f) {
+        j["estimators"][name] = figures.json();
+        if (name != "analog")
+            j["fom_ratio_vs_analog_by_estimator"][name] = ratios(figures, fAnalog, true);
+        j["fom_ratio_vs_mcml_reference_by_estimator"][name] = ratios(figures, fMcml, true);
+    }
     j["mcml_reference"] = fMcml.json();
     j["mcml_reference_interactions_per_cpu_second"] =
         fMcml.interactionsPerPhoton * fMcml.photons / fMcml.cpu;
-    j["fom_ratio_vs_analog"] = ratios(fTrack, fAnalog, true);
-    j["fom_ratio_vs_analog_implicit"] = ratios(fImplicit, fAnalog, true);
-    j["fom_ratio_vs_analog_implicit_track"] = ratios(fImplicitTrack, fAnalog, true);
-    j["fom_ratio_vs_mcml_reference"] = ratios(fTrack, fMcml, true);
-    j["fom_ratio_vs_mcml_reference_per_core"] = ratios(fTrack, fMcml, false);
-    j["fom_ratio_vs_mcml_reference_analog"] = ratios(fAnalog, fMcml, true);
+    j["fom_ratio_vs_analog"] = ratios(fDefault, fAnalog, true);
+    j["fom_ratio_vs_mcml_reference"] = ratios(fDefault, fMcml, true);
+    j["fom_ratio_vs_mcml_reference_per_core"] = ratios(fDefault, fMcml, false);
     // Same physics: each estimator's figures against the analog ones, in combined sigmas.
     auto sigmas = [](const Stat& a, const Stat& b) {
         return std::abs(a.mean - b.mean) / std::sqrt(a.variance + b.variance);
     };
-    j["agreement_sigmas_track_vs_analog"] = {
-        {"diffuse_reflectance", sigmas(fTrack.rd, fAnalog.rd)},
-        {"absorbed_within_30um", sigmas(fTrack.within30, fAnalog.within30)},
-        {"absorbed_within_84um", sigmas(fTrack.within84, fAnalog.within84)}};
+    j["agreement_sigmas_default_vs_analog"] = {
+        {"diffuse_reflectance", sigmas(fDefault.rd, fAnalog.rd)},
+        {"absorbed_within_30um", sigmas(fDefault.within30, fAnalog.within30)},
+        {"absorbed_within_84um", sigmas(fDefault.within84, fAnalog.within84)}};
     j["agreement_sigmas_mcml_vs_analog"] = {
         {"diffuse_reflectance", sigmas(fMcml.rd, fAnalog.rd)},
         {"absorbed_within_30um", sigmas(fMcml.within30, fAnalog.within30)},
@@ -271,6 +278,12 @@ int main(int argc, char** argv) {
                 if (backend == "vulkan") throw;
                 out["gpu_error"] = e.what();
             }
+        }
+        // As vpsim runs (gpu::shaderContext): shaders on hardware GPUs; on a CPU driver the TBB
+        // path, which is faster there, unless the shader is forced with "vulkan".
+        if (backend == "auto" && context && !context->info().isHardware()) {
+            out["shader_device_skipped"] = context->info().name;
+            context.reset();
         }
         vpsim::optics::MediumOptics hg;
         hg.mua = 8.4;

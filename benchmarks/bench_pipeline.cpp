@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
         auto dir = std::filesystem::temp_directory_path() / "vpsim_bench_pipeline";
         RunContext context;
         if (vulkan) context.gpu = gpu::Context::create();
-        context.exposureShadersOnCpuDevices = vulkan;
+        context.shadersOnCpuDevices = vulkan;
         nlohmann::json report = report::toJson(pipeline::runJob(job, dir.string(), context));
         const auto& grid = report["exposure"]["grid"];
         double voxels = grid[0].get<double>() * grid[1].get<double>() * grid[2].get<double>();

@@ -40,6 +40,7 @@ void photonAddVoxel(uint voxel, uint64_t quanta) { atomicAdd(grid[voxel], quanta
 
 void main() {
     PhotonParams p = pc.params;
+    PhotonDerived k = photonDerive(p);
     for (uint i = gl_LocalInvocationID.x; i < p.phaseTableSize && i < PHASE_TABLE_CAPACITY; i += 64u)
         sPhaseTable[i] = phaseTable[i];
     barrier();
@@ -86,7 +87,7 @@ void main() {
             next += p.invocationStride;
             t.specular += uint64_t(specularQuanta);
         }
-        alive = photonAdvance(p, s, rng, batch, t);
+        alive = photonAdvance(p, k, s, rng, batch, t);
         if (t.work >= PHOTON_WORK_BUDGET && (alive || next < p.photonCount)) {
             suspended = true;
             break;

@@ -27,11 +27,5 @@ supp="$root/tests/sanitizers"
 export ASAN_OPTIONS="detect_leaks=1:halt_on_error=1:strict_string_checks=1:check_initialization_order=1:detect_stack_use_after_return=1"
 export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="suppressions=$supp/ubsan.supp:print_stacktrace=1:halt_on_error=1"
-# Keep Mesa's lavapipe loaded for the whole process so that its one-time allocation is named in
-# leak reports and matched by lsan.supp (see there); ASan's runtime must come first in the list.
-lavapipe=/usr/lib/x86_64-linux-gnu/libvulkan_lvp.so
-if [[ -f "$lavapipe" ]]; then
-  export LD_PRELOAD="$("${CXX:-c++}" -print-file-name=libasan.so) $lavapipe${LD_PRELOAD:+ $LD_PRELOAD}"
-fi
 cd "$build"
 ctest --output-on-failure -j "$jobs" "$@"

@@ -33,8 +33,10 @@
 
 #ifdef VPSIM_CPU
 #define PHOTON_PARAMS_IN const PhotonParams&
+#define PHOTON_DERIVED_IN const PhotonDerived&
 #else
 #define PHOTON_PARAMS_IN PhotonParams
+#define PHOTON_DERIVED_IN PhotonDerived
 #endif
 
 const float PHOTON_TWO_PI = 6.283185307179586;
@@ -52,11 +54,40 @@ float photonFresnel(float n1, float n2, float cosI) {
     return float(0.5) * (rs * rs + rp * rp);
 }
 
+// Constants derived from PhotonParams once per photon (outside the step loop), so that the step
+// multiplies where it would otherwise divide (divisions and square roots bound its latency).
+struct PhotonDerived {
+    float invMut;        // 1 / (mua + mus), mm; 0 when nothing interacts
+    float absorbShare;   // mua / mut
+    float invRBinWidth;  // 1 / the (r,z) bin sizes
+    float invZBinWidth;
+    float hgOneMinusG2;  // Henyey-Greenstein: 1 - g^2, 1 - g, 2 g, 1 + g^2, 1 / (2 g)
+    float hgOneMinusG;
+    float hgTwoG;
+    float hgOnePlusG2;
+    float hgInvTwoG;     // 0 when g is 0 (isotropic)
+};
+
+PhotonDerived photonDerive(PHOTON_PARAMS_IN p) {
+    PhotonDerived k;
+    float mut = p.mua + p.mus;
+    k.invMut = mut > float(0) ? float(1) / mut : float(0);
+    k.absorbShare = p.mua * k.invMut;
+    k.invRBinWidth = float(1) / p.rBinWidth;
+    k.invZBinWidth = float(1) / p.zBinWidth;
+    k.hgOneMinusG2 = float(1) - p.g * p.g;
+    k.hgOneMinusG = float(1) - p.g;
+    k.hgTwoG = float(2) * p.g;
+    k.hgOnePlusG2 = float(1) + p.g * p.g;
+    k.hgInvTwoG = p.g * p.g < float(1.0e-12) ? float(0) : float(0.5) / p.g;
+    return k;
+}
+
 // Henyey-Greenstein: cos(theta) from a uniform u in (0,1] (inverse of its CDF).
-float photonHgCos(float g, float u) {
-    if (g * g < float(1.0e-12)) return float(2) * u - float(1);
-    float t = (float(1) - g * g) / (float(1) - g + float(2) * g * u);
-    return clamp((float(1) + g * g - t * t) / (float(2) * g), float(-1), float(1));
+float photonHgCos(PHOTON_DERIVED_IN k, float u) {
+    if (k.hgInvTwoG == float(0)) return float(2) * u - float(1);
+    float t = k.hgOneMinusG2 / (k.hgOneMinusG + k.hgTwoG * u);
+    return clamp((k.hgOnePlusG2 - t * t) * k.hgInvTwoG, float(-1), float(1));
 }
 
 // Tabulated phase function: linear interpolation of the inverse CDF at u.
@@ -76,11 +107,14 @@ vec3 photonRotate(vec3 d, float cosT, float cosP, float sinP) {
         n = vec3(sinT * cosP, sinT * sinP, s * cosT);
     } else {
         float t = sqrt(float(1) - d.z * d.z);
-        n.x = sinT * (d.x * d.z * cosP - d.y * sinP) / t + d.x * cosT;
-        n.y = sinT * (d.y * d.z * cosP + d.x * sinP) / t + d.y * cosT;
+        float sinTOverT = sinT / t;
+        n.x = sinTOverT * (d.x * d.z * cosP - d.y * sinP) + d.x * cosT;
+        n.y = sinTOverT * (d.y * d.z * cosP + d.x * sinP) + d.y * cosT;
         n.z = -sinT * cosP * t + d.z * cosT;
     }
-    return normalize(n);  // keeps float round-off from drifting |d| over hundreds of scatterings
+    // One Newton step towards |n| = 1 (n (3 - |n|^2) / 2): |n|^2 = 1 + e becomes 1 - 3e^2/4, so
+    // float round-off cannot drift |d| over hundreds of scatterings, without a sqrt and a divide.
+    return n * (float(1.5) - float(0.5) * dot(n, n));
 }
 
 // Random stream of photon index hi * 2^32 + lo: below 2^32 the stream rngSeed(seed, lo), above
@@ -150,9 +184,9 @@ void photonTallyClear(VPSIM_OUT(PhotonTally) t) {
 }
 
 // Index of the cylindrical tally bin holding pos ([iz * rBins + ir]), or -1 outside the grid.
-int photonRzBin(PHOTON_PARAMS_IN p, vec3 pos) {
-    float fr = sqrt(pos.x * pos.x + pos.y * pos.y) / p.rBinWidth;
-    float fz = pos.z / p.zBinWidth;
+int photonRzBin(PHOTON_PARAMS_IN p, PHOTON_DERIVED_IN k, vec3 pos) {
+    float fr = sqrt(pos.x * pos.x + pos.y * pos.y) * k.invRBinWidth;
+    float fz = pos.z * k.invZBinWidth;
     if (!(fr < float(p.rBins)) || !(fz < float(p.zBins)) || fz < float(0)) return -1;
     return int(uint(fz) * p.rBins + uint(fr));
 }
@@ -176,15 +210,16 @@ void photonPend(VPSIM_INOUT(PhotonState) s, uint batch, int bin, float amount) {
 // t = -b/a: before that the flight may cross the inner cylinder of its bin, after it only the
 // outer one. Bin indices are stepped face by face (never recomputed from rounded positions).
 // Returns the number of bin pieces visited.
-uint photonTrackBins(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, vec3 o, float len, uint batch) {
+uint photonTrackBins(PHOTON_PARAMS_IN p, PHOTON_DERIVED_IN k, VPSIM_INOUT(PhotonState) s, vec3 o, float len,
+                     uint batch) {
     vec3 d = s.dir;
     float scale = float(s.weight) * p.mua;
     float a = d.x * d.x + d.y * d.y;
     float b = o.x * d.x + o.y * d.y;
     float c = o.x * o.x + o.y * o.y;
     int nr = int(p.rBins), nz = int(p.zBins);
-    int ir = int(min(sqrt(c) / p.rBinWidth, float(nr)));  // nr: beyond the grid radially
-    int iz = int(min(max(o.z, float(0)) / p.zBinWidth, float(nz)));
+    int ir = int(min(sqrt(c) * k.invRBinWidth, float(nr)));  // nr: beyond the grid radially
+    int iz = int(min(max(o.z, float(0)) * k.invZBinWidth, float(nz)));
     bool radial = a > float(1.0e-12);
     float invA = radial ? float(1) / a : float(0);
     float invDz = d.z != float(0) ? float(1) / d.z : float(0);
@@ -237,6 +272,12 @@ bool photonTracks(PHOTON_PARAMS_IN p) {
     return e == PHOTON_ESTIMATOR_TRACK || e == PHOTON_ESTIMATOR_IMPLICIT_TRACK;
 }
 
+// Whether the (r,z) bins are estimates scored through photonPend (track-length or collision),
+// not the deposits themselves.
+bool photonBinsEstimated(PHOTON_PARAMS_IN p) {
+    return photonTracks(p) || (p.estimator & 255u) == PHOTON_ESTIMATOR_COLLISION;
+}
+
 // Whether the depth tallies are track-length estimates (implicit capture only: with analog
 // transport the 0/1 absorption point has less variance over thick layers than mua x path
 // length, whose spread is that of an exponential; bench_photon_mc measured 0.14-0.44x).
@@ -246,7 +287,7 @@ bool photonTracksDepths(PHOTON_PARAMS_IN p) {
 
 // Flushes the track-length buffers at the end of a photon (carried fractions are dropped).
 void photonFlush(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, uint batch, VPSIM_INOUT(PhotonTally) t) {
-    if (!photonTracks(p)) return;
+    if (!photonBinsEstimated(p)) return;
     photonPend(s, batch, -1, float(0));
     if (!photonTracksDepths(p)) return;
     t.within0 += uint64_t(floor(s.above.x + float(0.5)));
@@ -274,8 +315,9 @@ void photonTrackDepths(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, float z0,
 }
 
 // Deposits q quanta at the photon's position: the absorbed total, the depth tallies, the
-// Cartesian grid and (except for the track-length estimator) the (r,z) bins.
-void photonDeposit(PHOTON_PARAMS_IN p, vec3 pos, uint q, uint batch, VPSIM_INOUT(PhotonTally) t) {
+// Cartesian grid and (except for the estimated bins) the (r,z) bins.
+void photonDeposit(PHOTON_PARAMS_IN p, PHOTON_DERIVED_IN k, vec3 pos, uint q, uint batch,
+                   VPSIM_INOUT(PhotonTally) t) {
     uint64_t w = uint64_t(q);
     t.absorbed += w;
     if (!photonTracksDepths(p)) {
@@ -284,8 +326,8 @@ void photonDeposit(PHOTON_PARAMS_IN p, vec3 pos, uint q, uint batch, VPSIM_INOUT
         if (pos.z < p.depth2) t.within2 += w;
         if (pos.z < p.depth3) t.within3 += w;
     }
-    if (!photonTracks(p)) {
-        int bin = photonRzBin(p, pos);
+    if (!photonBinsEstimated(p)) {
+        int bin = photonRzBin(p, k, pos);
         if (bin >= 0) photonAddBin(batch, uint(bin), w);
     }
     int voxel = photonGridVoxel(p, pos);
@@ -294,11 +336,11 @@ void photonDeposit(PHOTON_PARAMS_IN p, vec3 pos, uint q, uint batch, VPSIM_INOUT
 
 // Advances a photon by one free path (or to the boundary it meets first), tallies what happened
 // and returns whether the photon is still alive.
-bool photonAdvance(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, VPSIM_INOUT(RngState) rng, uint batch,
-                   VPSIM_INOUT(PhotonTally) t) {
+bool photonAdvance(PHOTON_PARAMS_IN p, PHOTON_DERIVED_IN k, VPSIM_INOUT(PhotonState) s, VPSIM_INOUT(RngState) rng,
+                   uint batch, VPSIM_INOUT(PhotonTally) t) {
     uint estimator = p.estimator & 255u;
     float mut = p.mua + p.mus;
-    float path = mut > float(0) ? -log(rngUniform(rng)) / mut : PHOTON_FAR;
+    float path = mut > float(0) ? -log(rngUniform(rng)) * k.invMut : PHOTON_FAR;
     float toSurface = PHOTON_FAR;
     if (s.dir.z < float(0)) toSurface = -s.pos.z / s.dir.z;
     else if (s.dir.z > float(0) && p.thickness > float(0)) toSurface = (p.thickness - s.pos.z) / s.dir.z;
@@ -308,7 +350,7 @@ bool photonAdvance(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, VPSIM_INOUT(R
     s.pos += s.dir * flight;
     t.work += 1u;
     if (photonTracks(p)) {
-        t.work += photonTrackBins(p, s, start, flight, batch);
+        t.work += photonTrackBins(p, k, s, start, flight, batch);
         if (photonTracksDepths(p)) photonTrackDepths(p, s, start.z, flight);
     }
 
@@ -332,24 +374,27 @@ bool photonAdvance(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, VPSIM_INOUT(R
         photonFlush(p, s, batch, t);
         return false;
     }
-    bool analog = estimator == PHOTON_ESTIMATOR_ANALOG || estimator == PHOTON_ESTIMATOR_TRACK;
+    bool analog = estimator == PHOTON_ESTIMATOR_ANALOG || estimator == PHOTON_ESTIMATOR_TRACK ||
+                  estimator == PHOTON_ESTIMATOR_COLLISION;
     if (analog) {
+        if (estimator == PHOTON_ESTIMATOR_COLLISION)
+            photonPend(s, batch, photonRzBin(p, k, s.pos), float(s.weight) * k.absorbShare);
         if (rngUniform(rng) * mut <= p.mua) {
-            photonDeposit(p, s.pos, s.weight, batch, t);
+            photonDeposit(p, k, s.pos, s.weight, batch, t);
             photonFlush(p, s, batch, t);
             return false;
         }
     } else {
         // Stochastic rounding keeps the deposit unbiased at any weight; w * mua/mut is exact
         // enough in float because w < 2^25.
-        float share = floor(float(s.weight) * (p.mua / mut) + (float(1) - rngUniform(rng)));
+        float share = floor(float(s.weight) * k.absorbShare + (float(1) - rngUniform(rng)));
         uint q = min(uint(share), s.weight);
-        if (q > 0u) photonDeposit(p, s.pos, q, batch, t);
+        if (q > 0u) photonDeposit(p, k, s.pos, q, batch, t);
         s.weight -= q;
     }
 
     float u = rngUniform(rng);
-    float cosT = p.phaseModel == PHOTON_PHASE_TABLE ? photonTableCos(p.phaseTableSize, u) : photonHgCos(p.g, u);
+    float cosT = p.phaseModel == PHOTON_PHASE_TABLE ? photonTableCos(p.phaseTableSize, u) : photonHgCos(k, u);
     float phi = PHOTON_TWO_PI * rngUniform(rng);
     s.dir = photonRotate(s.dir, cosT, cos(phi), sin(phi));
     t.scatterings += 1ul;

@@ -30,10 +30,15 @@ const int PHOTON_EVENT_ESCAPED = 5;      // interacted outside the lateral radiu
 //   (mua x weight x path length inside each bin, or above each depth).
 // TRACK: analog transport (cheap photons), bins by the track-length estimator, depth tallies by
 //   the absorption points (as ANALOG).
+// COLLISION: analog transport, bins by the collision estimator of the expected absorption (every
+//   interaction adds weight x mua/mut to its bin, whether or not the photon is absorbed there),
+//   depth tallies by the absorption points. Same expectation as TRACK (the collision density is
+//   mut times the track density), one bin lookup per interaction instead of one per bin crossed.
 const uint PHOTON_ESTIMATOR_ANALOG = 0u;
 const uint PHOTON_ESTIMATOR_IMPLICIT = 1u;
 const uint PHOTON_ESTIMATOR_IMPLICIT_TRACK = 2u;
 const uint PHOTON_ESTIMATOR_TRACK = 3u;
+const uint PHOTON_ESTIMATOR_COLLISION = 4u;
 // PhotonParams.estimator flag: the (r,z) bins are kept per batch (PHOTON_BATCHES copies).
 const uint PHOTON_FLAG_BATCH_BINS = 256u;
 // PhotonParams.estimator flag (GPU): continue the photons suspended by the previous dispatch.

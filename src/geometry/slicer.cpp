@@ -119,7 +119,11 @@ int layerCount(const Mesh& mesh, const SliceOptions& options) {
     const Bounds b = mesh.bounds();
     if (b.empty()) return 0;
     const double z0 = options.zStart.value_or(b.lo.z);
-    const double layers = std::ceil((b.hi.z - z0) / options.layerThickness - 1e-9);
+    // STL vertices are float32: a 0.2 mm part is 0.200000003 mm tall, which must not add a fifth
+    // 50 um layer. Heights within float32 rounding of the coordinates (6e-8 relative; 1e-6
+    // leaves a margin) count as whole layers.
+    const double slack = 1e-6 * std::max({std::abs(b.hi.z), std::abs(z0), 1.0});
+    const double layers = std::ceil((b.hi.z - z0 - slack) / options.layerThickness - 1e-9);
     if (layers > 1e7)
         throw InputError("more than 10 million layers: is the layer thickness in mm?");
     return std::max(0, int(layers));

@@ -256,6 +256,11 @@ std::string toString(Backend backend) {
     }
 }
 
+std::shared_ptr<Context> shaderContext(const RunContext& context) {
+    if (!context.gpu) return nullptr;
+    return context.gpu->info().isHardware() || context.shadersOnCpuDevices ? context.gpu : nullptr;
+}
+
 std::shared_ptr<Context> contextForBackend(Backend backend, const ContextOptions& options) {
     if (backend == Backend::Cpu) return nullptr;
     if (backend == Backend::Vulkan) return Context::create(options);

@@ -2,6 +2,9 @@
 
 #include <cstring>
 #include <iostream>
+#ifdef __SANITIZE_ADDRESS__
+#include <dlfcn.h>
+#endif
 
 #include "vpsim/core/log.h"
 
@@ -9,6 +12,17 @@ namespace vpsim::gpu {
 namespace {
 
 constexpr const char* VALIDATION_LAYER = "VK_LAYER_KHRONOS_validation";
+
+/// Under AddressSanitizer (VPSIM_SANITIZE): keeps Mesa's lavapipe loaded for the whole process
+/// (RTLD_NODELETE). It allocates a buffer once and never frees it; the loader unloads the driver
+/// with the instance, so at exit the leak's frames would be "<unknown module>" and could not be
+/// told from ours. Pinned, they name libvulkan_lvp.so, which tests/sanitizers/lsan.supp matches.
+void pinCpuDriverForLeakReports() {
+#ifdef __SANITIZE_ADDRESS__
+    static void* const pinned = dlopen("libvulkan_lvp.so", RTLD_LAZY | RTLD_NODELETE);
+    (void)pinned;
+#endif
+}
 
 VKAPI_ATTR VkBool32 VKAPI_CALL onValidationMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                                    VkDebugUtilsMessageTypeFlagsEXT,
@@ -74,6 +88,7 @@ Instance::Instance(bool validation, Context::Impl* sink) {
     info.ppEnabledExtensionNames = extensions.data();
     if (validation)
         info.pNext = &messengerInfo;  // also reports problems in vkCreateInstance itself
+    pinCpuDriverForLeakReports();
     VkResult result = vkCreateInstance(&info, nullptr, &mInstance);
     if (result == VK_ERROR_INCOMPATIBLE_DRIVER || result == VK_ERROR_INITIALIZATION_FAILED)
         throw GpuError(std::string("no Vulkan driver is installed (") + resultName(result) +

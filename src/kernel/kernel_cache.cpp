@@ -9,6 +9,7 @@
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
 #include "vpsim/core/log.h"
+#include "vpsim/gpu/context.h"
 #include "vpsim/optics/material.h"
 
 namespace vpsim::kernel {
@@ -82,7 +83,7 @@ BeamKernel cachedKernel(const KernelRequest& request, const RunContext& context,
             logWarn("ignoring unreadable cached kernel " + path + ": " + e.what());
         }
     }
-    transport::McResult mc = transport::runPhotonMc(request.setup, context.gpu);
+    transport::McResult mc = transport::runPhotonMc(request.setup, gpu::shaderContext(context));
     BeamKernel beam = kernelFromMonteCarlo(mc, request.power);
     if (monteCarlo) *monteCarlo = mc;
     if (path.empty()) return beam;

@@ -41,6 +41,10 @@ InverseParameters readInverseKeys(const ConfigNode& plan) {
     if (iterations < 0 || iterations > 100000)
         throw plan.error("iterations", "must be between 0 and 100000");
     p.iterations = int(iterations);
+    long long coarse = plan.integer("coarse_iterations", p.coarseIterations);
+    if (coarse < 0 || coarse > 100000)
+        throw plan.error("coarse_iterations", "must be between 0 and 100000");
+    p.coarseIterations = int(coarse);
     p.base.compensate = plan.boolean("compensate", p.base.compensate);
     return p;
 }
@@ -58,13 +62,15 @@ std::vector<ConfigKeyDoc> dfbtpKeyDocs() {
 }
 
 std::vector<ConfigKeyDoc> inverseKeyDocs() {
-    return {{"dot_pitch", "dot grid pitch, a whole number of grid cells (length, 20 um)"},
-            {"grid_pitch", "planning grid (length, default 10 um)"},
-            {"iterations", "projected-gradient iterations per layer (default 40)"},
-            {"compensate", "subtract the exposure the layers above transmit (default true)"},
-            {"border_count", "border loops of the ACES warm start (default 1)"},
-            {"border_offset", "first border loop offset of the warm start (length)"},
-            {"direction", "hatch direction of the warm start, degrees from +x"}};
+    return {
+        {"dot_pitch", "dot grid pitch, a whole number of grid cells (length, 20 um)"},
+        {"grid_pitch", "planning grid (length, default 10 um)"},
+        {"iterations", "projected-gradient iterations per layer (default 40)"},
+        {"coarse_iterations", "iterations first on a grid at the dot pitch (default 80; 0: none)"},
+        {"compensate", "subtract the exposure the layers above transmit (default true)"},
+        {"border_count", "border loops of the ACES warm start (default 1)"},
+        {"border_offset", "first border loop offset of the warm start (length)"},
+        {"direction", "hatch direction of the warm start, degrees from +x"}};
 }
 
 void setProcess(plan::AcesParameters& aces, const kernel::FittedBeam& beam, double criticalDose,

@@ -207,6 +207,73 @@ exposure::SurfaceGrid transmittedExposure(exposure::ExposureModel& model,
     return sum;
 }
 
+namespace {
+
+/// The goal Etar - E_t clipped at 0 (Eq. 22; E_t = 0 without compensation) on c.goal, and where
+/// the transmitted exposure cannot be compensated (reports).
+void setGoal(LayerContext& c, const SurfaceGrid& transmitted, double criticalDose,
+             LayerCompensation& rec) {
+    const double cellArea = transmitted.pitch * transmitted.pitch;
+    c.goal = transmitted;
+    for (size_t cell = 0; cell < c.goal.values.size(); ++cell) {
+        double target = c.inside[cell] ? c.etar : 0.0;
+        double sent = c.p->compensate ? transmitted.values[cell] : 0.0;
+        double excess = sent - target;
+        if (excess > 0.05 * c.etar) rec.uncompensableArea += cellArea;
+        rec.uncompensableMax = std::max(rec.uncompensableMax, excess / c.etar);
+        if (!c.inside[cell] && transmitted.values[cell] >= criticalDose)
+            rec.curingOutsideArea += cellArea;
+        c.goal.values[cell] = float(std::max(target - sent, 0.0));
+        if (c.inside[cell] && sent > 0.01 * c.etar) rec.compensated = true;
+    }
+}
+
+/// Edges (1D problems) then corners (2D), in increasing order of freedom, each on the exposure
+/// of what is planned so far.
+void planBlocks(exposure::ExposureModel& engine, const plan::FeatureBlocks& blocks, LayerContext& c,
+                plan::LayerPlan& layer, LayerCompensation& rec) {
+    c.planned = mapOf(engine, layer);
+    plan::LayerPlan edges;
+    for (const auto& e : blocks.edges) planEdge(e, c, edges);
+    rec.edgeBlocks = int(blocks.edges.size());
+    if (!edges.vectors.empty()) {
+        layer.vectors.insert(layer.vectors.end(), edges.vectors.begin(), edges.vectors.end());
+        c.planned = mapOf(engine, layer);
+    }
+    for (const auto& corner : blocks.corners) rec.cornerDots += planCorner(corner, c, layer);
+    rec.cornerBlocks = int(blocks.corners.size());
+}
+
+/// One layer: the ACES middle area (5% rule), its hatch modulated by the compensated goal, then
+/// the edge and corner blocks. Returns the layer's Etar (mJ/mm^2 as the engine computes).
+double planDfbtpLayer(exposure::ExposureModel& engine, const geometry::PolygonSet& region,
+                      double top, const SurfaceGrid& transmitted, const DfbtpParameters& p,
+                      const plan::AcesParameters& acesParameters, const kernel::FittedBeam& beam,
+                      plan::LayerPlan& layer, LayerCompensation& rec) {
+    plan::AcesDesign design = plan::designAces(acesParameters, region);
+    LayerContext c;
+    c.p = &p;
+    c.w = beam.radius;
+    c.efficiency = beam.efficiency;
+    c.etar = design.targetDose * beam.efficiency;
+    c.roff = design.edgeOffset;
+    c.reff = plan::effectiveRadius(beam.radius);
+    c.region = &region;
+    plan::FeatureBlocks blocks = plan::disassembleFeatures(region, c.roff, c.reff, beam.radius);
+    layer = plan::planAcesLayer(region, design, p.aces.laserPower, top);
+    c.inside = insideMask(p.wallOnContour
+                              ? region.offset(targetWallShift(acesParameters, design.targetDose))
+                              : region,
+                          transmitted);
+    c.middle = insideMask(blocks.middle, transmitted);
+    setGoal(c, transmitted, p.aces.criticalDose * beam.efficiency, rec);
+    if (p.compensate && rec.compensated) layer.vectors = modulatedHatch(layer.vectors, c);
+    planBlocks(engine, blocks, c, layer, rec);
+    return c.etar;
+}
+
+}  // namespace
+
 DfbtpResult planDfbtp(const std::vector<geometry::PolygonSet>& regions,
                       const std::vector<double>& tops, const DfbtpParameters& p,
                       const kernel::FittedBeam& beam, exposure::ExposureModel* model) {
@@ -226,68 +293,21 @@ DfbtpResult planDfbtp(const std::vector<geometry::PolygonSet>& regions,
         model = own.get();
     }
     exposure::ExposureModel& engine = *model;
-    const exposure::ExposureGrid grid = engine.grid();
-    const double criticalDose = p.aces.criticalDose * beam.efficiency;
-    std::vector<SurfaceGrid> deposits(regions.size(), grid.surface());
+    std::vector<SurfaceGrid> deposits(regions.size(), engine.grid().surface());
     DfbtpResult result;
     result.plan.machine.layerThickness = p.aces.layerThickness;
     result.plan.machine.laserPower = p.aces.laserPower;
     result.plan.machine.beamRadius = beam.radius;
     result.plan.layers.resize(regions.size());
     result.layers.resize(regions.size());
-    for (int k = int(regions.size()) - 1; k >= 0; --k) {
+    for (int k = int(regions.size()) - 1; k >= 0; --k) {  // top down (Eq. 21-22)
         plan::LayerPlan& layer = result.plan.layers[k];
+        layer.z = tops[k];
+        if (regions[k].empty()) continue;  // an empty layer deposits nothing
         const SurfaceGrid transmitted =
             transmittedExposure(engine, deposits, k, beam.attenuationLength);
-        layer.z = tops[k];
-        const geometry::PolygonSet& region = regions[k];
-        if (!region.empty()) {
-            plan::AcesDesign design = plan::designAces(acesParameters, region);
-            LayerContext c;
-            c.p = &p;
-            c.w = beam.radius;
-            c.efficiency = beam.efficiency;
-            c.etar = design.targetDose * beam.efficiency;
-            c.roff = design.edgeOffset;
-            c.reff = plan::effectiveRadius(beam.radius);
-            c.region = &region;
-            result.targetDose = c.etar;
-            plan::FeatureBlocks blocks =
-                plan::disassembleFeatures(region, c.roff, c.reff, beam.radius);
-            layer = plan::planAcesLayer(region, design, p.aces.laserPower, tops[k]);
-            c.inside = insideMask(
-                p.wallOnContour ? region.offset(targetWallShift(acesParameters, design.targetDose))
-                                : region,
-                transmitted);
-            c.middle = insideMask(blocks.middle, transmitted);
-            c.goal = transmitted;
-            LayerCompensation& rec = result.layers[k];
-            const double cellArea = grid.pitch * grid.pitch;
-            for (size_t cell = 0; cell < c.goal.values.size(); ++cell) {
-                double target = c.inside[cell] ? c.etar : 0.0;
-                double sent = p.compensate ? transmitted.values[cell] : 0.0;
-                double excess = sent - target;
-                if (excess > 0.05 * c.etar) rec.uncompensableArea += cellArea;
-                rec.uncompensableMax = std::max(rec.uncompensableMax, excess / c.etar);
-                if (!c.inside[cell] && transmitted.values[cell] >= criticalDose)
-                    rec.curingOutsideArea += cellArea;
-                c.goal.values[cell] = float(std::max(target - sent, 0.0));
-                if (c.inside[cell] && sent > 0.01 * c.etar) rec.compensated = true;
-            }
-            if (p.compensate && rec.compensated) layer.vectors = modulatedHatch(layer.vectors, c);
-            c.planned = mapOf(engine, layer);
-            plan::LayerPlan edges;
-            for (const auto& e : blocks.edges) planEdge(e, c, edges);
-            rec.edgeBlocks = int(blocks.edges.size());
-            if (!edges.vectors.empty()) {
-                layer.vectors.insert(layer.vectors.end(), edges.vectors.begin(),
-                                     edges.vectors.end());
-                c.planned = mapOf(engine, layer);
-            }
-            for (const auto& corner : blocks.corners)
-                rec.cornerDots += planCorner(corner, c, layer);
-            rec.cornerBlocks = int(blocks.corners.size());
-        }
+        result.targetDose = planDfbtpLayer(engine, regions[k], tops[k], transmitted, p,
+                                           acesParameters, beam, layer, result.layers[k]);
         deposits[k] = depositOf(engine, layer);
     }
     return result;

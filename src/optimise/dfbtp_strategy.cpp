@@ -1,8 +1,6 @@
 #include "vpsim/optimise/dfbtp_strategy.h"
 
-#include "vpsim/exposure/exposure_engine.h"
 #include "vpsim/optimise/dfbtp_config.h"
-#include "vpsim/optimise/dfbtp_exposure_error.h"
 #include "vpsim/plan/feature_blocks.h"
 #include "vpsim/plan/laser_plan_options.h"
 
@@ -39,17 +37,6 @@ nlohmann::json compensationJson(const std::vector<LayerCompensation>& layers) {
             {"uncompensable_layers", where}};
 }
 
-/// report.json's `layer_exposure_error` (issue 11 item 6) of a laser plan, on the planning grid
-/// with the fitted engine, against the plan's Etar over the part plus Reff.
-nlohmann::json exposureError(const plan::ScanPlan& plan, const plan::PlannerInputs& in,
-                             double targetDose, double gridPitch) {
-    std::vector<geometry::PolygonSet> regions = regionsOf(in);
-    exposure::ExposureEngine engine(planningGrid(regions, in.beam.radius, gridPitch), in.beam,
-                                    in.machine.layerThickness);
-    return planExposureError(engine, plan, regions, targetDose,
-                             plan::effectiveRadius(in.beam.radius));
-}
-
 class DfbtpPlanner : public plan::Planner {
 public:
     DfbtpPlanner(plan::LaserPlanOptions options, DfbtpParameters p) : mOptions(options), mP(p) {}
@@ -76,8 +63,6 @@ public:
                                : 0.0},
               {"lifts", {mP.liftOutside, mP.liftEdge, mP.liftInside}},
               {"transmitted", compensationJson(r.layers)}}}};
-        if (r.targetDose > 0)
-            mSummary["layer_exposure_error"] = exposureError(r.plan, in, r.targetDose, p.gridPitch);
         return r.plan;
     }
     nlohmann::json summary() const override { return mSummary; }
@@ -113,9 +98,6 @@ public:
                       {"dot_pitch_um", p.dotPitch * 1e3},
                       {"compensation", p.base.compensate},
                       {"transmitted", compensationJson(r.compensation)}}}};
-        if (r.targetDose > 0)
-            mSummary["layer_exposure_error"] =
-                exposureError(r.plan, in, r.targetDose, p.base.gridPitch);
         return r.plan;
     }
     nlohmann::json summary() const override { return mSummary; }

@@ -23,6 +23,9 @@ void equalityStep(const Eigen::MatrixXd& H, const Eigen::VectorXd& g, const Eige
     for (int i = 0; i < n; ++i)
         if (!w.fixed[i]) free.push_back(i);
     const int nf = int(free.size()), nr = int(w.rows.size());
+    p = Eigen::VectorXd::Zero(n);
+    mu = Eigen::VectorXd::Zero(nr);
+    if (nf + nr == 0) return;  // every variable on its bound: no step (Eigen asserts on 0 x 0)
     Eigen::MatrixXd K = Eigen::MatrixXd::Zero(nf + nr, nf + nr);
     Eigen::VectorXd rhs = Eigen::VectorXd::Zero(nf + nr);
     for (int a = 0; a < nf; ++a) {
@@ -31,7 +34,6 @@ void equalityStep(const Eigen::MatrixXd& H, const Eigen::VectorXd& g, const Eige
         for (int r = 0; r < nr; ++r) K(a, nf + r) = K(nf + r, a) = C(w.rows[r], free[a]);
     }
     Eigen::VectorXd sol = K.fullPivLu().solve(rhs);
-    p = Eigen::VectorXd::Zero(n);
     for (int a = 0; a < nf; ++a) p(free[a]) = sol(a);
     mu = sol.tail(nr);
 }
@@ -47,11 +49,17 @@ LsqQpResult solveLsqQp(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const
         throw InputError("least-squares QP: a bound C x <= d with d < 0 makes x = 0 infeasible");
     const Eigen::MatrixXd H = A.transpose() * A + ridge * Eigen::MatrixXd::Identity(n, n);
     const Eigen::VectorXd Atb = A.transpose() * b;
+    LsqQpResult result;
+    if (n == 0) {  // nothing to solve (and Eigen asserts on reductions of empty matrices)
+        result.converged = true;
+        result.objective = 0.5 * b.squaredNorm();
+        result.x = Eigen::VectorXd::Zero(0);
+        return result;
+    }
     const double scale = std::max(1.0, H.diagonal().cwiseAbs().maxCoeff());
     const double tol = 1e-12 * scale;
     if (maxIterations <= 0) maxIterations = 10 * (n + m) + 50;
 
-    LsqQpResult result;
     Eigen::VectorXd x = Eigen::VectorXd::Zero(n), p, mu;
     WorkingSet w{std::vector<char>(n, 1), {}};  // start: every bound active at x = 0
     Eigen::VectorXd slack = d;                  // d - C x

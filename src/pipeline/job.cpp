@@ -40,7 +40,8 @@ void createPlanner(const ConfigNode& root, const Builtins& builtins, Job& job) {
 
 /// Without an `export` section every registered exporter runs that can be created from the
 /// machine's projector calibration (grey_levels, exposure_time: the keys it documents); one that
-/// needs more options is skipped with an info line.
+/// needs more options is skipped with a debug line (nobody asked for it: a laser job has no
+/// projector, and saying so on every run is noise).
 void createExporters(const ConfigNode& root, const Builtins& builtins, Job& job) {
     if (!root.has("export")) {
         const ConfigNode machine = root.child("machine");
@@ -51,7 +52,7 @@ void createExporters(const ConfigNode& root, const Builtins& builtins, Job& job)
             try {
                 job.exporters.emplace_back(name, entry.factory(ConfigNode(options, root.file())));
             } catch (const InputError& e) {
-                logInfo("exporter " + name + " not run: " + std::string(e.what()) +
+                logDebug("exporter " + name + " not run: " + std::string(e.what()) +
                         " (give its options in the job's export section)");
             }
         }
@@ -119,6 +120,7 @@ Job loadJob(const std::string& path, const Builtins& builtins,
     if (root.has("features"))
         job.features = validate::featureProbesFromConfig(root.children("features"));
     root.checkUnknownKeys();
+    job.planSection = root.raw("plan");  // after the check: raw() marks the subtree as known
     return job;
 }
 

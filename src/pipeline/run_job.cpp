@@ -9,6 +9,8 @@
 #include "vpsim/geometry/stl_io.h"
 #include "vpsim/gpu/context.h"
 #include "vpsim/pipeline/dlp_report_stage.h"
+#include "vpsim/pipeline/estimate.h"
+#include "vpsim/pipeline/laser_report.h"
 #include "vpsim/report/figures.h"
 #include "vpsim/report/html_report.h"
 #include "vpsim/validate/feature_probe.h"
@@ -97,6 +99,8 @@ Front runFront(const Job& job, geometry::Mesh part, const std::string& outDir,
 
 PlanResult planJob(const Job& job, const std::string& outDir, const RunContext& context) {
     geometry::Mesh part = checkedPart(job);
+    checkEstimate(estimateJob(job, part, true, false,
+                              context.gpu != nullptr));  // before the kernel or anything written
     // Removes the previous manifest and dead runs' temporaries; manifest.json is written last.
     OutputDirectory output(outDir,
                            {{"command", "plan"}, {"job", job.name}, {"job_file", job.file}});
@@ -118,6 +122,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     std::optional<plan::ScanPlan> saved;
     if (!options.planFile.empty()) saved = plan::loadScanPlan(options.planFile);
     geometry::Mesh part = checkedPart(job);
+    checkEstimate(estimateJob(job, part, false, saved.has_value(), context.gpu != nullptr));
     // From here the directory is untrusted until manifest.json, written last, lists every file
     // of this run with its size and SHA-256 (core/output_directory.h).
     OutputDirectory output(outDir, {{"command", "run"}, {"job", job.name}, {"job_file", job.file}});
@@ -150,6 +155,9 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     timer.finish("plan");
     result.exports = exportStage(job, planned.plan, outDir);
     timer.finish("export");
+    nlohmann::json laserError = laserErrorStage(job, f.layers, planned.plan, f.beam, outDir);
+    if (!laserError.is_null()) result.plan.planner["layer_exposure_error"] = std::move(laserError);
+    timer.finish("exposure_error");
 
     const int layers = int(f.layers.layers.size());
     const exposure::ExposureGrid grid = exposureGrid(job, f.bounds, f.beam);

@@ -113,12 +113,7 @@ std::unique_ptr<exposure::ExposureModel> exposureModel(const Job& job,
                                                        const exposure::ExposureGrid& grid,
                                                        const BeamResult& beam,
                                                        const RunContext& context) {
-    // Both engines run in compute shaders on hardware GPUs; on a CPU driver (lavapipe) only
-    // when asked, since the TBB loops are faster there (bench_exposure).
-    std::shared_ptr<gpu::Context> gpu =
-        context.gpu && (context.gpu->info().isHardware() || context.exposureShadersOnCpuDevices)
-            ? context.gpu
-            : nullptr;
+    std::shared_ptr<gpu::Context> gpu = gpu::shaderContext(context);
     const double h = job.machine.layerThickness;
     if (job.kernel.tabulated && beam.monteCarlo)
         return std::make_unique<exposure::TabulatedExposureEngine>(grid, *beam.monteCarlo, h, gpu);

@@ -28,6 +28,11 @@ glm::dvec2 rotate(const glm::dvec2& p, double angle) {
 
 }  // namespace
 
+double detail::halfFieldProfile(double y, double hatchRatio) {
+    const long reach = long(std::ceil(6.0 / hatchRatio)) + 2;
+    return fieldExposure(y, hatchRatio, -reach, 0) * hatchRatio;
+}
+
 double acesTargetDose(double criticalDose, double layerThickness, double depthOfMaximum,
                       double attenuationLength) {
     double h = layerThickness - depthOfMaximum;
@@ -105,7 +110,8 @@ double longestEdgeDirection(const geometry::PolygonSet& region) {
     return direction;
 }
 
-AcesDesign designAces(const AcesParameters& p, const geometry::PolygonSet& region) {
+AcesDesign designAces(const AcesParameters& p, const geometry::PolygonSet& region,
+                      const AcesStack* stack) {
     if (!(p.beamRadius > 0) || !(p.attenuationLength > 0) || !(p.criticalDose > 0) ||
         !(p.layerThickness > 0) || !(p.laserPower > 0))
         throw InputError(
@@ -135,11 +141,14 @@ AcesDesign designAces(const AcesParameters& p, const geometry::PolygonSet& regio
             design.edgeOffset = *p.borderOffset;
         else if (p.edge == AcesEdge::SeedFivePercent)
             design.edgeOffset = acesEdgeDistance(rh, 0.05) * p.beamRadius;
+        else if (stack)
+            design.edgeOffset =
+                acesStackContourOffset(p, region, rh, design.targetDose, *stack, &scallop);
         else
             design.edgeOffset = acesContourDistance(rh, p.criticalDose / design.targetDose,
                                                     depthRatio, printThrough, &scallop) *
                                 p.beamRadius;
-        design.scallop = scallop * p.beamRadius;
+        design.scallop = stack ? scallop : scallop * p.beamRadius;
         geometry::PolygonSet field = region.offset(-design.edgeOffset);
         double lo = 1e300, hi = -1e300;
         for (const auto& contour : field.contours())

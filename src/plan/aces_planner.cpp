@@ -5,6 +5,22 @@
 namespace vpsim::plan {
 namespace {
 
+/// The layers around layer k for the contour rule: those above within the reach of their
+/// print-through (exp(-dz/De3D) > 1e-3), nearest first, and the one below.
+AcesStack stackAround(const std::vector<geometry::Layer>& layers,
+                      const std::vector<double>& offsets, size_t k, double attenuationLength) {
+    AcesStack stack;
+    for (size_t j = k + 1; j < layers.size(); ++j) {
+        const double distance = layers[j].z - layers[k].z;
+        if (!(distance > 0) || distance > 6.9 * attenuationLength) break;
+        if (!layers[j].region.empty())
+            stack.above.push_back({&layers[j].region, distance, offsets[j]});
+    }
+    if (k > 0 && !layers[k - 1].region.empty() && layers[k].z > layers[k - 1].z)
+        stack.below = AcesNeighbour{&layers[k - 1].region, layers[k].z - layers[k - 1].z, 0.0};
+    return stack;
+}
+
 class AcesPlanner : public Planner {
 public:
     explicit AcesPlanner(LaserPlanOptions options) : mOptions(options) {}
@@ -14,29 +30,33 @@ public:
         const AcesParameters aces = acesParameters(mOptions, in.beam, in.machine, in.criticalDose);
         ScanPlan plan = emptyPlan(in.layers, in.machine);
         mSummary = nlohmann::json::object();
-        for (size_t k = 0; k < in.layers.layers.size(); ++k) {
-            const geometry::PolygonSet& region = in.layers.layers[k].region;
+        const auto& layers = in.layers.layers;
+        std::vector<double> offsets(layers.size(), 0.0);
+        // Top down, so the contour rule sees what the layers above (designed already) send in.
+        for (size_t k = layers.size(); k-- > 0;) {
+            const geometry::PolygonSet& region = layers[k].region;
             if (region.empty()) continue;
             AcesParameters layerAces = aces;
             layerAces.direction = scanDirection(region, mOptions.direction);
-            AcesDesign design = designAces(layerAces, region);
+            const AcesStack stack = stackAround(layers, offsets, k, aces.attenuationLength);
+            AcesDesign design = designAces(layerAces, region, &stack);
+            offsets[k] = design.edgeOffset;
             plan.layers[k] = planAcesLayer(region, design, in.machine.laserPower, plan.layers[k].z);
-            if (mSummary.empty())
-                mSummary = {
-                    {"target_dose_mJ_per_cm2", design.targetDose * in.beam.efficiency * 100},
-                    {"hatch_spacing_um", design.hatchSpacing * 1e3},
-                    {"speed_mm_per_s", design.speed},
-                    {"edge_offset_um", design.edgeOffset * 1e3},
-                    {"ripple", design.ripple},
-                    {"wall_level", design.wallLevel},
-                    {"scallop_um", design.scallop * 1e3},
-                    {"border_loops", design.borderCount}};
+            mSummary = {// ends with the lowest planned layer's (the steadiest wall)
+                        {"target_dose_mJ_per_cm2", design.targetDose * in.beam.efficiency * 100},
+                        {"hatch_spacing_um", design.hatchSpacing * 1e3},
+                        {"speed_mm_per_s", design.speed},
+                        {"edge_offset_um", design.edgeOffset * 1e3},
+                        {"ripple", design.ripple},
+                        {"wall_level", design.wallLevel},
+                        {"scallop_um", design.scallop * 1e3},
+                        {"border_loops", design.borderCount}};
         }
         return plan;
     }
 
     /// {"aces": {target dose, hatch spacing, speed, edge offset, ripple, wall level, scallop,
-    /// border loops}} of the first planned layer.
+    /// border loops}} of the lowest planned layer.
     nlohmann::json summary() const override {
         return mSummary.empty() ? nlohmann::json::object() : nlohmann::json{{"aces", mSummary}};
     }

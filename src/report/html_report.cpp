@@ -81,6 +81,11 @@ void writeHtmlReport(const std::string& outDir, const JobResult& r) {
     figure(html, outDir, "xy_error_per_layer.svg", "XY contour error per layer");
     figure(html, outDir, "scan_path.svg",
            "scan path of the busiest layer: marks, jumps within and between parts, part order");
+    figure(html, outDir, "exposure_top_layer.svg",
+           "surface exposure of the top layer (mJ/cm^2; red: the model's outline)");
+    figure(
+        html, outDir, "exposure_error_sorted.svg",
+        "sorted |exposure error| / Etar over the part plus Reff, every layer (seed 000 Fig. 23)");
     figure(html, outDir, "kernel/intensity_scattered.png",
            "beam kernel with scattering (Monte Carlo)");
     figure(html, outDir, "kernel/intensity_no_scattering.png", "beam kernel without scattering");

@@ -46,14 +46,15 @@ struct LocalTally {
     LocalTally(size_t rzBins, size_t voxels) : rz(rzBins, 0), grid(voxels, 0) {}
 };
 
-void tracePhoton(const glsl::PhotonParams& p, uint64_t index, LocalTally& t) {
+void tracePhoton(const glsl::PhotonParams& p, const glsl::PhotonDerived& k, uint64_t index,
+                 LocalTally& t) {
     glsl::PhotonState s;
     glsl::RngState rng;
     glsl::photonLaunch(p, uint32_t(index), uint32_t(index >> 32), s, rng);
     const uint32_t batch = uint32_t(index % MC_BATCHES);
     glsl::PhotonTally pt;
     glsl::photonTallyClear(pt);
-    while (glsl::photonAdvance(p, s, rng, batch, pt)) {}
+    while (glsl::photonAdvance(p, k, s, rng, batch, pt)) {}
     BatchTally& b = t.batches[batch];
     b.photons += 1;
     b.specular += p.launchWeight - p.enteringWeight;
@@ -71,11 +72,18 @@ void tracePhoton(const glsl::PhotonParams& p, uint64_t index, LocalTally& t) {
     b.absorbedWithin[3] += pt.within3;
 }
 
+/// The first photon offset >= begin whose index (firstPhoton + offset) is in batch b.
+uint64_t firstOfBatch(uint64_t begin, uint64_t b, const McSetup& setup) {
+    const uint64_t batchOfBegin = (setup.firstPhoton + begin) % MC_BATCHES;
+    return begin + (b + MC_BATCHES - batchOfBegin) % MC_BATCHES;
+}
+
 }  // namespace
 
 McResult runPhotonMcCpu(const McSetup& setup, int threads) {
     validateSetup(setup);
     const glsl::PhotonParams params = makePhotonParams(setup);
+    const glsl::PhotonDerived derived = glsl::photonDerive(params);
     const std::vector<float> table = makePhaseTable(setup);
     const size_t rzBins = size_t(setup.bins.rBins) * setup.bins.zBins;
     const size_t rzWords = setup.binsPerBatch ? rzBins * MC_BATCHES : rzBins;
@@ -96,8 +104,12 @@ McResult runPhotonMcCpu(const McSetup& setup, int threads) {
                               glsl::tBins = local.rz.data();
                               glsl::tVoxels = local.grid.data();
                               glsl::tBatchStride = setup.binsPerBatch ? uint32_t(rzBins) : 0u;
-                              for (uint64_t i = range.begin(); i != range.end(); ++i)
-                                  tracePhoton(params, setup.firstPhoton + i, local);
+                              // Batch by batch (photon i is in batch i % MC_BATCHES), so
+                              // that consecutive photons add to the same copy of the bins.
+                              for (uint64_t b = 0; b < MC_BATCHES; ++b)
+                                  for (uint64_t i = firstOfBatch(range.begin(), b, setup);
+                                       i < range.end(); i += MC_BATCHES)
+                                      tracePhoton(params, derived, setup.firstPhoton + i, local);
                               progress.advance(range.size());
                           });
     });

@@ -30,16 +30,30 @@ const char* estimatorName(Estimator e) {
         case Estimator::Implicit: return "implicit";
         case Estimator::ImplicitTrack: return "implicit-track";
         case Estimator::Track: return "track-length";
+        case Estimator::Collision: return "collision";
     }
     return "track-length";
 }
 
+namespace {
+constexpr Estimator ALL_ESTIMATORS[] = {Estimator::Analog, Estimator::Implicit,
+                                        Estimator::ImplicitTrack, Estimator::Track,
+                                        Estimator::Collision};
+}
+
+std::vector<std::string> estimatorNames() {
+    std::vector<std::string> names;
+    for (Estimator e : ALL_ESTIMATORS) names.push_back(estimatorName(e));
+    return names;
+}
+
 Estimator parseEstimator(const std::string& text, const std::string& key) {
-    for (Estimator e :
-         {Estimator::Analog, Estimator::Implicit, Estimator::ImplicitTrack, Estimator::Track})
+    for (Estimator e : ALL_ESTIMATORS)
         if (text == estimatorName(e)) return e;
     throw InputError(
-        "estimator must be analog, implicit, implicit-track or track-length, got '" + text + "'",
+        "estimator must be analog, implicit, implicit-track, track-length or "
+        "collision, got '" +
+            text + "'",
         "", key);
 }
 
@@ -149,6 +163,7 @@ glsl::PhotonParams makePhotonParams(const McSetup& s) {
         case Estimator::Implicit: p.estimator = glsl::PHOTON_ESTIMATOR_IMPLICIT; break;
         case Estimator::ImplicitTrack: p.estimator = glsl::PHOTON_ESTIMATOR_IMPLICIT_TRACK; break;
         case Estimator::Track: p.estimator = glsl::PHOTON_ESTIMATOR_TRACK; break;
+        case Estimator::Collision: p.estimator = glsl::PHOTON_ESTIMATOR_COLLISION; break;
     }
     if (s.binsPerBatch) p.estimator |= glsl::PHOTON_FLAG_BATCH_BINS;
     // At least 1 quantum: a photon of weight 0 must end.

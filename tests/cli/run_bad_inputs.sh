@@ -19,9 +19,11 @@ check_case() {  # KIND PATTERN ARGS...
   local errors; errors=$(grep -c '^vpsim: error: ' "$work/err")
   local others; others=$(grep -vc '^vpsim: \(error\|warning\): ' "$work/err")
   local why=""
-  if [[ $kind == ok ]]; then
+  if [[ $kind == ok || $kind == dry ]]; then
     [[ $code -eq 0 ]] || why="exit $code"
     grep -qE -e "$pattern" "$work/out" || why="$why; stdout does not match /$pattern/"
+    [[ $kind == ok || "$before" == "$after" ]] ||
+      why="$why; wrote files: $(diff <(echo "$before") <(echo "$after") | grep '^>' | head -3 | tr '\n' ' ')"
   else
     # 1 for vpsim errors, CLI11's own codes (100-120) for malformed options; never a signal
     # (128 + n), a timeout (124) or an internal error (2).

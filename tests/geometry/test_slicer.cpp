@@ -47,6 +47,11 @@ TEST_CASE("layer count and plane positions", "[slice]") {
     CHECK(layerCount(box, layers(0.05)) == 200);  // 10 mm / 50 um, no float sliver layer
     CHECK(layerCount(box, layers(0.025)) == 400);
     CHECK(layerCount(box, layers(3.0)) == 4);
+    // A float32 STL's 0.2 mm (0.200000003 mm) in 50 um layers is 4 layers, not 5.
+    Mesh thin = box;
+    for (auto& v : thin.vertices) v.z = double(float(v.z * 0.02));
+    CHECK(layerCount(thin, layers(0.05)) == 4);
+    CHECK(layerCount(thin, layers(0.0499)) == 5);
     const auto slices = sliceMesh(box, layers(0.05), {0, 199});
     REQUIRE(slices.size() == 2);
     CHECK(slices[0].z == Approx(0.025).margin(1e-15));

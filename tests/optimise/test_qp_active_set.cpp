@@ -97,6 +97,16 @@ TEST_CASE("the least-squares QP without rows is non-negative least squares", "[o
     CHECK(qp.x(2) == Approx(0.5));
     CHECK(qp.x(3) == 0.0);
     CHECK(qp.activeBounds == 2);
+    // x = 0 already optimal (every bound stays active: an empty equality step) and no variables.
+    LsqQpResult zero = solveLsqQp(A, -b.cwiseAbs(), Eigen::MatrixXd(0, 4), Eigen::VectorXd(0));
+    CHECK(zero.converged);
+    CHECK(zero.x.isZero(0.0));
+    CHECK(zero.activeBounds == 4);
+    LsqQpResult none =
+        solveLsqQp(Eigen::MatrixXd(2, 0), b.head(2), Eigen::MatrixXd(0, 0), Eigen::VectorXd(0));
+    CHECK(none.converged);
+    CHECK(none.x.size() == 0);
+    CHECK(none.objective == Approx(0.5 * b.head(2).squaredNorm()));
     Eigen::VectorXd bad(1);
     bad << -1.0;
     CHECK_THROWS_AS(solveLsqQp(A, b, Eigen::MatrixXd::Ones(1, 4), bad), InputError);

@@ -81,7 +81,8 @@ void checkBalance(const McResult& r) {
 TEST_CASE("estimators reproduce van de Hulst's slab", "[transport][estimator]") {
     // mua 10/cm, mus 90/cm, g 0.75, d 0.2 mm, n 1: Rd = 0.09739, Tt = 0.66096.
     McSetup s = hg(1.0, 9.0, 0.75, 1.0, 0.2, 60000);
-    for (Estimator e : {Estimator::Implicit, Estimator::ImplicitTrack, Estimator::Track}) {
+    for (Estimator e :
+         {Estimator::Implicit, Estimator::ImplicitTrack, Estimator::Track, Estimator::Collision}) {
         McResult r = run(s, e);
         INFO(estimatorName(e) << " Rd " << r.diffuse().value << " +- " << r.diffuse().standardError
                               << " Tt " << r.transmitted().value);
@@ -96,8 +97,8 @@ TEST_CASE("estimators reproduce Giovanelli's semi-infinite medium with n = 1.5",
     // mua 10/cm, mus 90/cm, g 0, n 1.5 under air: reflectance 0.2600 (Giovanelli 1955, the MCML
     // validation case), which counts the specular 0.04 with the diffuse part.
     McSetup s = hg(1.0, 9.0, 0.0, 1.5, 0.0, 40000);
-    for (Estimator e :
-         {Estimator::Analog, Estimator::Implicit, Estimator::ImplicitTrack, Estimator::Track}) {
+    for (Estimator e : {Estimator::Analog, Estimator::Implicit, Estimator::ImplicitTrack,
+                        Estimator::Track, Estimator::Collision}) {
         McResult r = run(s, e);
         INFO(estimatorName(e) << " Rd " << r.diffuse().value << " +- "
                               << r.diffuse().standardError);
@@ -121,7 +122,8 @@ TEST_CASE("estimators agree on a slurry-like medium, bins included", "[transport
     McSetup analogSetup = s;
     analogSetup.photons = 60000;
     McResult a = run(analogSetup, Estimator::Analog, 1);
-    for (Estimator e : {Estimator::Implicit, Estimator::ImplicitTrack, Estimator::Track}) {
+    for (Estimator e :
+         {Estimator::Implicit, Estimator::ImplicitTrack, Estimator::Track, Estimator::Collision}) {
         McResult r = run(s, e);
         INFO(estimatorName(e) << " Rd " << r.diffuse().value << " vs analog " << a.diffuse().value);
         checkBalance(r);
@@ -150,7 +152,8 @@ TEST_CASE("estimators agree on seed 000's Mie slurry", "[transport][estimator]")
     s.photons = 60000;
     McResult a = run(s, Estimator::Analog);
     s.photons = 10000;
-    for (Estimator e : {Estimator::Implicit, Estimator::ImplicitTrack, Estimator::Track}) {
+    for (Estimator e :
+         {Estimator::Implicit, Estimator::ImplicitTrack, Estimator::Track, Estimator::Collision}) {
         McResult r = run(s, e, 1);
         INFO(estimatorName(e) << " Rd " << r.diffuse().value << " vs analog " << a.diffuse().value);
         checkBalance(r);
@@ -222,6 +225,8 @@ TEST_CASE("bad estimator settings give clear errors", "[transport][estimator]") 
     CHECK(parseEstimator("track-length") == Estimator::Track);
     CHECK(parseEstimator("analog") == Estimator::Analog);
     CHECK(parseEstimator("implicit-track") == Estimator::ImplicitTrack);
+    CHECK(parseEstimator("collision") == Estimator::Collision);
+    CHECK(McSetup{}.estimator == Estimator::Collision);
     CHECK_THROWS_WITH(parseEstimator("mcml", "--estimator"), Catch::Contains("--estimator"));
     McSetup s = hg(1.0, 9.0, 0.75, 1.0, 0.2, 100);
     s.rouletteThreshold = 0.5;

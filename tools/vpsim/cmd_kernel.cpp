@@ -129,9 +129,9 @@ vpsim::cli::CommandRegistration registerKernel{
         cmd->add_option("--z-max", o->zMax, "depth of the tabulated kernel (default 3/mua)");
         cmd->add_option("--bins", o->bins, "bins along r and along z");
         cmd->add_option("--estimator", o->estimator,
-                        "absorption estimator: track-length (default), implicit-track, implicit or "
-                        "analog")
-            ->check(CLI::IsMember({"analog", "implicit", "implicit-track", "track-length"}));
+                        "absorption estimator: collision (default), track-length, implicit-track, "
+                        "implicit or analog")
+            ->check(CLI::IsMember(estimatorNames()));
         cmd->add_flag("--json", o->json, "print JSON");
         cmd->callback([o, &g] { runKernel(*o, g); });
     }};

@@ -14,6 +14,7 @@
 #include "vpsim/core/resources.h"
 #include "vpsim/core/text.h"
 #include "vpsim/core/units.h"
+#include "vpsim/gpu/context.h"
 #include "vpsim/transport/photon_mc.h"
 
 namespace {
@@ -82,7 +83,7 @@ McSetup setupFrom(const McOptions& o, const vpsim::cli::Globals& g) {
 
 void runMc(const McOptions& o, const vpsim::cli::Globals& g) {
     McSetup setup = setupFrom(o, g);
-    McResult r = runPhotonMc(setup, g.gpu());
+    McResult r = runPhotonMc(setup, vpsim::gpu::shaderContext(g.runContext()));
     if (!o.vdb.empty()) writeAbsorptionVdb(o.vdb, r);
     nlohmann::json out = r.summaryJson();
     out["material"] = o.material;
@@ -146,11 +147,12 @@ vpsim::cli::CommandRegistration registerMc{
                         "also tally a Cartesian absorption grid and save it to this .vdb file");
         cmd->add_option("--voxel", o->voxel, "voxel edge of the --vdb grid");
         cmd->add_option("--estimator", o->estimator,
-                        "absorption estimator: track-length (analog transport, track-length "
-                        "bins; default), implicit-track (implicit capture "
+                        "absorption estimator: collision (analog transport, bins by the "
+                        "expected absorption at every interaction; default), track-length "
+                        "(analog transport, track-length bins), implicit-track (implicit capture "
                         "and roulette, track-length tallies), implicit (MCML's: collision "
                         "tallies) or analog")
-            ->check(CLI::IsMember({"analog", "implicit", "implicit-track", "track-length"}));
+            ->check(CLI::IsMember(estimatorNames()));
         cmd->add_option("--roulette", o->roulette,
                         "implicit capture: roulette below this fraction of the launched weight");
         cmd->add_flag("--json", o->json, "print JSON");

@@ -10,6 +10,7 @@
 
 #include "commands.h"
 #include "vpsim/core/error.h"
+#include "vpsim/core/resources.h"
 #include "vpsim/core/text.h"
 #include "vpsim/core/units.h"
 #include "vpsim/geometry/level_set.h"
@@ -138,6 +139,11 @@ void runLevelSet(const LevelSetCliOptions& o) {
                              " mm is larger than the part (" + std::to_string(largest) + " mm)",
                          "", "--voxel");
     options.halfWidthVoxels = o.halfWidth;
+    // In bytes against this machine's budget (the library's default is a fixed 8 GiB).
+    checkMemory(LevelSet::estimateBytes(mesh, options),
+                "level set at --voxel " + o.voxel + " (half-width " +
+                    std::to_string(int(o.halfWidth)) + " voxels)",
+                "use a larger --voxel or a smaller --half-width");
     const LevelSet levelSet = LevelSet::fromMesh(mesh, options);
     levelSet.save(o.out);
     nlohmann::json out{{"file", o.out},

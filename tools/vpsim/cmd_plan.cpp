@@ -4,13 +4,14 @@
 #include <iostream>
 
 #include "commands.h"
+#include "vpsim/pipeline/estimate.h"
 #include "vpsim/pipeline/run_job.h"
 
 namespace {
 
 struct PlanOptions {
     std::string job, out = "out";
-    bool list = false, json = false;
+    bool list = false, json = false, dryRun = false;
 };
 
 nlohmann::json plannerList(const vpsim::pipeline::Builtins& builtins) {
@@ -39,6 +40,13 @@ void planCommand(const PlanOptions& options, const vpsim::cli::Globals& globals)
     }
     if (options.job.empty()) throw InputError("vpsim plan needs a job file (or --list)");
     const pipeline::Job job = pipeline::loadJob(options.job, builtins, globals.overrides);
+    if (options.dryRun) {  // the estimate only: nothing computed, nothing written
+        const pipeline::JobEstimate estimate =
+            pipeline::estimateJob(job, true, false, globals.backend != "cpu");
+        if (options.json) return cli::printJson(estimate.toJson());
+        std::cout << estimate.table();
+        return;
+    }
     const pipeline::PlanResult plan = pipeline::planJob(job, options.out, globals.runContext());
     nlohmann::json out{{"plan", options.out + "/plan.json"},
                        {"strategy", job.strategy},
@@ -60,6 +68,8 @@ vpsim::cli::CommandRegistration registerPlan{
         command->add_option("--out", options->out, "output directory");
         command->add_flag("--list", options->list, "list the planners and their keys");
         command->add_flag("--json", options->json, "print JSON");
+        command->add_flag("--dry-run", options->dryRun,
+                          "print the estimate of the stages up to the plan; compute nothing");
         command->callback([options, &globals] { planCommand(*options, globals); });
     }};
 

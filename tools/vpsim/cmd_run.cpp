@@ -4,19 +4,27 @@
 #include <iostream>
 
 #include "commands.h"
+#include "vpsim/pipeline/estimate.h"
 #include "vpsim/pipeline/run_job.h"
 
 namespace {
 
 struct RunOptions {
     std::string job, out = "out", plan;
-    bool json = false;
+    bool json = false, dryRun = false;
 };
 
 void runCommand(const RunOptions& options, const vpsim::cli::Globals& globals) {
     using namespace vpsim;
     const pipeline::Builtins builtins = pipeline::makeBuiltins();
     const pipeline::Job job = pipeline::loadJob(options.job, builtins, globals.overrides);
+    if (options.dryRun) {  // the estimate only: nothing computed, nothing written
+        const pipeline::JobEstimate estimate =
+            pipeline::estimateJob(job, false, !options.plan.empty(), globals.backend != "cpu");
+        if (options.json) return cli::printJson(estimate.toJson());
+        std::cout << estimate.table();
+        return;
+    }
     pipeline::RunOptions run;
     run.planFile = options.plan;
     const report::JobResult r = pipeline::runJob(job, options.out, globals.runContext(), run);
@@ -43,7 +51,9 @@ void addRun(CLI::App& app, const vpsim::cli::Globals& globals, const std::string
                         "output directory (report.json, index.html, .vdb, pictures)");
     command->add_option("--plan", options->plan,
                         "expose this saved or edited plan.json instead of planning");
-    command->add_flag("--json", options->json, "print the report as JSON");
+    command->add_flag("--json", options->json, "print the report (or the estimate) as JSON");
+    command->add_flag("--dry-run", options->dryRun,
+                      "print the job's memory, file and time estimate; compute and write nothing");
     command->callback([options, &globals] { runCommand(*options, globals); });
 }
 

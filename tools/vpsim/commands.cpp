@@ -42,7 +42,7 @@ void Globals::readEnvironment() {
 RunContext Globals::runContext() const {
     RunContext context;
     context.gpu = gpu();
-    context.exposureShadersOnCpuDevices = backend == "vulkan";
+    context.shadersOnCpuDevices = backend == "vulkan";
     context.cacheDirectory = cacheDirectory;
     return context;
 }

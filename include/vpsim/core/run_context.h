@@ -16,9 +16,11 @@ namespace vpsim {
 struct RunContext {
     /// The Vulkan context for compute shaders, or nullptr for the CPU paths.
     std::shared_ptr<gpu::Context> gpu;
-    /// Run the exposure shaders on a CPU driver (lavapipe) too; by default they run only on
-    /// hardware GPUs, since the TBB loops are faster on a CPU (bench_exposure).
-    bool exposureShadersOnCpuDevices = false;
+    /// Run the compute shaders (exposure, photon Monte Carlo) on a CPU driver (lavapipe) too; by
+    /// default they run only on hardware GPUs, since the TBB paths built from the same source are
+    /// faster on a CPU (bench_exposure; bench_photon_mc: 1.5-2x per core). gpu::shaderContext
+    /// applies this.
+    bool shadersOnCpuDevices = false;
     /// Directory of the beam-kernel cache; "" disables caching.
     std::string cacheDirectory;
 };

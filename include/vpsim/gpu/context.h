@@ -11,6 +11,8 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "vpsim/core/run_context.h"
+
 namespace vpsim::gpu {
 
 /// What a compute device offers, with the limits vpsim must respect.
@@ -93,6 +95,11 @@ private:
 /// The backend to use: Cpu gives nullptr; Vulkan gives a context or throws GpuError; Auto gives a
 /// context, or logs one line saying why there is none and returns nullptr (the CPU path).
 std::shared_ptr<Context> contextForBackend(Backend backend, const ContextOptions& options = {});
+
+/// The context a compute-shader stage should run on under the run's policy: context.gpu when it is
+/// a hardware GPU, or a CPU driver with RunContext::shadersOnCpuDevices set; else nullptr (the
+/// CPU path).
+std::shared_ptr<Context> shaderContext(const RunContext& context);
 
 /// A storage buffer in device memory, with uploads and downloads through a staging buffer when
 /// the memory is not host-visible.

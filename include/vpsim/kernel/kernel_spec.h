@@ -2,7 +2,8 @@
 /// @file
 /// A job's `kernel` section: where the beam kernel comes from and how the exposure uses it.
 ///   {"source": "monte-carlo", "photons": 300000, "seed": 1, "use": "fitted" | "tabulated",
-///    "estimator": "track-length" | "analog" | "implicit" | "implicit-track"}
+///    "estimator": "collision" | "track-length" | "analog" | "implicit" |
+///    "implicit-track"}
 ///   {"source": "given", "We3D": "60 um", "De3D": "100 um", "zmax": "0 um", "efficiency": 1}
 
 #include <cstdint>
@@ -24,7 +25,7 @@ struct KernelSpec {
     uint32_t seed = 1;
     bool tabulated = false;  ///< expose with the Monte Carlo table instead of the Eq. 12 fit
     /// The Monte Carlo estimator of the kernel's bins (transport/photon_mc.h).
-    transport::Estimator estimator = transport::Estimator::Track;
+    transport::Estimator estimator = transport::Estimator::Collision;
     FittedBeam given;  ///< source == Given: the beam as written in the job
 };
 

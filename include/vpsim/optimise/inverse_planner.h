@@ -11,8 +11,11 @@
 /// E_t the exposure the layers above transmit (Eq. 21; top-down compensation, the same as DFBTP:
 /// with compensation off E_t = 0). Its gradient is S' M' (E + E_t - Etm) through the model's
 /// adjoint (layerMapAdjoint). Solved by projected gradient with Nesterov acceleration (FISTA,
-/// step 1/L with L from a power iteration on S'M'MS, restarted when f rises), warm-started from
-/// the ACES plan (base.aces; cure-at-contour in jobs) gathered onto the dots. The best iterate is
+/// step 1/L with L the largest row sum of the non-negative S'M'WMS, restarted when f rises),
+/// warm-started from the ACES plan (base.aces; cure-at-contour in jobs) gathered onto the dots,
+/// first `coarseIterations` on a grid whose cells are the dots (the same objective sampled at
+/// the dot pitch: stride^2 fewer cells and a stride times shorter blur), then `iterations` on
+/// the planning grid. The best iterate is
 /// kept, and if it is not below the ACES plan's own error the ACES plan is returned: never worse
 /// than ACES. Curved edges and arbitrary corners need no special treatment. Units: mm, mJ, mJ/mm^2.
 
@@ -28,7 +31,10 @@ struct InverseParameters {
     /// (readInverseKeys() defaults it to cure-at-contour).
     DfbtpParameters base;
     double dotPitch = 0.02;  ///< mm, rounded to a whole number of grid cells
-    int iterations = 40;     ///< projected-gradient iterations per layer
+    int iterations = 30;     ///< projected-gradient iterations per layer on the planning grid
+    /// Iterations first on the coarse grid whose cells are the dots (stride^2 fewer cells, so
+    /// each costs about 1/stride^3 of a fine one); 0 skips the coarse stage.
+    int coarseIterations = 40;
 };
 
 struct InverseLayerReport {

@@ -43,6 +43,8 @@ struct Job {
     kernel::KernelSpec kernel;
     std::string strategy;  ///< the planner's registered name
     std::unique_ptr<plan::Planner> planner;
+    /// The `plan` section as written, for the up-front estimate's planner terms (estimate.h).
+    nlohmann::json planSection = nlohmann::json::object();
     SimulationSpec simulation;
     /// `plan.order` (laser strategies): how each layer's parts are ordered in the trajectories
     plan::OrderMethod scanOrder = plan::OrderMethod::Auto;

@@ -21,7 +21,11 @@
 /// the cured wall of a layer is not vertical: at the top of the layer it lies where the surface
 /// exposure is Ec, at the bottom where it is Ec exp(lt/De3D) (less the print-through of the layers
 /// above). vpsim places the outermost line so that the wall position averaged over the layer's
-/// depth lies on the contour and reports the half peak-to-peak scallop of the wall.
+/// depth lies on the contour and reports the half peak-to-peak scallop of the wall. Alone
+/// (acesContourDistance) the rule assumes identical layers above; the planner "aces" designs the
+/// layers top down and uses the stack-aware rule (acesStackContourOffset), which counts what the
+/// real layers above send to this layer's wall (little above a taper, much under an overhang)
+/// and the wall's slope through the layer.
 /// Border scans: `borderCount` loops along the contour (the first at the edge offset, the next
 /// ones one hatch spacing further in each) so curved and slanted walls follow the contour; the
 /// hatch field fills what is inside the last loop. Small features (parts of the region that the
@@ -102,11 +106,42 @@ double acesEdgeDistance(double hatchRatio, double fraction);
 /// above (1 for none). Writes the half peak-to-peak wall excursion (units of W) to `scallop`.
 double acesContourDistance(double hatchRatio, double surfaceFraction, double depthRatio,
                            double printThrough, double* scallop = nullptr);
+/// A layer beside the planned one, as the stack-aware contour rule sees it.
+struct AcesNeighbour {
+    const geometry::PolygonSet* region = nullptr;
+    double distance = 0;    ///< |z| between the two layers' slicing planes (mm), > 0
+    double edgeOffset = 0;  ///< its design's edge offset (mm); used for the layers above only
+};
+
+/// What the stack-aware contour rule knows about the layers around the planned one (ACES plans
+/// top down, so the layers above are designed already).
+struct AcesStack {
+    std::vector<AcesNeighbour> above;    ///< layers above, nearest first, each already designed
+    std::optional<AcesNeighbour> below;  ///< the layer below (the wall's slope through the layer)
+};
+
+/// Stack-aware contour rule (AcesEdge::CureAtContour with the layers around known): the edge
+/// offset (mm) that puts the cured wall on the model's wall on average over the contour and the
+/// layer's depth. At sample points along the contour (outward normal n) the wall at depth d lies
+/// at the outward distance t where the own half-field profile plus what each layer above sends
+/// (its half-field profile at the point's signed distance from its contour and its edge offset,
+/// times exp(-dz/De3D)) reaches (Ec/Etar) exp(d/De3D); the model's wall at that depth moves
+/// linearly from the slicing plane toward the neighbours' contours (a taper), or stays put where
+/// a neighbour's contour is more than 1.75 layer spacings away (a step, not a slope). The offset
+/// is chosen in [0, 3 W] so that the mean of (t - model wall) is zero. Writes the half
+/// peak-to-peak excursion of the contour-mean wall over the depth (mm) to `scallop`.
+double acesStackContourOffset(const AcesParameters& parameters, const geometry::PolygonSet& region,
+                              double hatchRatio, double targetDose, const AcesStack& stack,
+                              double* scallop = nullptr);
+
 /// Direction (rad from +x, in [0, pi)) of the region's longest contour edge.
 double longestEdgeDirection(const geometry::PolygonSet& region);
 
+/// With `stack`, the cure-at-contour rule (without a border_offset) is the stack-aware one
+/// (acesStackContourOffset) and steadyPrintThrough is ignored.
 /// @throw InputError for non-positive parameters or an empty region
-AcesDesign designAces(const AcesParameters& parameters, const geometry::PolygonSet& region);
+AcesDesign designAces(const AcesParameters& parameters, const geometry::PolygonSet& region,
+                      const AcesStack* stack = nullptr);
 
 /// Parallel scan vectors at `spacing` along `direction`, clipped to the region (scan-line
 /// intersection with the contours, even-odd), alternating in direction line by line. With

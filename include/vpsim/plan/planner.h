@@ -7,6 +7,8 @@
 /// model or the optimisers live in later modules (optimise) and are registered the same way.
 
 #include <memory>
+#include <optional>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -40,6 +42,31 @@ struct PlannerInputs {
     const RunContext& context;
 };
 
+/// What a job's estimate (pipeline/estimate.h) knows before the kernel is computed or the part
+/// sliced: enough to size a plan and a planner's working set.
+struct PlanSizeInputs {
+    const geometry::Bounds& partBounds;  ///< mm
+    double partVolume;                   ///< mm^3
+    int layers;                          ///< layers the part is sliced into
+    const Machine& machine;
+    double beamRadius;              ///< mm, an upper guess of the fitted beam's We3D
+    double penetrationDepth;        ///< mm, the cure law's (0 when it has none)
+    const nlohmann::json& options;  ///< the job's plan section as written
+    double contourVertices;         ///< slice contour vertices of all layers
+};
+
+/// A planner's share of a job's estimate, bytes and seconds (order of magnitude).
+struct PlanSize {
+    double planBytes = 0;     ///< the ScanPlan it returns (vectors, points, masks)
+    double workingBytes = 0;  ///< what it holds while planning, on top of the plan
+    double jsonBytes = 0;     ///< plan.json's nlohmann::json tree while it is written
+    double fileBytes = 0;     ///< plan.json on disk
+    double maskPixels = 0;    ///< mask pixels of all layers (DLP), for the exporters' files
+    double elements = 0;      ///< vectors + points + moves, or mask pixels
+    double seconds = 0;
+    std::string detail;  ///< how the figures follow from the inputs, for the estimate's table
+};
+
 class Planner {
 public:
     virtual ~Planner() = default;
@@ -49,6 +76,14 @@ public:
     virtual ScanPlan plan(const PlannerInputs& inputs) = 0;
     /// Figures of the last plan() for report.json (e.g. ACES's target dose), an object.
     virtual nlohmann::json summary() const { return nlohmann::json::object(); }
+    /// The plan's size and the planner's working set, for the job's up-front estimate. The
+    /// default (nullopt) lets the pipeline use its term for the strategy
+    /// (src/pipeline/planner_estimates.cpp) or, for a strategy it does not know, a generic one
+    /// by process; a planner with a large working set overrides this in its own file.
+    virtual std::optional<PlanSize> estimateSize(const PlanSizeInputs& inputs) const {
+        (void)inputs;
+        return std::nullopt;
+    }
 };
 
 using PlannerRegistry = Registry<Planner>;

@@ -59,12 +59,16 @@ enum class Estimator {
     Analog,         ///< a photon is absorbed whole with probability mua/mut; point tallies
     Implicit,       ///< implicit capture + Russian roulette; collision tallies (MCML's)
     ImplicitTrack,  ///< implicit capture + roulette; track-length bins and depth tallies
-    Track,          ///< analog transport, track-length bins, point depth tallies (default)
-};  /// "analog", "implicit", "implicit-track" or "track-length". The totals (R, T, absorbed) are
-/// exact integer partitions for every estimator; the (r,z) bins of the track-length ones (and
+    Track,          ///< analog transport, track-length bins, point depth tallies
+    Collision,      ///< analog transport, collision-estimated bins, point depth tallies (default)
+};  /// "analog", "implicit", "implicit-track", "track-length" or "collision". The totals (R, T,
+/// absorbed) are exact integer partitions for every estimator; the (r,z) bins of the track-length
+/// and collision ones (and
 /// McResult::absorbedWithin of implicit-track) are track-length estimates, which match the
 /// totals only within statistics.
 const char* estimatorName(Estimator e);
+/// Every estimator's name, for command-line choices.
+std::vector<std::string> estimatorNames();
 /// Parses estimatorName's spellings. @throw InputError naming `key` for anything else.
 Estimator parseEstimator(const std::string& text, const std::string& key = "estimator");
 
@@ -91,7 +95,7 @@ struct McSetup {
     CylindricalGrid bins;
     CartesianGrid grid;
     std::vector<double> depths;  ///< up to 4 depths (mm) for McResult::absorbedWithin
-    Estimator estimator = Estimator::Track;
+    Estimator estimator = Estimator::Collision;
     /// Implicit capture: photons below this fraction of the launched weight play roulette
     /// (survive 1 in 10 with 10x the weight). In (0, 0.1].
     double rouletteThreshold = DEFAULT_ROULETTE_THRESHOLD;

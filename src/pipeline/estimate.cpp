@@ -1,0 +1,293 @@
+#include "vpsim/pipeline/estimate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <thread>
+
+#include "vpsim/core/error.h"
+#include "vpsim/core/text.h"
+#include "vpsim/geometry/level_set.h"
+#include "vpsim/geometry/slicer.h"
+#include "vpsim/pipeline/stages.h"
+
+// Where each term comes from (bytes; keep in step with the code, tests/pipeline/test_estimate.cpp
+// compares the peak with a measured one):
+//  part mesh         geometry::Mesh: 24 B per vertex (dvec3) + 12 B per triangle, alive to the end.
+//  layer stack       geometry::sliceMesh: one contour vertex per triangle crossing a layer's
+//                    plane, dvec2 (16 B) in the PolygonSet plus Clipper's int64 copy and the
+//                    linked segments while slicing (x3), plus the slicer's 4 B buckets.
+//  plan              the planner's term (planner_estimates.cpp); saveScanPlan builds the whole
+//                    nlohmann::json tree before dumping it: the planner's jsonBytes (a json
+//                    array per vector and move, 16 B per mask pixel), for the plan stage.
+//  exposure engine   ExposureEngine: deposit, blur pass, running sum, slice (SurfaceGrid floats)
+//                    and ExposureModel::forward's deposit: 5 x 4 B per cell. Tabulated engine:
+//                    4 B per cell per slice in flight ((layers in flight) x slices + 1) + stencils.
+//  dose volume       exposure::DoseVolume: an 8-slice float block buffer (32 B per cell) and the
+//                    OpenVDB FloatGrid: 4 B per active voxel in 8^3 leaves (+64 B masks, origin
+//                    and internal nodes: 4.5 B per voxel). Active = above 2% of Ec: the part
+//                    grown by the beam's reach and a leaf, at most the whole grid.
+//  slice consumers   validate::SliceValidator: a raster, three per-column arrays and the reference
+//                    raster of each slice (8 B per cell) and its over-cure runs (4 B per cell);
+//                    report::SectionRecorder: x-z section (5 B per column and slice) and x-y map.
+//  cured mesh        DoseVolume::isosurface (OpenVDB volumeToMesh): one quad per surface voxel
+//                    face; the cured surface is rougher and larger than the part's (the default
+//                    job: 2.8e5 triangles for 1e5 faces of the part's area), so 2 x area /
+//                    (pitch x min(pitch, dz)) quads. Our Mesh keeps 24 B per vertex and 2 x 12 B
+//                    per quad; volumeToMesh's points, quads and edge/sign masks ~100 B per quad
+//                    while it runs.
+//  level set         validateStage: geometry::LevelSet::estimateBytes at max(voxel, 20 um).
+//  runtime           TBB worker stacks, OpenVDB's registries and library pages first touched.
+namespace vpsim::pipeline {
+namespace {
+
+constexpr double MIB = 1024.0 * 1024.0;
+constexpr double RUNTIME_BYTES = 48 * MIB;
+constexpr double VDB_BYTES_PER_VOXEL = 4.5;
+constexpr double VDB_LEAF = 8;  ///< voxels per leaf edge
+
+std::string fmt(double value, int digits = 3) {
+    return formatNumber(value, digits);
+}
+
+/// The sizes every term follows from.
+struct Sizes {
+    geometry::Bounds bounds;
+    double volume = 0, area = 0;
+    int layers = 0;
+    double contourVertices = 0;
+    double beamRadius = 0;  ///< upper guess of the fitted We3D (mm)
+    double nx = 0, ny = 0, cells = 0, slices = 0, voxels = 0, voxelHeight = 0;
+    double activeVoxels = 0, surfaceVoxels = 0;
+};
+
+/// The exposure grid as stages.cpp's exposureGrid() will make it. The Monte Carlo kernel's
+/// fitted radius is not known yet: scattering widens the beam, so the guess is 1.5 x w0.
+void gridSizes(const Job& job, Sizes& s) {
+    const bool mc = job.machine.process == plan::Process::Laser &&
+                    job.kernel.source == kernel::KernelSource::MonteCarlo;
+    s.beamRadius = job.machine.process == plan::Process::Laser &&
+                           job.kernel.source == kernel::KernelSource::Given
+                       ? job.kernel.given.radius
+                       : job.machine.beamRadius * (mc ? 1.5 : 1.0);
+    const SimulationSpec& sim = job.simulation;
+    const double margin =
+        sim.margin >= 0 ? sim.margin : 3.0 * std::max(s.beamRadius, job.machine.beamRadius);
+    const glm::dvec3 size = s.bounds.size();
+    s.nx = std::ceil((size.x + 2 * margin) / sim.voxel);
+    s.ny = std::ceil((size.y + 2 * margin) / sim.voxel);
+    s.cells = s.nx * s.ny;
+    s.slices = double(s.layers) * sim.slicesPerLayer;
+    s.voxels = s.cells * s.slices;
+    s.voxelHeight = job.machine.layerThickness / sim.slicesPerLayer;
+    // Stored: the part grown by the exposure's reach (1.5 W in x-y, where the Gaussian tail
+    // falls under 2% of Ec; print-through a few attenuation lengths down) plus a leaf of
+    // partial leaves on each side of the surface.
+    const double depth = job.cure->hasPenetrationDepth() ? job.cure->penetrationDepth() : 0.0;
+    const double reach =
+        std::max(1.5 * s.beamRadius, 4.0 * depth) + VDB_LEAF * std::max(sim.voxel, s.voxelHeight);
+    const double grown = s.volume + s.area * reach;
+    s.activeVoxels = std::min(s.voxels, grown / (sim.voxel * sim.voxel * s.voxelHeight));
+    s.surfaceVoxels = 2.0 * s.area / (sim.voxel * std::min(sim.voxel, s.voxelHeight));
+}
+
+Sizes sizesOf(const Job& job, const geometry::Mesh& part) {
+    Sizes s;
+    s.bounds = part.bounds();
+    s.volume = std::abs(part.volume());
+    s.area = part.area();
+    geometry::SliceOptions slicing;
+    slicing.layerThickness = job.machine.layerThickness;
+    slicing.zStart = 0.0;
+    s.layers = geometry::layerCount(part, slicing);
+    s.contourVertices = contourVertexCount(part, s.layers, job.machine.layerThickness, 0.0, 0.5);
+    gridSizes(job, s);
+    return s;
+}
+
+void add(JobEstimate& e, std::string name, double bytes, Stage first, Stage last,
+         std::string detail, std::string hint = "") {
+    e.items.push_back({std::move(name), bytes, first, last, std::move(detail), std::move(hint)});
+}
+
+void frontTerms(const Job& job, const geometry::Mesh& part, const Sizes& s, JobEstimate& e) {
+    add(e, "runtime (threads, libraries)", RUNTIME_BYTES, Stage::Part, Stage::Validate,
+        "TBB worker stacks, OpenVDB registries, library pages");
+    add(e, "part mesh", 24.0 * part.vertices.size() + 12.0 * part.triangles.size(), Stage::Part,
+        Stage::Validate,
+        std::to_string(part.triangles.size()) + " triangles, " +
+            std::to_string(part.vertices.size()) + " vertices",
+        "a mesh with fewer triangles");
+    const bool mc = job.machine.process == plan::Process::Laser &&
+                    job.kernel.source == kernel::KernelSource::MonteCarlo;
+    if (mc) {
+        // 80 x 80 (r, z) bins (kernel::kernelSetup), int64, per thread and per batch.
+        const double threads = std::max(1u, std::thread::hardware_concurrency());
+        add(e, "photon Monte Carlo tallies", 80.0 * 80.0 * 8.0 * (threads + 66.0), Stage::Kernel,
+            Stage::Kernel, "80 x 80 (r, z) bins of int64 per thread and per batch");
+        e.stageSeconds.emplace_back("kernel", double(job.kernel.photons) * 3e-6);
+    }
+    add(e, "layer stack (contours)", s.contourVertices * 16.0 * 3.0 + s.layers * 256.0,
+        Stage::Slice, Stage::Validate,
+        fmt(s.contourVertices) + " contour vertices in " + std::to_string(s.layers) + " layers",
+        "thicker layers (machine.layer_thickness) or a mesh with fewer triangles");
+    e.stageSeconds.emplace_back("part", 1e-6 * part.triangles.size());
+    e.stageSeconds.emplace_back("slice", 2e-6 * s.contourVertices + 1e-5 * s.layers);
+}
+
+void planTerms(const Job& job, const Sizes& s, bool savedPlan, JobEstimate& e,
+               plan::PlanSize& size) {
+    const plan::PlanSizeInputs inputs{
+        s.bounds,        s.volume,
+        s.layers,        job.machine,
+        s.beamRadius,    job.cure->hasPenetrationDepth() ? job.cure->penetrationDepth() : 0.0,
+        job.planSection, s.contourVertices};
+    size = estimatePlan(job, inputs);
+    add(e, "scan plan", size.planBytes, Stage::Plan, Stage::Validate, size.detail,
+        "thicker layers or a smaller part");
+    if (!savedPlan && size.workingBytes > 0)
+        add(e, "planner working set (" + job.strategy + ")", size.workingBytes, Stage::Plan,
+            Stage::Plan, size.detail, "a coarser planning grid or a smaller part");
+    add(e, "plan.json being written (JSON tree)", size.jsonBytes, Stage::Plan, Stage::Plan,
+        "nlohmann::json nodes of every number before the file is dumped");
+    if (!savedPlan) e.stageSeconds.emplace_back("plan", size.seconds);
+}
+
+std::string gridText(const Job& job, const Sizes& s) {
+    return fmt(s.nx) + " x " + fmt(s.ny) + " cells x " + fmt(s.slices) + " slices at " +
+           fmt(job.simulation.voxel * 1e3) + " um x " + fmt(s.voxelHeight * 1e3) + " um";
+}
+
+const char* COARSER =
+    "a coarser simulation.voxel, fewer simulation.slices_per_layer, thicker layers or a "
+    "smaller part";
+
+void exposureTerms(const Job& job, const Sizes& s, JobEstimate& e) {
+    const int n = job.simulation.slicesPerLayer;
+    if (job.kernel.tabulated && job.machine.process == plan::Process::Laser) {
+        // The kernel's depth (3/mua) is not known before the Monte Carlo run: at most every layer.
+        const double inFlight = double(s.layers) * n + 1;
+        add(e, "tabulated exposure engine", s.cells * 4.0 * inFlight, Stage::Expose, Stage::Expose,
+            fmt(s.cells) + " cells x " + fmt(inFlight) + " slices in flight",
+            "a coarser simulation.voxel or kernel.use = fitted");
+    } else {
+        add(e, "exposure engine (2D grids)", s.cells * 4.0 * 5.0, Stage::Expose, Stage::Expose,
+            fmt(s.nx) + " x " + fmt(s.ny) + " cells, 5 float grids", COARSER);
+    }
+    add(e, "exposure dose volume (OpenVDB)", s.activeVoxels * VDB_BYTES_PER_VOXEL + s.cells * 32.0,
+        Stage::Expose, Stage::Validate,
+        fmt(s.activeVoxels) + " stored voxels of " + fmt(s.voxels) + " (" + gridText(job, s) +
+            "), 4.5 B each, and an 8-slice buffer",
+        COARSER);
+    add(e, "slice validation and sections", s.cells * 17.0 + s.nx * s.slices * 5.0, Stage::Expose,
+        Stage::Validate,
+        "rasters and per-column arrays of " + fmt(s.cells) + " cells, an x-z section of " +
+            fmt(s.slices) + " slices",
+        COARSER);
+    add(e, "cured mesh", s.surfaceVoxels * 48.0, Stage::Cure, Stage::Validate,
+        fmt(s.surfaceVoxels) + " surface quads", COARSER);
+    add(e, "isosurface extraction (volumeToMesh)", s.surfaceVoxels * 100.0, Stage::Cure,
+        Stage::Cure, "points, quads and edge masks of " + fmt(s.surfaceVoxels) + " voxels",
+        COARSER);
+    e.stageSeconds.emplace_back("expose", 15e-9 * s.voxels);
+    e.stageSeconds.emplace_back("cure", 5e-9 * s.voxels + 1e-6 * s.surfaceVoxels);
+}
+
+void validateTerms(const Job& job, const geometry::Mesh& part, const Sizes& s, JobEstimate& e,
+                   double& referenceVoxels) {
+    geometry::LevelSetOptions options;  // as validateStage() builds the reference
+    options.voxelSize = std::max(job.simulation.voxel, 0.02);
+    options.halfWidthVoxels =
+        std::ceil(std::max(0.25, 4.0 * job.machine.beamRadius) / options.voxelSize);
+    const double bytes = geometry::LevelSet::estimateBytes(part, options);
+    referenceVoxels = bytes / 32.0;
+    add(e, "reference level set", bytes, Stage::Validate, Stage::Validate,
+        "narrow band of " + fmt(referenceVoxels) + " voxels at " + fmt(options.voxelSize * 1e3) +
+            " um",
+        "a smaller part (the reference level set uses max(simulation.voxel, 20 um))");
+    add(e, "surface deviations", s.surfaceVoxels * 8.0, Stage::Validate, Stage::Validate,
+        "one per cured vertex");
+    e.stageSeconds.emplace_back("validate", 5e-9 * s.voxels + 1e-7 * referenceVoxels);
+}
+
+void outputTerms(const Job& job, const geometry::Mesh& part, const Sizes& s,
+                 const plan::PlanSize& plan, double referenceVoxels, JobEstimate& e) {
+    auto out = [&e](std::string file, double bytes) { e.outputs.push_back({file, bytes}); };
+    out("part.stl", 84.0 + 50.0 * part.triangles.size());
+    if (job.machine.process == plan::Process::Laser &&
+        job.kernel.source == kernel::KernelSource::MonteCarlo)
+        out("kernel/ (kernel.json, figures)", 0.5 * MIB);
+    out("plan.json", plan.fileBytes);
+    const bool laser = job.machine.process == plan::Process::Laser;
+    for (const auto& [name, exporter] : job.exporters) {
+        const std::string file = exporter->defaultFileName();
+        const bool cli = file.size() > 4 && file.compare(file.size() - 4, 4, ".cli") == 0;
+        if (cli != laser) continue;  // it cannot express this process's plan
+        out(file, cli ? plan.planBytes * 0.2 : plan.maskPixels + 4096.0 * s.layers);
+    }
+    if (e.planOnly) return;
+    if (job.simulation.writeVdb) {
+        out("exposure.vdb", s.activeVoxels * 4.2 + 4096.0);
+        out("reference.vdb", referenceVoxels * 4.2 + 4096.0);
+    }
+    out("cured.stl", 84.0 + 50.0 * 2.0 * s.surfaceVoxels);
+    out("pictures (*.png, *.svg)", s.nx * s.slices * 4.0 + s.cells * 4.0 + MIB);
+    out("report.json, index.html", 0.2 * MIB);
+}
+
+}  // namespace
+
+double contourVertexCount(const geometry::Mesh& part, int layers, double thickness, double zStart,
+                          double planePosition) {
+    std::vector<double> lo, hi;
+    lo.reserve(part.triangles.size());
+    hi.reserve(part.triangles.size());
+    for (const auto& t : part.triangles) {
+        const double a = part.vertices[t[0]].z, b = part.vertices[t[1]].z,
+                     c = part.vertices[t[2]].z;
+        lo.push_back(std::min({a, b, c}));
+        hi.push_back(std::max({a, b, c}));
+    }
+    std::sort(lo.begin(), lo.end());
+    std::sort(hi.begin(), hi.end());
+    double total = 0;
+    for (int k = 0; k < layers; ++k) {  // triangles with lo <= z minus those with hi < z
+        const double z = zStart + (k + planePosition) * thickness;
+        total += double(std::upper_bound(lo.begin(), lo.end(), z) - lo.begin()) -
+                 double(std::lower_bound(hi.begin(), hi.end(), z) - hi.begin());
+    }
+    return std::max(total, 0.0);
+}
+
+JobEstimate estimateJob(const Job& job, const geometry::Mesh& part, bool planOnly, bool savedPlan,
+                        bool gpuDriver) {
+    JobEstimate e;
+    e.job = job.name;
+    e.planOnly = planOnly;
+    const Sizes s = sizesOf(job, part);
+    e.figures = {{"layers", s.layers},
+                 {"contour_vertices", s.contourVertices},
+                 {"grid_cells", {s.nx, s.ny}},
+                 {"slices", s.slices},
+                 {"voxels", s.voxels},
+                 {"stored_voxels", s.activeVoxels},
+                 {"surface_voxels", s.surfaceVoxels}};
+    frontTerms(job, part, s, e);
+    if (gpuDriver)  // measured: lavapipe's LLVM and the loader, from the first Vulkan call
+        add(e, "Vulkan driver", 64 * MIB, Stage::Part, Stage::Validate, "loader and driver");
+    plan::PlanSize plan;
+    planTerms(job, s, savedPlan, e, plan);
+    e.figures["plan_elements"] = plan.elements;
+    double referenceVoxels = 0;
+    if (!planOnly) {
+        exposureTerms(job, s, e);
+        validateTerms(job, part, s, e, referenceVoxels);
+    }
+    outputTerms(job, part, s, plan, referenceVoxels, e);
+    return e;
+}
+
+JobEstimate estimateJob(const Job& job, bool planOnly, bool savedPlan, bool gpuDriver) {
+    return estimateJob(job, partStage(job), planOnly, savedPlan, gpuDriver);
+}
+
+}  // namespace vpsim::pipeline
