@@ -53,7 +53,7 @@ void createExporters(const ConfigNode& root, const Builtins& builtins, Job& job)
                 job.exporters.emplace_back(name, entry.factory(ConfigNode(options, root.file())));
             } catch (const InputError& e) {
                 logDebug("exporter " + name + " not run: " + std::string(e.what()) +
-                        " (give its options in the job's export section)");
+                         " (give its options in the job's export section)");
             }
         }
         return;
