@@ -96,6 +96,12 @@ nlohmann::json measure(const nlohmann::json& job) {
 }
 
 void checkJob(const nlohmann::json& job) {
+#ifdef __SANITIZE_ADDRESS__
+    // ASan's shadow memory, redzones and quarantine roughly triple the resident set: the memory
+    // model is of the real build, so this comparison runs only there.
+    WARN("estimate vs measured memory skipped under AddressSanitizer");
+    return;
+#endif
     const nlohmann::json r = measure(job);
     const double estimate = r["estimate"], measured = r["measured"];
     INFO(job["name"].get<std::string>()
