@@ -189,6 +189,25 @@ nlohmann::json overhang() {
             {"plan_seconds", {{"dfbtp", dfbtpSeconds}, {"inverse", inverseSeconds}}}};
 }
 
+/// Issue 11's checks, each with the figures it compares (wall seconds on this machine's 2 cores).
+nlohmann::json targets(const nlohmann::json& r) {
+    const auto& l = r["l_part_2mm"];
+    const auto& sq = r["square_10mm"]["plan_seconds"];
+    const auto& o = r["overhang_3d"];
+    const auto& lsse = l["sse_mJ2_per_mm4"];
+    return {
+        {"dfbtp_over_aces_5_percent_at_most_0.65", l["dfbtp_over_aces_5_percent"] <= 0.65},
+        {"inverse_below_dfbtp_and_aces_cure_at_contour",
+         lsse["inverse"] < lsse["dfbtp"] && lsse["inverse"] < lsse["aces_cure_at_contour"]},
+        {"dfbtp_10mm_layer_under_1_s", sq["dfbtp"] < 1.0},
+        {"inverse_10mm_layer_under_5_s", sq["inverse"] < 5.0},
+        {"overhang_overcure_halved_iou_no_worse",
+         o["dfbtp"]["overcure_below_downfacing_mean_um"].get<double>() <=
+                 0.5 * o["aces_cure_at_contour"]["overcure_below_downfacing_mean_um"].get<double>() &&
+             o["dfbtp"]["iou"] >= o["aces_cure_at_contour"]["iou"] &&
+             o["inverse"]["iou"] >= o["aces_cure_at_contour"]["iou"]}};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -206,5 +225,6 @@ int main(int argc, char** argv) {
                        {"overhang_3d", overhang()},
                        {"load_average_1min", load[0]},
                        {"cores", 2}};
+    out["targets"] = targets(out);
     std::cout << out.dump(2) << std::endl;
 }
