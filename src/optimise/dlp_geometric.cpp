@@ -186,6 +186,7 @@ public:
         glp_smcp sm;
         glp_init_smcp(&sm);
         sm.msg_lev = GLP_MSG_OFF;
+        sm.meth = GLP_DUALP;  // only bounds change between patterns: the basis stays dual feasible
         if (glp_simplex(mLp.get(), &sm) != 0 || glp_get_status(mLp.get()) != GLP_OPT)
             return std::numeric_limits<double>::infinity();
         doses.assign(mSolid.size(), 0.0);
