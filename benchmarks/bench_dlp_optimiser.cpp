@@ -167,12 +167,22 @@ int main(int argc, char** argv) {
     const std::vector<std::vector<uint8_t>> profiles = distinctProfiles(holes);
     std::vector<size_t> sample;
     for (size_t i = 0; run('g') && i < profiles.size(); i += size_t(stride)) sample.push_back(i);
+    if (argc > 9) g.geometric.searchDepth = std::atoi(argv[9]);
+    if (argc > 10) g.geometric.maxPasses = std::atoi(argv[10]);
+    if (argc > 11) g.geometric.relaxationBound = std::atoi(argv[11]) != 0;
+    if (argc > 12) g.geometric.startGaps = std::atoi(argv[12]);
+    if (argc > 13) g.geometric.periodicStarts = std::atoi(argv[13]) != 0;
     std::vector<double> sampleGaps(sample.size()), sampleSolid(sample.size());
+    std::vector<double> sampleObjective(sample.size()), samplePatterns(sample.size()),
+        sampleLps(sample.size());
     c0 = cpu();
     start = std::chrono::steady_clock::now();
     tbb::parallel_for(size_t(0), sample.size(), [&](size_t i) {
         DlpGeometricResult r = optimiseColumnGeometric(profiles[sample[i]], o.problem, g.geometric);
         sampleGaps[i] = r.gap;
+        sampleObjective[i] = r.objective;
+        samplePatterns[i] = double(r.patterns);
+        sampleLps[i] = double(r.patternLps);
         sampleSolid[i] =
             double(std::count(profiles[sample[i]].begin(), profiles[sample[i]].end(), 1));
     });
@@ -185,6 +195,34 @@ int main(int argc, char** argv) {
         sampleMaxGap = std::max(sampleMaxGap, gap);
         sampleMeanGap += gap / double(std::max<size_t>(sampleGaps.size(), 1));
         sampleCertified += gap <= 1e-9;
+    }
+    // The earlier search (conversion-l2 start pattern, 24 layers deep, 3 passes) on the same
+    // sample: the reference the objective reached is compared with.
+    std::vector<double> legacyObjective(sample.size());
+    DlpGeometricOptions legacy;
+    legacy.start = DlpGeometricStart::ConversionL2;
+    legacy.searchDepth = 24, legacy.maxPasses = 3;
+    c0 = cpu();
+    start = std::chrono::steady_clock::now();
+    if (run('c'))
+        tbb::parallel_for(size_t(0), sample.size(), [&](size_t i) {
+            legacyObjective[i] =
+                optimiseColumnGeometric(profiles[sample[i]], o.problem, legacy).objective;
+        });
+    const double legacySeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double legacyCpu = cpu() - c0;
+    double ratioMean = 0.0, ratioWorst = 0.0, ratioBest = INFINITY, patternsMean = 0.0,
+           lpsMean = 0.0;
+    size_t better = 0, worse = 0;
+    for (size_t i = 0; i < sample.size(); ++i) {
+        patternsMean += samplePatterns[i] / double(sample.size());
+        lpsMean += sampleLps[i] / double(sample.size());
+        if (!run('c')) continue;
+        const double ratio = sampleObjective[i] / std::max(legacyObjective[i], 1e-12);
+        ratioMean += ratio / double(sample.size());
+        ratioWorst = std::max(ratioWorst, ratio), ratioBest = std::min(ratioBest, ratio);
+        better += ratio<1 - 1e-9, worse += ratio> 1 + 1e-9;
     }
     const double scale = double(profiles.size()) / double(std::max<size_t>(sample.size(), 1));
 
@@ -253,7 +291,20 @@ int main(int argc, char** argv) {
             {"extrapolated_cpu_seconds_all_distinct", sampleCpu * scale},
             {"max_gap", sampleMaxGap},
             {"mean_gap", sampleMeanGap},
-            {"certified_columns", sampleCertified}}}}},
+            {"certified_columns", sampleCertified},
+            {"mean_patterns", patternsMean},
+            {"mean_pattern_lps", lpsMean},
+            {"search_depth", g.geometric.searchDepth},
+            {"passes", g.geometric.maxPasses}}},
+          {"geometric_sample_vs_earlier_search",
+           run('c') ? nlohmann::json{{"seconds", legacySeconds},
+                                     {"cpu_seconds", legacyCpu},
+                                     {"objective_ratio_mean", ratioMean},
+                                     {"objective_ratio_worst", ratioWorst},
+                                     {"objective_ratio_best", ratioBest},
+                                     {"columns_better", better},
+                                     {"columns_worse", worse}}
+                    : nlohmann::json(nullptr)}}},
         {"targets_s", {{"column_optimisers", 30}, {"xy_coupling", 300}}},
         {"threads", std::thread::hardware_concurrency()},
         {"load_average_before", loadBefore},

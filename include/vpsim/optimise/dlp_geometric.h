@@ -28,14 +28,25 @@
 
 namespace vpsim::optimise {
 
+/// Where the pattern search starts: periodic exposures (dlp_geometric_lp.h), or the
+/// conversion-l2 optimum's pattern (the earlier default, kept as the reference it is compared
+/// with; it costs a branch and bound per column and leaves long runs' interiors fully exposed).
+enum class DlpGeometricStart { Periodic, ConversionL2 };
+
 /// Controls of the geometric column programme.
 struct DlpGeometricOptions {
     double margin = 0.05;            ///< outside nodes stay below (1 - margin) Ec, in [0, 1)
     double violationWeight = 100.0;  ///< weight of gel-condition violations (per Ec) vs spread
     double spreadWeight = 1.0;       ///< weight of the spread max - min of D inside (per Ec)
-    int maxPasses = 3;               ///< local-search passes over the exposure pattern
-    int moves = 1;                   ///< 1: switch a layer on/off; 3: also move an exposure +-1
-    int searchDepth = 24;            ///< layers above each run's bottom the local search moves
+    DlpGeometricStart start = DlpGeometricStart::Periodic;  ///< the search's start pattern
+    int maxPasses = 2;    ///< local-search passes over the exposure pattern
+    int moves = 1;        ///< 1: switch a layer on/off; 3: also move an exposure +-1
+    int searchDepth = 4;  ///< layers above each run's bottom the local search moves
+    /// Also compute the MILP's LP relaxation as a lower bound (weak: near 0, and one large LP
+    /// per column); the structural bound (dlp_geometric_lp.h) is always computed.
+    bool relaxationBound = false;
+    int startGaps = 2;            ///< start patterns for gaps window, window - 1, ... (this many)
+    bool periodicStarts = false;  ///< also the periodic start patterns (3 per gap)
     /// Columns with at most this many solid layers are solved by enumerating every pattern
     /// (exact, gap 0); 2^limit LPs.
     size_t enumerationLimit = 10;
@@ -51,6 +62,8 @@ struct DlpGeometricResult {
     double lowerBound = 0.0;          ///< the MILP's LP relaxation: no pattern does better
     double gap = 0.0;                 ///< (objective - lowerBound) / |objective|
     bool optimal = false;             ///< gap closed (the bound is attained)
+    size_t patterns = 0;              ///< exposure patterns solved
+    size_t patternLps = 0;            ///< of which by an LP (the others by the band trajectory)
 };
 
 /// The programme's objective for doses `dose` (mJ/mm^2 per layer), computed directly from the
