@@ -190,7 +190,7 @@ DlpGeometricResult optimiseColumnGeometric(const std::vector<uint8_t>& solid,
             if (value < best) best = value, pattern = trial, bestDose = doses;
         };
         for (int gap = window; gap > std::max(0, window - o.startGaps); --gap) {
-            consider(greedyPattern(solid, p, gap));
+            consider(greedyPattern(solid, p, gap, o));
             for (int skip = bottomSkip(p, gap) - 1;
                  o.periodicStarts && skip <= bottomSkip(p, gap) + 1; ++skip)
                 consider(periodicPattern(solid, gap, skip));

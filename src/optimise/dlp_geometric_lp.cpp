@@ -100,12 +100,13 @@ std::vector<uint8_t> periodicPattern(const std::vector<uint8_t>& solid, int gap,
 }
 
 std::vector<uint8_t> greedyPattern(const std::vector<uint8_t>& solid, const DlpColumnProblem& p,
-                                   int gap) {
+                                   int gap, const DlpGeometricOptions& o) {
     if (gap < 1) throw InputError("DLP geometric: the greedy pattern's gap must be >= 1");
     const double r = std::exp(-p.attenuation * p.layerThickness);
     const double cap = p.maxDose / cure::fppGelDose(p.rateConstant, p.gelPoint);
     const long window = longestGap(p);
     const bool runBottom = p.bonding == Bonding::RunBottom;
+    const double c = 1.0 - o.margin;
     std::vector<uint8_t> pattern(solid.size(), 0);
     const auto runs = solidRuns(solid);
     double above = 0.0;  // D per Ec at the layer above the current exposure candidate
@@ -126,14 +127,19 @@ std::vector<uint8_t> greedyPattern(const std::vector<uint8_t>& solid, const DlpC
         double dq = lowest(t, above);
         pattern[size_t(t)] = 1;
         while (dq < 0.0) {
-            // The highest layer within the gap below q that can be the lowest, else the gap.
+            // The layer within the gap below q that, as the lowest exposure, gives the smallest
+            // peak dose plus void overshoot below the run; else the gap's end, exposed.
             const long end = std::max(b, q - gap);
-            long e = q - 1;
-            double de = -1.0;
-            for (; e >= end; --e) {
-                const double over = std::pow(r, double(q - e - 1)) *
-                                    (std::pow(r, -double(q - e)) + r * above);  // D_{e+1}
-                if ((de = lowest(e, over)) >= 0.0) break;
+            long e = end;
+            double de = -1.0, score = INFINITY;
+            for (long k = q - 1; k >= end; --k) {
+                const double dTop = std::pow(r, -double(q - k)) + r * above;  // q's least D
+                const double dk = lowest(k, std::pow(r, double(q - k - 1)) * dTop);
+                if (dk < 0.0) continue;
+                const double over = b > 0 ? std::pow(r, double(k - b + 1)) * dk - c : 0.0;
+                const double value =
+                    o.spreadWeight * std::max(dTop, dk) + o.violationWeight * std::max(0.0, over);
+                if (value < score) score = value, e = k, de = dk;
             }
             e = std::max(e, end);
             above = std::pow(r, double(q - e - 1)) * (std::pow(r, -double(q - e)) + r * above);

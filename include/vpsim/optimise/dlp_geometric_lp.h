@@ -53,12 +53,14 @@ std::vector<std::pair<size_t, size_t>> solidRuns(const std::vector<uint8_t>& sol
 std::vector<uint8_t> periodicPattern(const std::vector<uint8_t>& solid, int gap, int skip);
 
 /// Start pattern built from the top of the column down with minimal doses: each run's top is
-/// exposed, then every `gap`-th layer, until the print-through of an exposure (at the highest
-/// layer that does) cures the run down to its bottom; light from the runs above counts. Under
-/// run-bottom bonding the lowest exposure stays within the longest gap of the bottom.
+/// exposed, then every `gap`-th layer, until the print-through of an exposure within the next
+/// gap can cure the run down to its bottom (light from the runs above counts); of those layers
+/// the one with the smallest weighted peak dose plus void overshoot below the run becomes the
+/// lowest exposure. Under run-bottom bonding it stays within the longest gap of the bottom.
 /// @throw InputError when gap < 1 or d_max is below the bonding dose
 std::vector<uint8_t> greedyPattern(const std::vector<uint8_t>& solid,
-                                   const DlpColumnProblem& problem, int gap);
+                                   const DlpColumnProblem& problem, int gap,
+                                   const DlpGeometricOptions& options = {});
 
 /// A lower bound on the geometric objective of every pattern, from the column's structure
 /// (the MILP's LP relaxation is near 0: fractional on/off variables let tiny doses keep D at Ec
