@@ -5,6 +5,8 @@
 #include <limits>
 #include <memory>
 #include <sstream>
+#include <string>
+#include <unordered_set>
 
 #include "dlp_glpk_programme.h"
 #include "vpsim/core/error.h"
@@ -171,6 +173,13 @@ DlpGeometricResult optimiseColumnGeometric(const std::vector<uint8_t>& solid,
         return enumerateColumnGeometric(solid, p, o);
     const size_t n = solid.size();
     GeometricChainLp patterns(solid, p, o);
+    // Patterns already solved are skipped (+inf): the search only takes strict improvements, and
+    // start patterns often coincide, switches often undo an earlier one.
+    std::unordered_set<std::string> seen;
+    auto solveNew = [&](const std::vector<uint8_t>& trial, std::vector<double>& doses) {
+        if (!seen.emplace(trial.begin(), trial.end()).second) return double(INFINITY);
+        return patterns.solve(trial, doses);
+    };
     double bound = structuralBound(solid, p, o);
     if (o.relaxationBound) bound = std::max(bound, relaxationBound(solid, p, o));
     std::vector<uint8_t> pattern;
@@ -186,7 +195,7 @@ DlpGeometricResult optimiseColumnGeometric(const std::vector<uint8_t>& solid,
         const int window = longestGap(p);
         auto consider = [&](const std::vector<uint8_t>& trial) {
             std::vector<double> doses;
-            const double value = patterns.solve(trial, doses);
+            const double value = solveNew(trial, doses);
             if (value < best) best = value, pattern = trial, bestDose = doses;
         };
         for (int gap = window; gap > std::max(0, window - o.startGaps); --gap) {
@@ -219,7 +228,7 @@ DlpGeometricResult optimiseColumnGeometric(const std::vector<uint8_t>& solid,
                     trial[k] = 0, trial[j] = 1;
                 }
                 std::vector<double> doses;
-                double value = patterns.solve(trial, doses);
+                double value = solveNew(trial, doses);
                 if (value < best - 1e-9 * std::max(1.0, std::abs(best)))
                     best = value, pattern = trial, bestDose = doses, improved = true;
             }
