@@ -23,8 +23,9 @@
 //                            [search_depth] [passes] [relaxation_bound 0|1] [start_gaps]
 //                            [periodic_starts 0|1]
 // sections: letters s (solid sphere: L2, every column, geometric), p (porous sphere L2),
-// g (porous geometric sample), c (the earlier geometric search on that sample), x (xy
-// coupling); default "spgx". Later arguments default to DlpGeometricOptions'.
+// g (porous geometric sample), c (the earlier geometric search on that sample), G (porous
+// geometric through the part driver, optimiseDlpPart, every column), x (xy coupling); default
+// "spgx". Later arguments default to DlpGeometricOptions'.
 
 #include <sys/resource.h>
 
@@ -232,6 +233,11 @@ int main(int argc, char** argv) {
     }
     const double scale = double(profiles.size()) / double(std::max<size_t>(sample.size(), 1));
 
+    // The part driver on the porous sphere (dedup of profiles + every distinct column).
+    c0 = cpu();
+    DlpPartResult porousGeometric = run('G') ? optimiseDlpPart(holes, g) : DlpPartResult{};
+    const double porousGeometricCpu = cpu() - c0;
+
     DlpXyOptions xy;
     xy.pixelPitch = pixel;
     c0 = cpu();
@@ -288,6 +294,13 @@ int main(int argc, char** argv) {
             {"max_gap", porousL2.maxGap},
             {"mean_gap", porousL2.meanGap},
             {"columns_with_gap", porousL2.openColumns}}},
+          {"geometric",
+           {{"seconds", porousGeometric.seconds},
+            {"cpu_seconds", porousGeometricCpu},
+            {"distinct_columns", porousGeometric.distinctColumns},
+            {"max_gap", porousGeometric.maxGap},
+            {"mean_gap", porousGeometric.meanGap},
+            {"columns_with_gap", porousGeometric.openColumns}}},
           {"geometric_sample",
            {{"columns", sample.size()},
             {"every", stride},
