@@ -9,6 +9,7 @@
 #include "photon_params.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/text.h"
+#include "vpsim/transport/beam_convolution.h"
 
 namespace vpsim::transport {
 
@@ -317,6 +318,7 @@ nlohmann::json McResult::summaryJson() const {
     put("absorbed", absorbed());
     if (setup.lateralRadius > 0) put("escaped", escaped());
     j["estimator"] = estimatorName(setup.estimator);
+    j["beam_convolved"] = convolvesBeam(setup);
     if (setup.estimator == Estimator::Implicit || setup.estimator == Estimator::ImplicitTrack) {
         j["roulette_threshold"] = setup.rouletteThreshold;
         put("roulette_net", rouletteNet());
