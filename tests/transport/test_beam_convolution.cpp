@@ -7,39 +7,17 @@
 
 #include <cmath>
 
+#include "mc_test_support.h"
 #include "support/gpu_test.h"
 #include "vpsim/transport/beam_convolution.h"
 #include "vpsim/transport/photon_mc.h"
 
 using namespace vpsim;
 using namespace vpsim::transport;
+using vpsim::test::agree;
+using vpsim::test::binsFraction;
 
 namespace {
-
-/// Fraction of launched weight in bins z index [z0, z1), r index [r0, r1), with its batch error.
-Fraction binsFraction(const McResult& r, uint32_t z0, uint32_t z1, uint32_t r0, uint32_t r1) {
-    const auto& b = r.setup.bins;
-    const size_t perBatch = size_t(b.rBins) * b.zBins;
-    REQUIRE(r.absorbedRZBatches.size() == perBatch * MC_BATCHES);
-    double values[MC_BATCHES], sum = 0, squares = 0;
-    for (int k = 0; k < MC_BATCHES; ++k) {
-        uint64_t q = 0;
-        for (uint32_t iz = z0; iz < z1; ++iz)
-            for (uint32_t ir = r0; ir < r1; ++ir)
-                q += r.absorbedRZBatches[k * perBatch + size_t(iz) * b.rBins + ir];
-        values[k] = double(q) / double(r.batches[k].photons * r.launchWeight);
-        sum += values[k];
-    }
-    Fraction f;
-    f.value = sum / MC_BATCHES;
-    for (double v : values) squares += (v - f.value) * (v - f.value);
-    f.standardError = std::sqrt(squares / (MC_BATCHES * (MC_BATCHES - 1.0)));
-    return f;
-}
-
-bool agree(const Fraction& a, const Fraction& b, double sigmas) {
-    return std::abs(a.value - b.value) <= sigmas * std::hypot(a.standardError, b.standardError);
-}
 
 McSetup slurryLike(uint64_t photons) {
     McSetup s;  // issue 14's slurry-like HG medium under a Gaussian beam
