@@ -216,8 +216,7 @@ bool photonTracks(PHOTON_PARAMS_IN p) {
     return e == PHOTON_ESTIMATOR_TRACK || e == PHOTON_ESTIMATOR_IMPLICIT_TRACK;
 }
 
-// Whether the (r,z) bins are estimates scored through photonPend (track-length or collision),
-// not the deposits themselves.
+// Whether the (r,z) bins are estimates (track-length or collision), not the deposits themselves.
 bool photonBinsEstimated(PHOTON_PARAMS_IN p) {
     return photonTracks(p) || photonEstimator(p) == PHOTON_ESTIMATOR_COLLISION;
 }
@@ -321,8 +320,10 @@ bool photonAdvance(PHOTON_PARAMS_IN p, PHOTON_DERIVED_IN k, VPSIM_INOUT(PhotonSt
     bool analog = estimator == PHOTON_ESTIMATOR_ANALOG || estimator == PHOTON_ESTIMATOR_TRACK ||
                   estimator == PHOTON_ESTIMATOR_COLLISION;
     if (analog) {
-        if (estimator == PHOTON_ESTIMATOR_COLLISION)
-            photonPend(s, batch, photonRzBin(p, k, s.pos), float(s.weight) * k.absorbShare);
+        if (estimator == PHOTON_ESTIMATOR_COLLISION) {  // counts (photon_types.glsl)
+            int bin = photonRzBin(p, k, s.pos);
+            if (bin >= 0) photonAddBin(batch, uint(bin), 1ul);
+        }
         if (rngUniform(rng) * mut <= p.mua) {
             photonDeposit(p, k, s.pos, s.weight, batch, t);
             photonFlush(p, s, batch, t);

@@ -131,7 +131,7 @@ McResult runPhotonMcCpu(const McSetup& setup, int threads) {
         for (size_t i = 0; i < rzWords; ++i) rz[i] += local.rz[i];
         for (size_t i = 0; i < voxels; ++i) result.absorbedGrid[i] += local.grid[i];
     }
-    setBins(result, std::move(rz));
+    setBins(result, std::move(rz), params);
     result.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     result.backend = "cpu (" + std::to_string(threads) + " threads)";

@@ -119,7 +119,8 @@ McResult runPhotonMcGpu(const McSetup& setup, const std::shared_ptr<gpu::Context
         t.rouletteLoss = w[glsl::PHOTON_TALLY_ROULETTE_LOSS];
         for (size_t k = 0; k < 4; ++k) t.absorbedWithin[k] = w[glsl::PHOTON_TALLY_WITHIN + k];
     }
-    setBins(result, std::vector<uint64_t>(words.begin() + glsl::PHOTON_BIN_OFFSET, words.end()));
+    setBins(result, std::vector<uint64_t>(words.begin() + glsl::PHOTON_BIN_OFFSET, words.end()),
+            params);
     if (voxels > 0) result.absorbedGrid = grid.download<uint64_t>(voxels);
     result.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

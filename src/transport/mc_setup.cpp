@@ -195,7 +195,13 @@ uint64_t photonsInBatch(uint64_t first, uint64_t photons, int batch) {
     return below(first + photons) - below(first);
 }
 
-void setBins(McResult& result, std::vector<uint64_t> words) {
+void setBins(McResult& result, std::vector<uint64_t> words, const glsl::PhotonParams& params) {
+    if ((params.estimator & 255u) == glsl::PHOTON_ESTIMATOR_COLLISION) {
+        const double mut = double(params.mua) + double(params.mus);
+        const double quanta =
+            mut > 0 ? double(params.enteringWeight) * double(params.mua) / mut : 0;
+        for (uint64_t& w : words) w = uint64_t(std::llround(double(w) * quanta));
+    }
     if (!result.setup.binsPerBatch) {
         result.absorbedRZ = std::move(words);
         return;
