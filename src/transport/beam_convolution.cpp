@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 
 #include "photon_params.h"
@@ -12,6 +13,7 @@ namespace {
 constexpr uint32_t REFINE = 2;           // pencil rings per output ring
 constexpr double OUTER_SIGMAS = 6.0;     // the launch offset's reach (exp(-18) beyond it)
 constexpr double MIN_W0_IN_RINGS = 4.0;  // narrower beams are tallied directly
+constexpr double MAX_PRODUCTS = 1e9;     // multiply-adds of the convolution (about a second)
 
 /// The launch offset's standard deviation per axis: intensity exp(-2 r^2 / W0^2).
 double sigmaOf(double w0) {
@@ -79,8 +81,9 @@ bool convolvesBeam(const McSetup& s) {
         s.grid.nxy > 0)
         return false;
     if (!(s.w0 >= MIN_W0_IN_RINGS * s.bins.rMax / s.bins.rBins)) return false;
-    const uint64_t bins = uint64_t(pencilRings(s)) * s.bins.zBins;
-    return bins * (s.binsPerBatch ? MC_BATCHES : 1) <= MAX_RZ_BINS;
+    const uint64_t copies = s.binsPerBatch ? MC_BATCHES : 1;
+    const uint64_t bins = uint64_t(pencilRings(s)) * s.bins.zBins * copies;
+    return bins <= MAX_RZ_BINS && double(bins) * s.bins.rBins <= MAX_PRODUCTS;
 }
 
 McSetup pencilSetup(const McSetup& s) {
@@ -115,6 +118,7 @@ std::vector<double> ringWeights(uint32_t rings, double ringWidth, uint32_t penci
 }
 
 McResult convolveBeam(const McResult& pencil, const McSetup& setup) {
+    const auto start = std::chrono::steady_clock::now();
     const CylindricalGrid& in = pencil.setup.bins;
     const CylindricalGrid& out = setup.bins;
     const std::vector<double> w =
@@ -123,7 +127,6 @@ McResult convolveBeam(const McResult& pencil, const McSetup& setup) {
     r.setup = setup;
     r.launchWeight = pencil.launchWeight;
     r.batches = pencil.batches;
-    r.seconds = pencil.seconds;
     r.backend = pencil.backend;
     const size_t outBins = size_t(out.rBins) * out.zBins, inBins = size_t(in.rBins) * in.zBins;
     if (setup.binsPerBatch) {
@@ -141,6 +144,8 @@ McResult convolveBeam(const McResult& pencil, const McSetup& setup) {
         convolveRows(pencil.absorbedRZ.data(), r.absorbedRZ.data(), out.zBins, in.rBins, out.rBins,
                      w);
     }
+    r.seconds = pencil.seconds +
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return r;
 }
 

@@ -12,7 +12,8 @@
 /// output rings with the ring probabilities of the shifted Gaussian (Rice distribution), averaged
 /// over the bin's area. Used when the beam is Gaussian, there is no lateral radius and no
 /// Cartesian grid (those need the photons' true positions), and the beam is wide against the
-/// output rings (W0 >= MIN_W0_IN_RINGS ring widths; narrower beams gain little).
+/// output rings (W0 >= MIN_W0_IN_RINGS ring widths; narrower beams gain little), and while the
+/// pencil tally fits MAX_RZ_BINS and the convolution stays within about a second.
 
 #include <vector>
 
