@@ -34,6 +34,7 @@
 #include "vpsim/gpu/context.h"
 #include "vpsim/kernel/beam_kernel.h"
 #include "vpsim/optics/material.h"
+#include "vpsim/transport/beam_convolution.h"
 #include "vpsim/transport/photon_mc.h"
 
 namespace {
@@ -152,9 +153,30 @@ Figures vpsimFigures(const McResult& r, const std::vector<size_t>& bins, double 
     return f;
 }
 
-Figures mcmlFigures(const McSetup& s, const std::vector<size_t>& bins) {
+/// The MCML reference on `s`; with `conv`, as MCML users get a Gaussian beam: the pencil response
+/// (on vpsim's pencil grid) convolved with the beam afterwards, as MCML's CONV program does (with
+/// vpsim's ring weights, the convolution's time included).
+Figures mcmlFigures(const McSetup& s, const std::vector<size_t>& bins, bool conv = false) {
     const double start = cpuSeconds();
-    bench::McmlTally t = bench::McmlReference(s).run();
+    const McSetup traced = conv ? vpsim::transport::pencilSetup(s) : s;
+    bench::McmlTally t = bench::McmlReference(traced).run();
+    if (conv) {
+        const auto& in = traced.bins;
+        const auto& o = s.bins;
+        const std::vector<double> w = vpsim::transport::ringWeights(
+            o.rBins, o.rMax / o.rBins, in.rBins, in.rMax / in.rBins, s.w0);
+        std::vector<double> out(size_t(o.rBins) * o.zBins * MC_BATCHES, 0.0);
+        for (size_t b = 0; b < size_t(MC_BATCHES); ++b)
+            for (size_t z = 0; z < o.zBins; ++z) {
+                const double* row = t.absorbedRZ.data() + (b * in.zBins + z) * in.rBins;
+                for (size_t i = 0; i < o.rBins; ++i) {
+                    double sum = 0;
+                    for (size_t j = 0; j < in.rBins; ++j) sum += w[i * in.rBins + j] * row[j];
+                    out[(b * o.zBins + z) * o.rBins + i] = sum;
+                }
+            }
+        t.absorbedRZ = std::move(out);
+    }
     Figures f;
     f.cpu = cpuSeconds() - start;
     std::array<double, MC_BATCHES> rd, w30, w84;
@@ -223,6 +245,7 @@ nlohmann::json runCase(const std::string& caseName, const vpsim::optics::MediumO
     McSetup reference = s;
     reference.photons = std::max<uint64_t>(64, uint64_t(150000 * scale));
     Figures fMcml = mcmlFigures(reference, bins);
+    Figures fMcmlConv = mcmlFigures(reference, bins, true);
 
     nlohmann::json j;
     j["case"] = caseName;
@@ -246,6 +269,11 @@ nlohmann::json runCase(const std::string& caseName, const vpsim::optics::MediumO
     j["fom_ratio_vs_analog"] = ratios(fDefault, fAnalog, true);
     j["fom_ratio_vs_mcml_reference"] = ratios(fDefault, fMcml, true);
     j["fom_ratio_vs_mcml_reference_per_core"] = ratios(fDefault, fMcml, false);
+    // vpsim convolves a Gaussian beam's pencil response (transport/beam_convolution.h); MCML's
+    // users get the same from its CONV program, so the ratio to that is the like-for-like one
+    // for the bins.
+    j["mcml_reference_with_conv"] = fMcmlConv.json();
+    j["fom_ratio_vs_mcml_reference_with_conv"] = ratios(fDefault, fMcmlConv, true);
     // Same physics: each estimator's figures against the analog ones, in combined sigmas.
     auto sigmas = [](const Stat& a, const Stat& b) {
         return std::abs(a.mean - b.mean) / std::sqrt(a.variance + b.variance);
@@ -280,7 +308,8 @@ int main(int argc, char** argv) {
             }
         }
         // As vpsim runs (gpu::shaderContext): shaders on hardware GPUs; on a CPU driver the TBB
-        // path, which is faster there, unless the shader is forced with "vulkan".
+        // path (for the default estimator as fast per CPU-second as lavapipe, with no pipeline
+        // compile), unless the shader is forced with "vulkan".
         if (backend == "auto" && context && !context->info().isHardware()) {
             out["shader_device_skipped"] = context->info().name;
             context.reset();
@@ -299,12 +328,13 @@ int main(int argc, char** argv) {
         // The headline figures: the slurry-like case (the one MCML was measured on).
         for (const char* key :
              {"fom_ratio_vs_analog", "fom_ratio_vs_mcml_reference",
-              "fom_ratio_vs_mcml_reference_per_core", "mcml_reference_interactions_per_cpu_second"})
+              "fom_ratio_vs_mcml_reference_with_conv", "fom_ratio_vs_mcml_reference_per_core",
+              "mcml_reference_interactions_per_cpu_second"})
             out[key] = slurryHg[key];
         const double rate = slurryHg["mcml_reference_interactions_per_cpu_second"];
         out["mcml_1_2_2_interactions_per_cpu_second"] = MCML_INTERACTIONS_PER_CPU_SECOND;
         out["mcml_reference_over_mcml_1_2_2"] = rate / MCML_INTERACTIONS_PER_CPU_SECOND;
-        bool ok3 = true, ok08 = true, ok10 = true, band = true;
+        bool ok3 = true, ok08 = true, ok10 = true, ok10conv = true, band = true;
         for (const auto& c : out["cases"]) {
             const auto& va = c["fom_ratio_vs_analog"];
             ok3 = ok3 && va["cure_front_bins"].get<double>() >= 3.0;
@@ -312,12 +342,17 @@ int main(int argc, char** argv) {
             const auto& vm = c["fom_ratio_vs_mcml_reference"];
             ok10 = ok10 && vm["diffuse_reflectance"].get<double>() >= 10.0 &&
                    vm["cure_front_bins"].get<double>() >= 10.0;
+            const auto& vc = c["fom_ratio_vs_mcml_reference_with_conv"];
+            ok10conv = ok10conv && vc["diffuse_reflectance"].get<double>() >= 10.0 &&
+                       vc["cure_front_bins"].get<double>() >= 10.0;
         }
         band = std::abs(rate / MCML_INTERACTIONS_PER_CPU_SECOND - 1.0) <= 0.4;
-        out["targets"] = {{"default_vs_analog_cure_front_bins_at_least_3x", ok3},
-                          {"default_vs_analog_every_figure_at_least_0.8x", ok08},
-                          {"default_vs_mcml_reference_rd_and_cure_front_at_least_10x", ok10},
-                          {"mcml_reference_within_40_percent_of_mcml_1_2_2", band}};
+        out["targets"] = {
+            {"default_vs_analog_cure_front_bins_at_least_3x", ok3},
+            {"default_vs_analog_every_figure_at_least_0.8x", ok08},
+            {"default_vs_mcml_reference_rd_and_cure_front_at_least_10x", ok10},
+            {"default_vs_mcml_reference_with_conv_rd_and_cure_front_at_least_10x", ok10conv},
+            {"mcml_reference_within_40_percent_of_mcml_1_2_2", band}};
     } catch (const vpsim::Error& e) {
         out["error"] = e.what();
         std::cout << out.dump(2) << std::endl;

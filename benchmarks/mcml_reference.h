@@ -9,7 +9,7 @@
 // vpsim's (pencil or Gaussian) instead of MCML's pencil plus conv, a tabulated phase function is
 // allowed (inverse CDF, for the Mie slurry; MCML has only Henyey-Greenstein), and ran3 is
 // replaced by xoshiro256+ (ran3's short period and lattice structure biased MCML's slurry
-// results; xoshiro is at least as fast). Photon i is in batch i % MC_BATCHES, as in vpsim.
+// results; xoshiro is at least as fast).
 
 #include <array>
 #include <cmath>
@@ -31,8 +31,9 @@ class McmlReference {
 public:
     explicit McmlReference(const vpsim::transport::McSetup& s) : mS(s) {
         mMut = s.optics.mua + s.optics.mus;
-        mDr = s.bins.rMax / s.bins.rBins;
-        mDz = s.bins.zMax / s.bins.zBins;
+        mInvMut = 1.0 / mMut;  // reciprocals once: MCML divides, the compiler here would not fold them
+        mInvDr = s.bins.rBins / s.bins.rMax;
+        mInvDz = s.bins.zBins / s.bins.zMax;
         double r = (s.nAbove - s.optics.refractiveIndex) / (s.nAbove + s.optics.refractiveIndex);
         mRsp = r * r;
         mState = {0x9E3779B97F4A7C15ull ^ s.seed, 0xBF58476D1CE4E5B9ull, 0x94D049BB133111EBull,
@@ -44,7 +45,10 @@ public:
         McmlTally t;
         const size_t bins = size_t(mS.bins.rBins) * mS.bins.zBins;
         t.absorbedRZ.assign(bins * vpsim::transport::MC_BATCHES, 0.0);
-        for (uint64_t i = 0; i < mS.photons; ++i) tracePhoton(i % vpsim::transport::MC_BATCHES, t);
+        // Photons in consecutive blocks per batch (not i % batches), so that the batch's
+        // (r,z) tally stays in cache as in MCML's one array.
+        const uint64_t batches = vpsim::transport::MC_BATCHES;
+        for (uint64_t i = 0; i < mS.photons; ++i) tracePhoton(size_t(i * batches / mS.photons), t);
         return t;
     }
 
@@ -92,7 +96,7 @@ private:
         }
         if (g == 0.0) return 2 * rnd() - 1;
         double temp = (1 - g * g) / (1 - g + 2 * g * rnd());
-        double cost = (1 + g * g - temp * temp) / (2 * g);
+        double cost = (1 + g * g - temp * temp) * (0.5 / g);
         return cost < -1 ? -1.0 : (cost > 1 ? 1.0 : cost);
     }
 
@@ -106,9 +110,9 @@ private:
             mUy = sint * sinp;
             mUz = cost * (mUz >= 0 ? 1.0 : -1.0);
         } else {
-            double temp = std::sqrt(1.0 - mUz * mUz);
-            double ux = sint * (mUx * mUz * cosp - mUy * sinp) / temp + mUx * cost;
-            double uy = sint * (mUy * mUz * cosp + mUx * sinp) / temp + mUy * cost;
+            double temp = std::sqrt(1.0 - mUz * mUz), stemp = sint / temp;
+            double ux = stemp * (mUx * mUz * cosp - mUy * sinp) + mUx * cost;
+            double uy = stemp * (mUy * mUz * cosp + mUx * sinp) + mUy * cost;
             mUz = -sint * cosp * temp + mUz * cost;
             mUx = ux;
             mUy = uy;
@@ -130,7 +134,7 @@ private:
         mUz = 1;
         const double n = mS.optics.refractiveIndex, d = mS.thickness;
         for (bool dead = false; !dead;) {
-            double s = -std::log(rnd()) / mMut;  // StepSizeInTissue
+            double s = -std::log(rnd()) * mInvMut;  // StepSizeInTissue
             double toBoundary = 1e300;
             if (mUz < 0)
                 toBoundary = -mZ / mUz;
@@ -153,9 +157,9 @@ private:
                 mY += s * mUy;
                 mZ += s * mUz;
                 ++t.interactions;
-                double dwa = w * mS.optics.mua / mMut;
+                double dwa = w * mS.optics.mua * mInvMut;
                 w -= dwa;
-                size_t iz = size_t(mZ / mDz), ir = size_t(std::sqrt(mX * mX + mY * mY) / mDr);
+                size_t iz = size_t(mZ * mInvDz), ir = size_t(std::sqrt(mX * mX + mY * mY) * mInvDr);
                 if (iz < mS.bins.zBins && ir < mS.bins.rBins) rz[iz * mS.bins.rBins + ir] += dwa;
                 if (mZ < 0.030) t.within30[batch] += dwa;
                 if (mZ < 0.084) t.within84[batch] += dwa;
@@ -171,7 +175,7 @@ private:
     }
 
     vpsim::transport::McSetup mS;
-    double mMut, mDr, mDz, mRsp;
+    double mMut, mInvMut, mInvDr, mInvDz, mRsp;
     std::array<uint64_t, 4> mState;
     double mX = 0, mY = 0, mZ = 0, mUx = 0, mUy = 0, mUz = 1;
 };

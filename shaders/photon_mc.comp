@@ -14,6 +14,9 @@
 layout(local_size_x = 64) in;
 // Entries of the inverse-CDF phase table held in shared memory (1 for Henyey-Greenstein).
 layout(constant_id = 0) const uint PHASE_TABLE_CAPACITY = 1u;
+// The estimator (PhotonParams.estimator & 255) as a constant: lavapipe compiles the step loop
+// for 8 lanes at once, and the branches of the other estimators cost it even when not taken.
+layout(constant_id = 1) const uint PHOTON_ESTIMATOR_CONSTANT = 0u;
 
 #include "glsl_common.glsl"
 #include "rng.glsl"
@@ -35,6 +38,7 @@ void photonAddBin(uint batch, uint bin, uint64_t quanta) {
     atomicAdd(tally[PHOTON_BIN_OFFSET + gBinBase + bin], quanta);
 }
 void photonAddVoxel(uint voxel, uint64_t quanta) { atomicAdd(grid[voxel], quanta); }
+uint photonEstimator(PhotonParams p) { return PHOTON_ESTIMATOR_CONSTANT; }
 
 #include "photon_step.glsl"
 

@@ -28,7 +28,9 @@
 //   float photonPhaseTable(int i)   entry i of the inverse CDF of cos(theta) (entries at
 //                                    u = i/(n-1), +1 at u = 0 down to -1 at u = 1),
 //   void photonAddBin(uint batch, uint bin, uint64_t quanta)     adds to (r,z) bin iz*rBins+ir,
-//   void photonAddVoxel(uint voxel, uint64_t quanta)             adds to a Cartesian voxel.
+//   void photonAddVoxel(uint voxel, uint64_t quanta)             adds to a Cartesian voxel,
+//   uint photonEstimator(PhotonParams p)   the PHOTON_ESTIMATOR_* in use (the GPU returns a
+//                                          specialisation constant, so unused branches compile out).
 #ifndef VPSIM_PHOTON_STEP
 #define VPSIM_PHOTON_STEP
 
@@ -210,21 +212,20 @@ void photonPend(VPSIM_INOUT(PhotonState) s, uint batch, int bin, float amount) {
 
 // Whether the (r,z) bins are track-length estimates.
 bool photonTracks(PHOTON_PARAMS_IN p) {
-    uint e = p.estimator & 255u;
+    uint e = photonEstimator(p);
     return e == PHOTON_ESTIMATOR_TRACK || e == PHOTON_ESTIMATOR_IMPLICIT_TRACK;
 }
 
-// Whether the (r,z) bins are estimates scored through photonPend (track-length or collision),
-// not the deposits themselves.
+// Whether the (r,z) bins are estimates (track-length or collision), not the deposits themselves.
 bool photonBinsEstimated(PHOTON_PARAMS_IN p) {
-    return photonTracks(p) || (p.estimator & 255u) == PHOTON_ESTIMATOR_COLLISION;
+    return photonTracks(p) || photonEstimator(p) == PHOTON_ESTIMATOR_COLLISION;
 }
 
 // Whether the depth tallies are track-length estimates (implicit capture only: with analog
 // transport the 0/1 absorption point has less variance over thick layers than mua x path
 // length, whose spread is that of an exponential; bench_photon_mc measured 0.14-0.44x).
 bool photonTracksDepths(PHOTON_PARAMS_IN p) {
-    return (p.estimator & 255u) == PHOTON_ESTIMATOR_IMPLICIT_TRACK;
+    return photonEstimator(p) == PHOTON_ESTIMATOR_IMPLICIT_TRACK;
 }
 
 // Flushes the track-length buffers at the end of a photon (carried fractions are dropped).
@@ -280,7 +281,7 @@ void photonDeposit(PHOTON_PARAMS_IN p, PHOTON_DERIVED_IN k, vec3 pos, uint q, ui
 // and returns whether the photon is still alive.
 bool photonAdvance(PHOTON_PARAMS_IN p, PHOTON_DERIVED_IN k, VPSIM_INOUT(PhotonState) s, VPSIM_INOUT(RngState) rng,
                    uint batch, VPSIM_INOUT(PhotonTally) t) {
-    uint estimator = p.estimator & 255u;
+    uint estimator = photonEstimator(p);
     float mut = p.mua + p.mus;
     float path = mut > float(0) ? -log(rngUniform(rng)) * k.invMut : PHOTON_FAR;
     float toSurface = PHOTON_FAR;
@@ -319,8 +320,10 @@ bool photonAdvance(PHOTON_PARAMS_IN p, PHOTON_DERIVED_IN k, VPSIM_INOUT(PhotonSt
     bool analog = estimator == PHOTON_ESTIMATOR_ANALOG || estimator == PHOTON_ESTIMATOR_TRACK ||
                   estimator == PHOTON_ESTIMATOR_COLLISION;
     if (analog) {
-        if (estimator == PHOTON_ESTIMATOR_COLLISION)
-            photonPend(s, batch, photonRzBin(p, k, s.pos), float(s.weight) * k.absorbShare);
+        if (estimator == PHOTON_ESTIMATOR_COLLISION) {  // counts (photon_types.glsl)
+            int bin = photonRzBin(p, k, s.pos);
+            if (bin >= 0) photonAddBin(batch, uint(bin), 1ul);
+        }
         if (rngUniform(rng) * mut <= p.mua) {
             photonDeposit(p, k, s.pos, s.weight, batch, t);
             photonFlush(p, s, batch, t);

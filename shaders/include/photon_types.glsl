@@ -34,6 +34,9 @@ const int PHOTON_EVENT_ESCAPED = 5;      // interacted outside the lateral radiu
 //   interaction adds weight x mua/mut to its bin, whether or not the photon is absorbed there),
 //   depth tallies by the absorption points. Same expectation as TRACK (the collision density is
 //   mut times the track density), one bin lookup per interaction instead of one per bin crossed.
+//   Analog transport keeps every photon's weight at the entering weight, so each interaction adds
+//   the same amount: the shaders count interactions per bin, and the host multiplies the counts
+//   by enteringWeight x mua/mut in double (exact, and no fraction to carry per photon).
 const uint PHOTON_ESTIMATOR_ANALOG = 0u;
 const uint PHOTON_ESTIMATOR_IMPLICIT = 1u;
 const uint PHOTON_ESTIMATOR_IMPLICIT_TRACK = 2u;

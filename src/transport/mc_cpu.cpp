@@ -14,6 +14,7 @@
 #include "photon_params.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/progress.h"
+#include "vpsim/transport/beam_convolution.h"
 
 namespace vpsim::glsl {
 #include "rng.glsl"
@@ -31,6 +32,9 @@ inline void photonAddBin(uint batch, uint bin, uint64_t quanta) {
 }
 inline void photonAddVoxel(uint voxel, uint64_t quanta) {
     tVoxels[voxel] += quanta;
+}
+inline uint photonEstimator(const PhotonParams& p) {
+    return p.estimator & 255u;
 }
 #include "photon_step.glsl"
 }  // namespace vpsim::glsl
@@ -82,6 +86,8 @@ uint64_t firstOfBatch(uint64_t begin, uint64_t b, const McSetup& setup) {
 
 McResult runPhotonMcCpu(const McSetup& setup, int threads) {
     validateSetup(setup);
+    if (convolvesBeam(setup))
+        return convolveBeam(runPhotonMcCpu(pencilSetup(setup), threads), setup);
     const glsl::PhotonParams params = makePhotonParams(setup);
     const glsl::PhotonDerived derived = glsl::photonDerive(params);
     const std::vector<float> table = makePhaseTable(setup);
@@ -125,7 +131,7 @@ McResult runPhotonMcCpu(const McSetup& setup, int threads) {
         for (size_t i = 0; i < rzWords; ++i) rz[i] += local.rz[i];
         for (size_t i = 0; i < voxels; ++i) result.absorbedGrid[i] += local.grid[i];
     }
-    setBins(result, std::move(rz));
+    setBins(result, std::move(rz), params);
     result.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     result.backend = "cpu (" + std::to_string(threads) + " threads)";

@@ -9,6 +9,7 @@
 #include "vpsim/core/progress.h"
 #include "vpsim/gpu/context.h"
 #include "vpsim/shaders/photon_mc_spv.h"
+#include "vpsim/transport/beam_convolution.h"
 
 namespace vpsim::transport {
 
@@ -34,6 +35,8 @@ uint32_t invocationsFor(uint64_t photons) {
 McResult runPhotonMcGpu(const McSetup& setup, const std::shared_ptr<gpu::Context>& context) {
     validateSetup(setup);
     if (!context) throw GpuError("photon Monte Carlo: no Vulkan context");
+    if (convolvesBeam(setup))
+        return convolveBeam(runPhotonMcGpu(pencilSetup(setup), context), setup);
     const auto& info = context->info();
     if (!info.int64 || !info.int64Atomics)
         throw GpuError(
@@ -56,8 +59,10 @@ McResult runPhotonMcGpu(const McSetup& setup, const std::shared_ptr<gpu::Context
 
     auto start = std::chrono::steady_clock::now();
     const uint32_t capacity = uint32_t(std::max<size_t>(table.size(), 1));
-    gpu::Kernel kernel(context, photon_mc_spv, sizeof photon_mc_spv, 4, sizeof(glsl::PhotonParams),
-                       {gpu::SpecConstant{0, capacity}}, LOCAL_SIZE);
+    gpu::Kernel kernel(
+        context, photon_mc_spv, sizeof photon_mc_spv, 4, sizeof(glsl::PhotonParams),
+        {gpu::SpecConstant{0, capacity}, gpu::SpecConstant{1, params.estimator & 255u}},
+        LOCAL_SIZE);
     gpu::Buffer tallies(context, tallyWords * 8);
     tallies.fill(0);
     gpu::Buffer tableBuffer(context, std::max<uint64_t>(table.size(), 1) * sizeof(float));
@@ -114,7 +119,8 @@ McResult runPhotonMcGpu(const McSetup& setup, const std::shared_ptr<gpu::Context
         t.rouletteLoss = w[glsl::PHOTON_TALLY_ROULETTE_LOSS];
         for (size_t k = 0; k < 4; ++k) t.absorbedWithin[k] = w[glsl::PHOTON_TALLY_WITHIN + k];
     }
-    setBins(result, std::vector<uint64_t>(words.begin() + glsl::PHOTON_BIN_OFFSET, words.end()));
+    setBins(result, std::vector<uint64_t>(words.begin() + glsl::PHOTON_BIN_OFFSET, words.end()),
+            params);
     if (voxels > 0) result.absorbedGrid = grid.download<uint64_t>(voxels);
     result.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

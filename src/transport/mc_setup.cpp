@@ -9,6 +9,7 @@
 #include "photon_params.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/text.h"
+#include "vpsim/transport/beam_convolution.h"
 
 namespace vpsim::transport {
 
@@ -194,7 +195,13 @@ uint64_t photonsInBatch(uint64_t first, uint64_t photons, int batch) {
     return below(first + photons) - below(first);
 }
 
-void setBins(McResult& result, std::vector<uint64_t> words) {
+void setBins(McResult& result, std::vector<uint64_t> words, const glsl::PhotonParams& params) {
+    if ((params.estimator & 255u) == glsl::PHOTON_ESTIMATOR_COLLISION) {
+        const double mut = double(params.mua) + double(params.mus);
+        const double quanta =
+            mut > 0 ? double(params.enteringWeight) * double(params.mua) / mut : 0;
+        for (uint64_t& w : words) w = uint64_t(std::llround(double(w) * quanta));
+    }
     if (!result.setup.binsPerBatch) {
         result.absorbedRZ = std::move(words);
         return;
@@ -317,6 +324,7 @@ nlohmann::json McResult::summaryJson() const {
     put("absorbed", absorbed());
     if (setup.lateralRadius > 0) put("escaped", escaped());
     j["estimator"] = estimatorName(setup.estimator);
+    j["beam_convolved"] = convolvesBeam(setup);
     if (setup.estimator == Estimator::Implicit || setup.estimator == Estimator::ImplicitTrack) {
         j["roulette_threshold"] = setup.rouletteThreshold;
         put("roulette_net", rouletteNet());

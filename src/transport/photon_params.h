@@ -33,8 +33,9 @@ glsl::PhotonParams makePhotonParams(const McSetup& setup);
 std::vector<float> makePhaseTable(const McSetup& setup);
 /// Photons of batch b (index % MC_BATCHES == b) among photon indices [first, first + photons).
 uint64_t photonsInBatch(uint64_t first, uint64_t photons, int batch);
-/// Stores the (r,z) tally words of a run: one copy, or MC_BATCHES copies when
-/// result.setup.binsPerBatch (then absorbedRZ is their sum).
-void setBins(McResult& result, std::vector<uint64_t> words);
+/// Stores the (r,z) tally words of a run of `params`: one copy, or MC_BATCHES copies when
+/// result.setup.binsPerBatch (then absorbedRZ is their sum). The collision estimator's words are
+/// interaction counts, turned into quanta here (photon_types.glsl).
+void setBins(McResult& result, std::vector<uint64_t> words, const glsl::PhotonParams& params);
 
 }  // namespace vpsim::transport

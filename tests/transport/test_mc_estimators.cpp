@@ -11,11 +11,14 @@
 #include <cmath>
 #include <string>
 
+#include "mc_test_support.h"
 #include "vpsim/core/error.h"
 #include "vpsim/transport/photon_mc.h"
 
 using namespace vpsim;
 using namespace vpsim::transport;
+using vpsim::test::agree;
+using vpsim::test::binsFraction;
 
 namespace {
 
@@ -35,32 +38,6 @@ McResult run(McSetup s, Estimator e, uint32_t seedOffset = 0) {
     s.estimator = e;
     s.seed += seedOffset;
     return runPhotonMcCpu(s);
-}
-
-bool agree(const Fraction& a, const Fraction& b, double sigmas = 3.0) {
-    return std::abs(a.value - b.value) <= sigmas * std::hypot(a.standardError, b.standardError);
-}
-
-/// Fraction of launched weight in the (r,z) bins with z index in [z0, z1), with its batch error.
-Fraction binsFraction(const McResult& r, uint32_t z0, uint32_t z1) {
-    const auto& b = r.setup.bins;
-    const size_t perBatch = size_t(b.rBins) * b.zBins;
-    REQUIRE(r.absorbedRZBatches.size() == perBatch * MC_BATCHES);
-    double sum = 0, squares = 0;
-    double values[MC_BATCHES];
-    for (int k = 0; k < MC_BATCHES; ++k) {
-        uint64_t q = 0;
-        for (uint32_t iz = z0; iz < z1; ++iz)
-            for (uint32_t ir = 0; ir < b.rBins; ++ir)
-                q += r.absorbedRZBatches[k * perBatch + size_t(iz) * b.rBins + ir];
-        values[k] = double(q) / double(r.batches[k].photons * r.launchWeight);
-        sum += values[k];
-    }
-    Fraction f;
-    f.value = sum / MC_BATCHES;
-    for (double v : values) squares += (v - f.value) * (v - f.value);
-    f.standardError = std::sqrt(squares / (MC_BATCHES * (MC_BATCHES - 1.0)));
-    return f;
 }
 
 bool implicitCapture(Estimator e) {

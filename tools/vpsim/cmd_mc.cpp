@@ -15,6 +15,7 @@
 #include "vpsim/core/text.h"
 #include "vpsim/core/units.h"
 #include "vpsim/gpu/context.h"
+#include "vpsim/transport/beam_convolution.h"
 #include "vpsim/transport/photon_mc.h"
 
 namespace {
@@ -35,8 +36,9 @@ struct McOptions {
     uint32_t bins = 100;
     std::string vdb;
     std::string voxel = "5 um";
-    std::string estimator = "track-length";
+    std::string estimator = estimatorName(McSetup{}.estimator);
     double roulette = DEFAULT_ROULETTE_THRESHOLD;
+    bool directBeam = false;
     bool json = false;
 };
 
@@ -57,6 +59,7 @@ McSetup setupFrom(const McOptions& o, const vpsim::cli::Globals& g) {
     s.nAbove = s.nBelow = o.nOutside;
     s.beam = o.beam == "gaussian" ? BeamShape::Gaussian : BeamShape::Pencil;
     s.w0 = length(o.w0, "--w0");
+    s.beamConvolution = !o.directBeam;
     if (!(s.w0 > 0.0 && s.w0 <= 100.0))
         throw InputError("must be in (0, 100] mm, got " + vpsim::quoteUser(o.w0), "", "--w0");
     for (const std::string& d : o.depths) s.depths.push_back(length(d, "--depths"));
@@ -114,6 +117,8 @@ void runMc(const McOptions& o, const vpsim::cli::Globals& g) {
     if (setup.estimator == Estimator::Implicit || setup.estimator == Estimator::ImplicitTrack)
         line("roulette net (gain - loss)", r.rouletteNet());
     std::printf("  %-26s %s\n", "estimator", estimatorName(setup.estimator));
+    if (convolvesBeam(setup))
+        std::printf("  %-26s %s\n", "(r,z) bins", "pencil response convolved with the beam");
     std::printf("  %-26s %.3f\n  %-26s %.3f\n  %-26s %.4g\n", "scatterings/photon",
                 r.scatteringsPerPhoton(), "interactions/photon", r.interactionsPerPhoton(),
                 "photons/s", r.photonsPerSecond());
@@ -155,6 +160,9 @@ vpsim::cli::CommandRegistration registerMc{
             ->check(CLI::IsMember(estimatorNames()));
         cmd->add_option("--roulette", o->roulette,
                         "implicit capture: roulette below this fraction of the launched weight");
+        cmd->add_flag("--direct-beam", o->directBeam,
+                      "Gaussian beam: launch photons at their offsets instead of convolving the "
+                      "pencil response with the beam (same expected bins, more variance)");
         cmd->add_flag("--json", o->json, "print JSON");
         cmd->callback([o, &g] { runMc(*o, g); });
     }};

@@ -101,6 +101,11 @@ struct McSetup {
     double rouletteThreshold = DEFAULT_ROULETTE_THRESHOLD;
     /// Keep the (r,z) bins per batch (McResult::absorbedRZBatches), for their standard errors.
     bool binsPerBatch = false;
+    /// Gaussian beams: trace the pencil-beam response and convolve it with the beam profile
+    /// (src/transport/beam_convolution.h): the same expected (r,z) bins with less variance near
+    /// the axis. Applies when there is no lateral radius and no Cartesian grid and W0 spans at
+    /// least 4 radial bins; the totals are the same tallies either way.
+    bool beamConvolution = true;
 };
 
 /// Most photons one run may launch (64-bit indices; the launched weight, photons x 2^24
