@@ -178,11 +178,14 @@ double structuralBound(const std::vector<uint8_t>& solid, const DlpColumnProblem
     const double r = std::exp(-p.attenuation * p.layerThickness), c = 1.0 - o.margin;
     const double w = o.violationWeight, s = o.spreadWeight;
     const long window = longestGap(p);
-    double bound = 0.0;
+    // Per run: B, the least violation-plus-spread cost, and V, the least violation cost. Runs'
+    // violations add up and the spread is shared, so the objective is >= max_R B_R + sum of the
+    // other runs' V.
+    double violations = 0.0, excess = 0.0;
     for (const auto& [bottom, top] : solidRuns(solid)) {
         const long b = long(bottom), t = long(top);
         // No exposure at the run's top: its top node gets at most r (c + v) from the void above.
-        double run = w * (1.0 - r * c);
+        double run = w * (1.0 - r * c), violation = run;
         for (long e = b; e <= t; ++e) {  // e: the run's lowest exposure
             const long j = e - b;
             double least = p.bonding == Bonding::RunBottom ? std::pow(r, -double(j + 1)) : 1.0 / r;
@@ -190,16 +193,21 @@ double structuralBound(const std::vector<uint8_t>& solid, const DlpColumnProblem
             const long above = (t - e + window - 1) / window;
             for (long i = 0; i < above; ++i) least += std::pow(r, double(i * window));
             const double rj = std::pow(r, double(j));
-            auto cost = [&](double d) {  // spread D_e - D_b, gel shortfall at b, void b - 1
-                double v = s * (1.0 - rj) * d + w * std::max(0.0, 1.0 - rj * d);
+            auto gel = [&](double d) {  // gel shortfall at b, void b - 1 over the margin
+                double v = w * std::max(0.0, 1.0 - rj * d);
                 if (b > 0) v += w * std::max(0.0, r * rj * d - c);
                 return v;
             };
-            for (double d : {least, 1.0 / rj, c / (r * rj)})
-                run = std::min(run, cost(std::max(d, least)));
+            for (double d : {least, 1.0 / rj, c / (r * rj)}) {
+                const double at = std::max(d, least);
+                run = std::min(run, s * (1.0 - rj) * at + gel(at));  // spread >= D_e - D_b
+                violation = std::min(violation, gel(at));
+            }
         }
-        bound = std::max(bound, run);
+        violations += violation;
+        excess = std::max(excess, run - violation);
     }
+    const double bound = violations + excess;
     return bound;
 }
 

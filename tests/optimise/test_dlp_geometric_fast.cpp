@@ -134,6 +134,17 @@ TEST_CASE("geometric structural bound never exceeds the optimum", "[optimise]") 
             REQUIRE(optimiseColumnGeometric(solid, p).lowerBound <=
                     exact.objective * (1 + 1e-9) + 1e-12);
         }
+    // Larger columns: never above what the search reaches (an upper bound on the optimum).
+    for (Bonding bonding : {Bonding::OwnLayer, Bonding::RunBottom})
+        for (int trial = 0; trial < 15; ++trial) {
+            const DlpColumnProblem p = seedResin(bonding);
+            const std::vector<uint8_t> solid = randomColumn(rng, 60 + size_t(trial) * 8);
+            if (std::count(solid.begin(), solid.end(), 1) == 0) continue;
+            const DlpGeometricResult r = optimiseColumnGeometric(solid, p);
+            INFO("trial " << trial << " objective " << r.objective << " bound " << r.lowerBound);
+            REQUIRE(r.lowerBound <= r.objective * (1 + 1e-9) + 1e-12);
+            REQUIRE(r.lowerBound == Approx(structuralBound(solid, p, {})));
+        }
 }
 
 TEST_CASE("geometric greedy start patterns keep Eq. 10", "[optimise]") {

@@ -69,8 +69,9 @@ std::vector<uint8_t> greedyPattern(const std::vector<uint8_t>& solid,
 /// sum_{i < m} r^{i w} (each of the m >= ceil((top - e) / w) exposures above bonds down to the
 /// previous one, gaps w at most the longest), so spread >= D_e (1 - r^{e - bottom}) and the gel
 /// and void conditions at and below the bottom are charged for D_bottom = r^{e - bottom} D_e.
-/// The objective is at least the largest run's minimum over these cases. Violations of other
-/// runs and the light term are left out, so it is a bound, not an estimate.
+/// With B_R a run's least cost over these cases and V_R its least violation cost alone, the
+/// objective is at least max_R B_R + the other runs' V (violations add up, the spread is
+/// shared). The light term and the runs' interiors are left out: a bound, not an estimate.
 /// @throw InputError when d_max is below the bonding dose
 double structuralBound(const std::vector<uint8_t>& solid, const DlpColumnProblem& problem,
                        const DlpGeometricOptions& options);
