@@ -164,53 +164,33 @@ DlpGeometricResult finish(const std::vector<uint8_t>& solid, const DlpColumnProb
 
 }  // namespace
 
-DlpGeometricResult optimiseColumnGeometric(const std::vector<uint8_t>& solid,
-                                           const DlpColumnProblem& p,
-                                           const DlpGeometricOptions& o) {
-    size_t solidLayers = 0;
-    for (uint8_t v : solid) solidLayers += v ? 1 : 0;
-    if (solidLayers <= std::min<size_t>(o.enumerationLimit, 20))
-        return enumerateColumnGeometric(solid, p, o);
-    const size_t n = solid.size();
-    GeometricChainLp patterns(solid, p, o);
-    // Patterns already solved are skipped (+inf): the search only takes strict improvements, and
-    // start patterns often coincide, switches often undo an earlier one.
-    std::unordered_set<std::string> seen;
-    auto solveNew = [&](const std::vector<uint8_t>& trial, std::vector<double>& doses) {
-        if (!seen.emplace(trial.begin(), trial.end()).second) return double(INFINITY);
-        return patterns.solve(trial, doses);
-    };
-    double bound = structuralBound(solid, p, o);
-    if (o.relaxationBound) bound = std::max(bound, relaxationBound(solid, p, o));
+namespace {
+
+/// The search's incumbent, and the patterns already solved (skipped: +inf, since the search only
+/// takes strict improvements; start patterns often coincide, switches often undo an earlier one).
+struct Incumbent {
+    GeometricChainLp& lp;
     std::vector<uint8_t> pattern;
-    std::vector<double> bestDose;
-    double best = INFINITY;
-    if (o.start == DlpGeometricStart::ConversionL2) {
-        DlpColumnProblem l2 = p;
-        l2.penalty = 5.5;
-        pattern = solveColumnExactly(solid, l2).best.exposed;
-        best = patterns.solve(pattern, bestDose);
-    } else {
-        // Greedy patterns with the longest gaps d_max allows (and periodic ones, if asked).
-        const int window = longestGap(p);
-        auto consider = [&](const std::vector<uint8_t>& trial) {
-            std::vector<double> doses;
-            const double value = solveNew(trial, doses);
-            if (value < best) best = value, pattern = trial, bestDose = doses;
-        };
-        for (int gap = window; gap > std::max(0, window - o.startGaps); --gap) {
-            consider(greedyPattern(solid, p, gap, o));
-            for (int skip = bottomSkip(p, gap) - 1;
-                 o.periodicStarts && skip <= bottomSkip(p, gap) + 1; ++skip)
-                consider(periodicPattern(solid, gap, skip));
-        }
+    std::vector<double> dose;
+    double value = INFINITY;
+    std::unordered_set<std::string> seen;
+
+    /// Solves `trial` if new; takes it when it beats the incumbent by more than `tolerance`.
+    bool consider(const std::vector<uint8_t>& trial, double tolerance = 0.0) {
+        if (!seen.emplace(trial.begin(), trial.end()).second) return false;
+        std::vector<double> doses;
+        const double v = lp.solve(trial, doses);
+        if (!(v < value - tolerance)) return false;
+        value = v, pattern = trial, dose = std::move(doses);
+        return true;
     }
-    if (!std::isfinite(best)) {  // fall back to exposing every solid layer
-        pattern.assign(solid.begin(), solid.end());
-        best = patterns.solve(pattern, bestDose);
-    }
-    // Only the layers near a run's bottom decide where a down-facing surface ends (moves in the
-    // interior change the spread only, at a high LP cost).
+};
+
+/// Switches single layers within options.searchDepth of each run's bottom (and, with moves 3,
+/// moves an exposure by one layer): only those layers decide where a down-facing surface ends.
+void improveLocally(const std::vector<uint8_t>& solid, const DlpGeometricOptions& o,
+                    Incumbent& inc) {
+    const size_t n = solid.size();
     std::vector<uint8_t> movable(n, 0);
     for (const auto& [bottom, top] : solidRuns(solid))
         for (size_t k = bottom; k <= top && k - bottom < size_t(o.searchDepth); ++k) movable[k] = 1;
@@ -219,7 +199,7 @@ DlpGeometricResult optimiseColumnGeometric(const std::vector<uint8_t>& solid,
         for (size_t k = 0; k < n; ++k) {
             if (!movable[k]) continue;
             for (int move = 0; move < o.moves; ++move) {
-                std::vector<uint8_t> trial = pattern;
+                std::vector<uint8_t> trial = inc.pattern;
                 if (move == 0)
                     trial[k] ^= 1;
                 else {
@@ -227,16 +207,45 @@ DlpGeometricResult optimiseColumnGeometric(const std::vector<uint8_t>& solid,
                     if (!trial[k] || j >= n || !solid[j] || trial[j]) continue;
                     trial[k] = 0, trial[j] = 1;
                 }
-                std::vector<double> doses;
-                double value = solveNew(trial, doses);
-                if (value < best - 1e-9 * std::max(1.0, std::abs(best)))
-                    best = value, pattern = trial, bestDose = doses, improved = true;
+                improved |= inc.consider(trial, 1e-9 * std::max(1.0, std::abs(inc.value)));
             }
         }
         if (!improved) break;
     }
-    if (!std::isfinite(best)) throw InputError("DLP geometric: no printable exposure pattern");
-    DlpGeometricResult out = finish(solid, p, o, bestDose, best, std::min(bound, best));
+}
+
+}  // namespace
+
+DlpGeometricResult optimiseColumnGeometric(const std::vector<uint8_t>& solid,
+                                           const DlpColumnProblem& p,
+                                           const DlpGeometricOptions& o) {
+    size_t solidLayers = 0;
+    for (uint8_t v : solid) solidLayers += v ? 1 : 0;
+    if (solidLayers <= std::min<size_t>(o.enumerationLimit, 20))
+        return enumerateColumnGeometric(solid, p, o);
+    GeometricChainLp patterns(solid, p, o);
+    double bound = structuralBound(solid, p, o);
+    if (o.relaxationBound) bound = std::max(bound, relaxationBound(solid, p, o));
+    Incumbent inc{patterns, {}, {}, INFINITY, {}};
+    if (o.start == DlpGeometricStart::ConversionL2) {
+        DlpColumnProblem l2 = p;
+        l2.penalty = 5.5;
+        inc.consider(solveColumnExactly(solid, l2).best.exposed);
+    } else {
+        // Greedy patterns with the longest gaps d_max allows (and periodic ones, if asked).
+        const int window = longestGap(p);
+        for (int gap = window; gap > std::max(0, window - o.startGaps); --gap) {
+            inc.consider(greedyPattern(solid, p, gap, o));
+            for (int skip = bottomSkip(p, gap) - 1;
+                 o.periodicStarts && skip <= bottomSkip(p, gap) + 1; ++skip)
+                inc.consider(periodicPattern(solid, gap, skip));
+        }
+    }
+    if (!std::isfinite(inc.value))  // fall back to exposing every solid layer
+        inc.consider(std::vector<uint8_t>(solid.begin(), solid.end()));
+    improveLocally(solid, o, inc);
+    if (!std::isfinite(inc.value)) throw InputError("DLP geometric: no printable exposure pattern");
+    DlpGeometricResult out = finish(solid, p, o, inc.dose, inc.value, std::min(bound, inc.value));
     out.patterns = patterns.solves();
     out.patternLps = patterns.lpSolves();
     return out;
