@@ -8,8 +8,11 @@
 // only on the distance from the axis: ~100 profiles for 2e4 columns), so the benchmark also
 // optimises a porous sphere: the same sphere with 600 spherical cavities (radius 0.25-0.6 mm,
 // fixed seed), whose columns cross several cavities and have ~2e4 distinct profiles, each with
-// down-facing surfaces. The geometric objective is timed on a sample of its distinct columns
-// (every `geometric_stride`-th) and its total extrapolated, since it costs far more per column.
+// down-facing surfaces. The geometric objective is timed on every `geometric_stride`-th distinct
+// column (1: all of them) and its total extrapolated; it prints the patterns solved per column,
+// how many needed an LP, and the gap against the structural lower bound. Section c runs the
+// earlier geometric search (conversion-l2 start pattern, 24 layers deep, 3 passes) on the same
+// sample and prints the ratio of the objectives reached (new / earlier: mean, worst, best).
 //
 // The xy-coupled joint optimisation (blur 40 um, 2 x 2 cells per pixel, 60 FISTA iterations)
 // starts from the solid sphere's column optimum; its figures are the joint objective J and the
@@ -17,8 +20,12 @@
 //
 // Usage: bench_dlp_optimiser [diameter_mm] [pixel_mm] [max_nodes] [every_column 0|1]
 //                            [geometric_stride] [cavities] [enumeration_limit] [sections]
+//                            [search_depth] [passes] [relaxation_bound 0|1] [start_gaps]
+//                            [periodic_starts 0|1]
 // sections: letters s (solid sphere: L2, every column, geometric), p (porous sphere L2),
-// g (porous geometric sample), x (xy coupling); default "spgx".
+// g (porous geometric sample), c (the earlier geometric search on that sample), G (porous
+// geometric through the part driver, optimiseDlpPart, every column), x (xy coupling); default
+// "spgx". Later arguments default to DlpGeometricOptions'.
 
 #include <sys/resource.h>
 
@@ -159,7 +166,7 @@ int main(int argc, char** argv) {
     const double geometricCpu = cpu() - c0;
 
     // The porous sphere: ~2e4 distinct profiles.
-    const int stride = argc > 5 ? std::max(1, std::atoi(argv[5])) : 40;
+    const int stride = argc > 5 ? std::max(1, std::atoi(argv[5])) : 1;
     const DlpLayerStack holes = porous(part, diameter, pixel, 0.05, cavities);
     c0 = cpu();
     DlpPartResult porousL2 = run('p') ? optimiseDlpPart(holes, o) : DlpPartResult{};
@@ -167,12 +174,22 @@ int main(int argc, char** argv) {
     const std::vector<std::vector<uint8_t>> profiles = distinctProfiles(holes);
     std::vector<size_t> sample;
     for (size_t i = 0; run('g') && i < profiles.size(); i += size_t(stride)) sample.push_back(i);
+    if (argc > 9) g.geometric.searchDepth = std::atoi(argv[9]);
+    if (argc > 10) g.geometric.maxPasses = std::atoi(argv[10]);
+    if (argc > 11) g.geometric.relaxationBound = std::atoi(argv[11]) != 0;
+    if (argc > 12) g.geometric.startGaps = std::atoi(argv[12]);
+    if (argc > 13) g.geometric.periodicStarts = std::atoi(argv[13]) != 0;
     std::vector<double> sampleGaps(sample.size()), sampleSolid(sample.size());
+    std::vector<double> sampleObjective(sample.size()), samplePatterns(sample.size()),
+        sampleLps(sample.size());
     c0 = cpu();
     start = std::chrono::steady_clock::now();
     tbb::parallel_for(size_t(0), sample.size(), [&](size_t i) {
         DlpGeometricResult r = optimiseColumnGeometric(profiles[sample[i]], o.problem, g.geometric);
         sampleGaps[i] = r.gap;
+        sampleObjective[i] = r.objective;
+        samplePatterns[i] = double(r.patterns);
+        sampleLps[i] = double(r.patternLps);
         sampleSolid[i] =
             double(std::count(profiles[sample[i]].begin(), profiles[sample[i]].end(), 1));
     });
@@ -186,7 +203,40 @@ int main(int argc, char** argv) {
         sampleMeanGap += gap / double(std::max<size_t>(sampleGaps.size(), 1));
         sampleCertified += gap <= 1e-9;
     }
+    // The earlier search (conversion-l2 start pattern, 24 layers deep, 3 passes) on the same
+    // sample: the reference the objective reached is compared with.
+    std::vector<double> legacyObjective(sample.size());
+    DlpGeometricOptions legacy;
+    legacy.start = DlpGeometricStart::ConversionL2;
+    legacy.searchDepth = 24, legacy.maxPasses = 3;
+    c0 = cpu();
+    start = std::chrono::steady_clock::now();
+    if (run('c'))
+        tbb::parallel_for(size_t(0), sample.size(), [&](size_t i) {
+            legacyObjective[i] =
+                optimiseColumnGeometric(profiles[sample[i]], o.problem, legacy).objective;
+        });
+    const double legacySeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double legacyCpu = cpu() - c0;
+    double ratioMean = 0.0, ratioWorst = 0.0, ratioBest = INFINITY, patternsMean = 0.0,
+           lpsMean = 0.0;
+    size_t better = 0, worse = 0;
+    for (size_t i = 0; i < sample.size(); ++i) {
+        patternsMean += samplePatterns[i] / double(sample.size());
+        lpsMean += sampleLps[i] / double(sample.size());
+        if (!run('c')) continue;
+        const double ratio = sampleObjective[i] / std::max(legacyObjective[i], 1e-12);
+        ratioMean += ratio / double(sample.size());
+        ratioWorst = std::max(ratioWorst, ratio), ratioBest = std::min(ratioBest, ratio);
+        better += ratio<1 - 1e-9, worse += ratio> 1 + 1e-9;
+    }
     const double scale = double(profiles.size()) / double(std::max<size_t>(sample.size(), 1));
+
+    // The part driver on the porous sphere (dedup of profiles + every distinct column).
+    c0 = cpu();
+    DlpPartResult porousGeometric = run('G') ? optimiseDlpPart(holes, g) : DlpPartResult{};
+    const double porousGeometricCpu = cpu() - c0;
 
     DlpXyOptions xy;
     xy.pixelPitch = pixel;
@@ -244,6 +294,13 @@ int main(int argc, char** argv) {
             {"max_gap", porousL2.maxGap},
             {"mean_gap", porousL2.meanGap},
             {"columns_with_gap", porousL2.openColumns}}},
+          {"geometric",
+           {{"seconds", porousGeometric.seconds},
+            {"cpu_seconds", porousGeometricCpu},
+            {"distinct_columns", porousGeometric.distinctColumns},
+            {"max_gap", porousGeometric.maxGap},
+            {"mean_gap", porousGeometric.meanGap},
+            {"columns_with_gap", porousGeometric.openColumns}}},
           {"geometric_sample",
            {{"columns", sample.size()},
             {"every", stride},
@@ -253,7 +310,20 @@ int main(int argc, char** argv) {
             {"extrapolated_cpu_seconds_all_distinct", sampleCpu * scale},
             {"max_gap", sampleMaxGap},
             {"mean_gap", sampleMeanGap},
-            {"certified_columns", sampleCertified}}}}},
+            {"certified_columns", sampleCertified},
+            {"mean_patterns", patternsMean},
+            {"mean_pattern_lps", lpsMean},
+            {"search_depth", g.geometric.searchDepth},
+            {"passes", g.geometric.maxPasses}}},
+          {"geometric_sample_vs_earlier_search",
+           run('c') ? nlohmann::json{{"seconds", legacySeconds},
+                                     {"cpu_seconds", legacyCpu},
+                                     {"objective_ratio_mean", ratioMean},
+                                     {"objective_ratio_worst", ratioWorst},
+                                     {"objective_ratio_best", ratioBest},
+                                     {"columns_better", better},
+                                     {"columns_worse", worse}}
+                    : nlohmann::json(nullptr)}}},
         {"targets_s", {{"column_optimisers", 30}, {"xy_coupling", 300}}},
         {"threads", std::thread::hardware_concurrency()},
         {"load_average_before", loadBefore},

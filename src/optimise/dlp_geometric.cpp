@@ -1,46 +1,24 @@
 #include "vpsim/optimise/dlp_geometric.h"
 
-#include <glpk.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <sstream>
+#include <string>
+#include <unordered_set>
 
+#include "dlp_glpk_programme.h"
 #include "vpsim/core/error.h"
 #include "vpsim/cure/cure_model.h"
+#include "vpsim/optimise/dlp_geometric_chain.h"
+#include "vpsim/optimise/dlp_geometric_lp.h"
 #include "vpsim/optimise/dlp_pattern_search.h"
 
 namespace vpsim::optimise {
 namespace {
 
-/// A thin owner of a GLPK problem with 1-based column/row helpers.
-class Programme {
-public:
-    Programme() : mP(glp_create_prob(), glp_delete_prob) { glp_set_obj_dir(mP.get(), GLP_MIN); }
-    int column(double lo, double hi, double cost, bool binary = false) {
-        int j = glp_add_cols(mP.get(), 1);
-        glp_set_col_bnds(mP.get(), j, lo == hi ? GLP_FX : (std::isinf(hi) ? GLP_LO : GLP_DB), lo,
-                         hi);
-        glp_set_obj_coef(mP.get(), j, cost);
-        if (binary) glp_set_col_kind(mP.get(), j, GLP_BV);
-        return j;
-    }
-    /// Row sum(coef x) with type GLP_LO (>= lo), GLP_UP (<= hi) or GLP_FX (= lo).
-    void row(const std::vector<std::pair<int, double>>& terms, int type, double lo, double hi) {
-        int i = glp_add_rows(mP.get(), 1);
-        std::vector<int> index{0};
-        std::vector<double> value{0.0};
-        for (const auto& [j, c] : terms) index.push_back(j), value.push_back(c);
-        glp_set_mat_row(mP.get(), i, int(terms.size()), index.data(), value.data());
-        glp_set_row_bnds(mP.get(), i, type, lo, hi);
-    }
-    glp_prob* get() { return mP.get(); }
-
-private:
-    std::unique_ptr<glp_prob, void (*)(glp_prob*)> mP;
-};
+using detail::Programme;
 
 /// The column's mixed-integer programme (file comment of dlp_geometric.h).
 struct GeometricModel {
@@ -139,69 +117,19 @@ std::unique_ptr<GeometricModel> buildModel(const std::vector<uint8_t>& solid,
     return model;
 }
 
-/// One exposure pattern's LP, built once per column: the doses' boxes come from exposureBounds
-/// (Eq. 10 for that pattern), so no on/off variables or window rows are needed; only the bounds
-/// change between patterns and the simplex restarts from the previous basis.
-class PatternModel {
-public:
-    PatternModel(const std::vector<uint8_t>& solid, const DlpColumnProblem& p,
-                 const DlpGeometricOptions& o)
-        : mSolid(solid), mP(p), mEc(cure::fppGelDose(p.rateConstant, p.gelPoint)) {
-        const size_t n = solid.size();
-        const double r = std::exp(-p.attenuation * p.layerThickness);
-        mX.assign(n, 0);
-        std::vector<int> d(n);
-        for (size_t k = 0; k < n; ++k) {
-            if (solid[k]) mX[k] = mLp.column(0.0, 0.0, 1e-4);
-            d[k] = mLp.column(0.0, INFINITY, 0.0);
-        }
-        const int dMax = mLp.column(0.0, INFINITY, o.spreadWeight),
-                  dMin = mLp.column(0.0, INFINITY, -o.spreadWeight);
-        for (size_t k = 0; k < n; ++k) {
-            std::vector<std::pair<int, double>> rec{{d[k], 1.0}};
-            if (k + 1 < n) rec.push_back({d[k + 1], -r});
-            if (solid[k]) rec.push_back({mX[k], -1.0});
-            mLp.row(rec, GLP_FX, 0.0, 0.0);
-            const int slack = mLp.column(0.0, INFINITY, o.violationWeight);
-            if (solid[k]) {
-                mLp.row({{d[k], 1.0}, {slack, 1.0}}, GLP_LO, 1.0, 0.0);
-                mLp.row({{d[k], 1.0}, {dMax, -1.0}}, GLP_UP, 0.0, 0.0);
-                mLp.row({{d[k], 1.0}, {dMin, -1.0}}, GLP_LO, 0.0, 0.0);
-            } else {
-                mLp.row({{d[k], 1.0}, {slack, -1.0}}, GLP_UP, 0.0, 1.0 - o.margin);
-            }
-        }
-    }
-
-    /// The pattern's optimum (doses in mJ/mm^2); +inf when Eq. 10 cannot be met within d_max.
-    double solve(const std::vector<uint8_t>& pattern, std::vector<double>& doses) {
-        std::vector<double> lo, hi;
-        if (!exposureBounds(pattern, mSolid, mP, lo, hi))
-            return std::numeric_limits<double>::infinity();
-        for (size_t k = 0; k < mSolid.size(); ++k)
-            if (mSolid[k]) {
-                const double l = lo[k] / mEc, h = hi[k] / mEc;
-                glp_set_col_bnds(mLp.get(), mX[k], l == h ? GLP_FX : GLP_DB, l, h);
-            }
-        glp_smcp sm;
-        glp_init_smcp(&sm);
-        sm.msg_lev = GLP_MSG_OFF;
-        sm.meth = GLP_DUALP;  // only bounds change between patterns: the basis stays dual feasible
-        if (glp_simplex(mLp.get(), &sm) != 0 || glp_get_status(mLp.get()) != GLP_OPT)
-            return std::numeric_limits<double>::infinity();
-        doses.assign(mSolid.size(), 0.0);
-        for (size_t k = 0; k < mSolid.size(); ++k)
-            if (mSolid[k] && pattern[k]) doses[k] = glp_get_col_prim(mLp.get(), mX[k]) * mEc;
-        return glp_get_obj_val(mLp.get());
-    }
-
-private:
-    Programme mLp;
-    std::vector<uint8_t> mSolid;
-    DlpColumnProblem mP;
-    double mEc;
-    std::vector<int> mX;
-};
+/// The MILP's LP relaxation (z in [0, 1]): a lower bound on every pattern's objective.
+double relaxationBound(const std::vector<uint8_t>& solid, const DlpColumnProblem& p,
+                       const DlpGeometricOptions& o) {
+    std::unique_ptr<GeometricModel> model = buildModel(solid, p, o);
+    for (size_t k = 0; k < solid.size(); ++k)
+        if (solid[k]) glp_set_col_bnds(model->lp.get(), model->z[k], GLP_DB, 0.0, 1.0);
+    glp_smcp sm;
+    glp_init_smcp(&sm);
+    sm.msg_lev = GLP_MSG_OFF;
+    if (glp_simplex(model->lp.get(), &sm) == 0 && glp_get_status(model->lp.get()) == GLP_OPT)
+        return std::max(0.0, glp_get_obj_val(model->lp.get()));
+    return 0.0;
+}
 
 /// The result of doses `dose` with objective `best` and lower bound `bound`.
 DlpGeometricResult finish(const std::vector<uint8_t>& solid, const DlpColumnProblem& p,
@@ -236,53 +164,42 @@ DlpGeometricResult finish(const std::vector<uint8_t>& solid, const DlpColumnProb
 
 }  // namespace
 
-DlpGeometricResult optimiseColumnGeometric(const std::vector<uint8_t>& solid,
-                                           const DlpColumnProblem& p,
-                                           const DlpGeometricOptions& o) {
-    size_t solidLayers = 0;
-    for (uint8_t v : solid) solidLayers += v ? 1 : 0;
-    if (solidLayers <= std::min<size_t>(o.enumerationLimit, 20))
-        return enumerateColumnGeometric(solid, p, o);
-    std::unique_ptr<GeometricModel> model = buildModel(solid, p, o);
-    GeometricModel& m = *model;
+namespace {
+
+/// The search's incumbent, and the patterns already solved (skipped: +inf, since the search only
+/// takes strict improvements; start patterns often coincide, switches often undo an earlier one).
+struct Incumbent {
+    GeometricChainLp& lp;
+    std::vector<uint8_t> pattern;
+    std::vector<double> dose;
+    double value = INFINITY;
+    std::unordered_set<std::string> seen;
+
+    /// Solves `trial` if new; takes it when it beats the incumbent by more than `tolerance`.
+    bool consider(const std::vector<uint8_t>& trial, double tolerance = 0.0) {
+        if (!seen.emplace(trial.begin(), trial.end()).second) return false;
+        std::vector<double> doses;
+        const double v = lp.solve(trial, doses);
+        if (!(v < value - tolerance)) return false;
+        value = v, pattern = trial, dose = std::move(doses);
+        return true;
+    }
+};
+
+/// Switches single layers within options.searchDepth of each run's bottom (and, with moves 3,
+/// moves an exposure by one layer): only those layers decide where a down-facing surface ends.
+void improveLocally(const std::vector<uint8_t>& solid, const DlpGeometricOptions& o,
+                    Incumbent& inc) {
     const size_t n = solid.size();
-    PatternModel patterns(solid, p, o);
-    auto solveFixed = [&](const std::vector<uint8_t>& pattern, std::vector<double>& doses) {
-        return patterns.solve(pattern, doses);
-    };
-    glp_smcp sm;
-    glp_init_smcp(&sm);
-    sm.msg_lev = GLP_MSG_OFF;
-    // Every term of the objective is >= 0 (doses, slacks, max - min of D), so 0 is a valid bound
-    // when the relaxation is weaker or fails.
-    double bound = 0.0;
-    for (size_t k = 0; k < n; ++k)
-        if (solid[k]) glp_set_col_bnds(m.lp.get(), m.z[k], GLP_DB, 0.0, 1.0);
-    if (glp_simplex(m.lp.get(), &sm) == 0 && glp_get_status(m.lp.get()) == GLP_OPT)
-        bound = std::max(0.0, glp_get_obj_val(m.lp.get()));  // LP relaxation of the MILP
-    DlpColumnProblem l2 = p;
-    l2.penalty = 5.5;
-    std::vector<uint8_t> pattern = solveColumnExactly(solid, l2).best.exposed;
-    std::vector<double> bestDose;
-    double best = solveFixed(pattern, bestDose);
-    if (!std::isfinite(best)) {  // fall back to exposing every solid layer
-        pattern.assign(solid.begin(), solid.end());
-        best = solveFixed(pattern, bestDose);
-    }
-    // Only the layers near a run's bottom decide where a down-facing surface ends; the interior
-    // of a run stays exposed (moves there change the spread only, at a high LP cost).
     std::vector<uint8_t> movable(n, 0);
-    for (size_t k = 0; k < n; ++k) {
-        size_t begin = k;
-        while (begin > 0 && solid[begin - 1]) --begin;
-        movable[k] = solid[k] && (k - begin) < size_t(o.searchDepth);
-    }
+    for (const auto& [bottom, top] : solidRuns(solid))
+        for (size_t k = bottom; k <= top && k - bottom < size_t(o.searchDepth); ++k) movable[k] = 1;
     for (int pass = 0; pass < o.maxPasses; ++pass) {
         bool improved = false;
         for (size_t k = 0; k < n; ++k) {
             if (!movable[k]) continue;
             for (int move = 0; move < o.moves; ++move) {
-                std::vector<uint8_t> trial = pattern;
+                std::vector<uint8_t> trial = inc.pattern;
                 if (move == 0)
                     trial[k] ^= 1;
                 else {
@@ -290,17 +207,48 @@ DlpGeometricResult optimiseColumnGeometric(const std::vector<uint8_t>& solid,
                     if (!trial[k] || j >= n || !solid[j] || trial[j]) continue;
                     trial[k] = 0, trial[j] = 1;
                 }
-                std::vector<double> doses;
-                double value = solveFixed(trial, doses);
-                if (value < best - 1e-9 * std::max(1.0, std::abs(best))) {
-                    best = value, pattern = trial, bestDose = doses, improved = true;
-                }
+                improved |= inc.consider(trial, 1e-9 * std::max(1.0, std::abs(inc.value)));
             }
         }
         if (!improved) break;
     }
-    if (!std::isfinite(best)) throw InputError("DLP geometric: no printable exposure pattern");
-    return finish(solid, p, o, bestDose, best, std::min(bound, best));
+}
+
+}  // namespace
+
+DlpGeometricResult optimiseColumnGeometric(const std::vector<uint8_t>& solid,
+                                           const DlpColumnProblem& p,
+                                           const DlpGeometricOptions& o) {
+    size_t solidLayers = 0;
+    for (uint8_t v : solid) solidLayers += v ? 1 : 0;
+    if (solidLayers <= std::min<size_t>(o.enumerationLimit, 20))
+        return enumerateColumnGeometric(solid, p, o);
+    GeometricChainLp patterns(solid, p, o);
+    double bound = structuralBound(solid, p, o);
+    if (o.relaxationBound) bound = std::max(bound, relaxationBound(solid, p, o));
+    Incumbent inc{patterns, {}, {}, INFINITY, {}};
+    if (o.start == DlpGeometricStart::ConversionL2) {
+        DlpColumnProblem l2 = p;
+        l2.penalty = 5.5;
+        inc.consider(solveColumnExactly(solid, l2).best.exposed);
+    } else {
+        // Greedy patterns with the longest gaps d_max allows (and periodic ones, if asked).
+        const int window = longestGap(p);
+        for (int gap = window; gap > std::max(0, window - o.startGaps); --gap) {
+            inc.consider(greedyPattern(solid, p, gap, o));
+            for (int skip = bottomSkip(p, gap) - 1;
+                 o.periodicStarts && skip <= bottomSkip(p, gap) + 1; ++skip)
+                inc.consider(periodicPattern(solid, gap, skip));
+        }
+    }
+    if (!std::isfinite(inc.value))  // fall back to exposing every solid layer
+        inc.consider(std::vector<uint8_t>(solid.begin(), solid.end()));
+    improveLocally(solid, o, inc);
+    if (!std::isfinite(inc.value)) throw InputError("DLP geometric: no printable exposure pattern");
+    DlpGeometricResult out = finish(solid, p, o, inc.dose, inc.value, std::min(bound, inc.value));
+    out.patterns = patterns.solves();
+    out.patternLps = patterns.lpSolves();
+    return out;
 }
 
 double geometricObjective(const std::vector<uint8_t>& solid, const DlpColumnProblem& p,
@@ -333,7 +281,7 @@ DlpGeometricResult enumerateColumnGeometric(const std::vector<uint8_t>& solid,
     if (layers.size() > 20)
         throw InputError("DLP geometric: enumeration is limited to 20 solid layers");
     buildModel(solid, p, o);  // checks the parameters
-    PatternModel model(solid, p, o);
+    GeometricPatternLp model(solid, p, o);
     std::vector<uint8_t> pattern(solid.size(), 0);
     std::vector<double> bestDose, doses;
     double best = std::numeric_limits<double>::infinity();
@@ -343,7 +291,9 @@ DlpGeometricResult enumerateColumnGeometric(const std::vector<uint8_t>& solid,
         if (value < best) best = value, bestDose = doses;
     }
     if (!std::isfinite(best)) throw InputError("DLP geometric: no printable exposure pattern");
-    return finish(solid, p, o, bestDose, best, best);  // every pattern seen: gap 0
+    DlpGeometricResult out = finish(solid, p, o, bestDose, best, best);  // every pattern: gap 0
+    out.patterns = out.patternLps = model.solves();
+    return out;
 }
 
 DlpGeometricResult branchAndCutColumnGeometric(const std::vector<uint8_t>& solid,

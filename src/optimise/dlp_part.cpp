@@ -71,7 +71,7 @@ DlpPartResult optimiseDlpPart(const DlpLayerStack& part, const DlpPartOptions& o
                 DlpGeometricResult r =
                     optimiseColumnGeometric(solid, options.problem, options.geometric);
                 dose = std::move(r.dose);
-                gaps[i] = r.gap;  // 0 when enumerated; else against the LP relaxation
+                gaps[i] = r.gap;  // 0 when enumerated; else against the structural bound
             } else {
                 DlpSearchResult r = solveColumnExactly(solid, options.problem, options.search);
                 dose = std::move(r.best.dose);

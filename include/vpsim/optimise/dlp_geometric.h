@@ -10,16 +10,20 @@
 /// `violationWeight`), because some cannot be met at all: under run-bottom bonding the first
 /// exposure of a run cures down to the designed surface, so the node just below it reaches Ec.
 ///
-/// Solver: the column is a mixed-integer linear programme (below). GLPK's own branch and cut
-/// (Debian libglpk) took over 5 s per 220-layer column without closing its gap, so the pattern
-/// is searched instead: start from the L2 optimum's exposure pattern, improve it by local moves
-/// (switch a layer on/off, move an exposure by one layer), each pattern's programme an LP with
-/// z fixed, solved by GLPK's simplex (exact); the MILP's LP relaxation gives the lower bound
-/// and the reported gap. Variables: doses x_p = d_p / Ec and on/off z_p per solid layer,
-/// accumulated doses D_p by the print-through recursion D_p = x_p + r D_{p+1}, slacks, and the
-/// spread bounds. Eq. 10 with n_z = k is linear in z: x_q >= e^{mu Le k} (z_q + z_{q-k} - 1 - sum
-/// of the z between), for every gap k that d_max allows; longer gaps are forbidden by window rows
-/// using a monotone "exposed at or below" indicator. Units: dose mJ/mm^2.
+/// The column is a mixed-integer linear programme (below). GLPK's own branch and cut (Debian
+/// libglpk) took over 5 s per 220-layer column without closing its gap, so the exposure pattern
+/// is searched instead (optimiseColumnGeometric): greedy start patterns built from the top down
+/// (dlp_geometric_lp.h: every gap-th layer, the run's lowest exposure where its print-through
+/// cures the run's bottom), then single-layer switches near each run's bottom. Each pattern's
+/// programme is solved exactly by its chain of exposures (dlp_geometric_chain.h: a small LP, or
+/// no LP when every gel condition can be met), tested against GLPK on the full per-layer LP; the
+/// reported gap is against a structural lower bound (structuralBound), since the MILP's LP
+/// relaxation is near 0. Up to enumerationLimit solid layers every pattern is enumerated (gap 0).
+/// MILP variables: doses x_p = d_p / Ec and on/off z_p per solid layer, accumulated doses D_p by
+/// the print-through recursion D_p = x_p + r D_{p+1}, slacks, and the spread bounds. Eq. 10 with
+/// n_z = k is linear in z: x_q >= e^{mu Le k} (z_q + z_{q-k} - 1 - sum of the z between), for
+/// every gap k that d_max allows; longer gaps are forbidden by window rows using a monotone
+/// "exposed at or below" indicator. Units: dose mJ/mm^2.
 
 #include <cstdint>
 #include <vector>
@@ -28,14 +32,26 @@
 
 namespace vpsim::optimise {
 
+/// Where the pattern search starts: greedy (and optionally periodic) patterns
+/// (dlp_geometric_lp.h), or the conversion-l2 optimum's pattern (the earlier default, kept as the
+/// reference the benchmark compares with: it costs a branch and bound per column and leaves long
+/// runs' interiors exposed at every layer, D near Ec / (r (1 - r)), about 9 Ec).
+enum class DlpGeometricStart { Greedy, ConversionL2 };
+
 /// Controls of the geometric column programme.
 struct DlpGeometricOptions {
     double margin = 0.05;            ///< outside nodes stay below (1 - margin) Ec, in [0, 1)
     double violationWeight = 100.0;  ///< weight of gel-condition violations (per Ec) vs spread
     double spreadWeight = 1.0;       ///< weight of the spread max - min of D inside (per Ec)
-    int maxPasses = 3;               ///< local-search passes over the exposure pattern
-    int moves = 1;                   ///< 1: switch a layer on/off; 3: also move an exposure +-1
-    int searchDepth = 24;            ///< layers above each run's bottom the local search moves
+    DlpGeometricStart start = DlpGeometricStart::Greedy;  ///< the search's start pattern
+    int maxPasses = 2;    ///< local-search passes over the exposure pattern
+    int moves = 1;        ///< 1: switch a layer on/off; 3: also move an exposure +-1
+    int searchDepth = 4;  ///< layers above each run's bottom the local search moves
+    /// Also compute the MILP's LP relaxation as a lower bound (weak: near 0, and one large LP
+    /// per column); the structural bound (dlp_geometric_lp.h) is always computed.
+    bool relaxationBound = false;
+    int startGaps = 2;            ///< start patterns for gaps window, window - 1, ... (this many)
+    bool periodicStarts = false;  ///< also the periodic start patterns (3 per gap)
     /// Columns with at most this many solid layers are solved by enumerating every pattern
     /// (exact, gap 0); 2^limit LPs.
     size_t enumerationLimit = 10;
@@ -48,9 +64,11 @@ struct DlpGeometricResult {
     double violation = 0.0;           ///< sum of gel-condition violations, in units of Ec
     double spread = 0.0;              ///< max - min of D inside, in units of Ec
     double objective = 0.0;           ///< the programme's objective
-    double lowerBound = 0.0;          ///< the MILP's LP relaxation: no pattern does better
+    double lowerBound = 0.0;          ///< no pattern does better (structural bound, or exact)
     double gap = 0.0;                 ///< (objective - lowerBound) / |objective|
     bool optimal = false;             ///< gap closed (the bound is attained)
+    size_t patterns = 0;              ///< exposure patterns solved
+    size_t patternLps = 0;            ///< of which by an LP (the others by the band trajectory)
 };
 
 /// The programme's objective for doses `dose` (mJ/mm^2 per layer), computed directly from the
@@ -76,7 +94,7 @@ DlpGeometricResult branchAndCutColumnGeometric(const std::vector<uint8_t>& solid
 
 /// Solves the geometric programme for one column (solid[k] != 0: layer k in the part): by
 /// enumeration (exact) up to options.enumerationLimit solid layers, else by the local search
-/// with the LP-relaxation bound and its gap.
+/// with the structural bound and its gap.
 /// `problem.targetConversion` and `penalty` are not used; bonding, d_max, K, mu, Phi_c are.
 /// @throw InputError on bad parameters, d_max below the bonding dose, or when GLPK fails
 DlpGeometricResult optimiseColumnGeometric(const std::vector<uint8_t>& solid,
