@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include "dlp_test_support.h"
 #include "vpsim/core/error.h"
 #include "vpsim/cure/cure_model.h"
 #include "vpsim/cure/print_through.h"
@@ -17,16 +18,8 @@ namespace {
 
 /// The seed 001 resin as calibrated from Table 1 (test_seed001_calibration.cpp), 50 um layers.
 DlpColumnProblem seedResin(double maxDose) {
-    DlpColumnProblem p;
-    p.layerThickness = 0.05;
-    p.rateConstant = 0.528080236;
-    p.attenuation = 1.0 / 0.365935872;
-    p.gelPoint = 0.276;
-    p.maxDose = maxDose;
-    p.targetConversion = 0.95;
-    p.penalty = 5.5;
-    p.bonding = Bonding::RunBottom;  // the reading these tests were written for
-    return p;
+    return vpsim::test::seedResin(maxDose,
+                                  Bonding::RunBottom);  // the reading these tests were written for
 }
 
 const double GEL = 0.3229638865964207;  // ln(1/(1-0.276)), computed independently

@@ -6,23 +6,14 @@
 #include <cmath>
 #include <random>
 
+#include "dlp_test_support.h"
 #include "vpsim/optimise/bounded_least_squares.h"
 #include "vpsim/optimise/dlp_pattern_search.h"
 
 using namespace vpsim::optimise;
+using vpsim::test::seedResin;
 
 namespace {
-
-DlpColumnProblem seedResin(double maxDose, Bonding bonding) {
-    DlpColumnProblem p;
-    p.layerThickness = 0.05;
-    p.rateConstant = 0.528080236;
-    p.attenuation = 1.0 / 0.365935872;
-    p.gelPoint = 0.276;
-    p.maxDose = maxDose;
-    p.bonding = bonding;
-    return p;
-}
 
 /// d_k >= bonding dose for its n_z, read independently of the solver from the dose vector.
 void requireEq10(const std::vector<uint8_t>& solid, const std::vector<double>& d,

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <functional>
 
+#include "dlp_test_support.h"
 #include "vpsim/optimise/dlp_geometric.h"
 
 using namespace vpsim::optimise;
@@ -15,13 +16,7 @@ using namespace vpsim::optimise;
 namespace {
 
 DlpColumnProblem seedResin(Bonding bonding) {
-    DlpColumnProblem p;
-    p.rateConstant = 0.528080236;
-    p.attenuation = 1.0 / 0.365935872;
-    p.gelPoint = 0.276;
-    p.maxDose = 1.3;
-    p.bonding = bonding;
-    return p;
+    return vpsim::test::seedResin(1.3, bonding);
 }
 
 /// Small columns with void gaps (down-facing surfaces) and runs of several layers.

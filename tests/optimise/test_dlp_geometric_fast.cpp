@@ -9,6 +9,7 @@
 #include <cmath>
 #include <random>
 
+#include "dlp_test_support.h"
 #include "vpsim/optimise/dlp_geometric_chain.h"
 #include "vpsim/optimise/dlp_geometric_lp.h"
 
@@ -17,13 +18,7 @@ using namespace vpsim::optimise;
 namespace {
 
 DlpColumnProblem seedResin(Bonding bonding) {
-    DlpColumnProblem p;
-    p.rateConstant = 0.528080236;
-    p.attenuation = 1.0 / 0.365935872;
-    p.gelPoint = 0.276;
-    p.maxDose = 1.3;
-    p.bonding = bonding;
-    return p;
+    return vpsim::test::seedResin(1.3, bonding);
 }
 
 /// A column of `n` layers: solid runs of 1-25 layers between voids of 1-8 (or the platform).

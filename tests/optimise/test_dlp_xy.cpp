@@ -6,22 +6,13 @@
 #include <cmath>
 #include <random>
 
+#include "dlp_test_support.h"
 #include "vpsim/optimise/dlp_xy.h"
 
 using namespace vpsim::optimise;
+using vpsim::test::seedResin;
 
-namespace {
-
-DlpColumnProblem seedResin() {
-    DlpColumnProblem p;
-    p.rateConstant = 0.528080236;
-    p.attenuation = 1.0 / 0.365935872;
-    p.gelPoint = 0.276;
-    p.maxDose = 1.3;
-    return p;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 TEST_CASE("xy: blur operator adjoint <A x, y> = <x, A^T y>", "[optimise]") {
     // Random x (pixels) and y (cells); float fields, sums in double: 1e-5 relative.
