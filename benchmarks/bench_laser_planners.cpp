@@ -203,7 +203,8 @@ nlohmann::json targets(const nlohmann::json& r) {
         {"inverse_10mm_layer_under_5_s", sq["inverse"] < 5.0},
         {"overhang_overcure_halved_iou_no_worse",
          o["dfbtp"]["overcure_below_downfacing_mean_um"].get<double>() <=
-                 0.5 * o["aces_cure_at_contour"]["overcure_below_downfacing_mean_um"].get<double>() &&
+                 0.5 *
+                     o["aces_cure_at_contour"]["overcure_below_downfacing_mean_um"].get<double>() &&
              o["dfbtp"]["iou"] >= o["aces_cure_at_contour"]["iou"] &&
              o["inverse"]["iou"] >= o["aces_cure_at_contour"]["iou"]}};
 }

@@ -31,7 +31,7 @@ class McmlReference {
 public:
     explicit McmlReference(const vpsim::transport::McSetup& s) : mS(s) {
         mMut = s.optics.mua + s.optics.mus;
-        mInvMut = 1.0 / mMut;  // reciprocals once: MCML divides, the compiler here would not fold them
+        mInvMut = 1.0 / mMut;  // reciprocals once, where MCML divides per step
         mInvDr = s.bins.rBins / s.bins.rMax;
         mInvDz = s.bins.zBins / s.bins.zMax;
         double r = (s.nAbove - s.optics.refractiveIndex) / (s.nAbove + s.optics.refractiveIndex);
