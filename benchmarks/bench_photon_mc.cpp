@@ -165,16 +165,9 @@ Figures mcmlFigures(const McSetup& s, const std::vector<size_t>& bins, bool conv
         const auto& o = s.bins;
         const std::vector<double> w = vpsim::transport::ringWeights(
             o.rBins, o.rMax / o.rBins, in.rBins, in.rMax / in.rBins, s.w0);
-        std::vector<double> out(size_t(o.rBins) * o.zBins * MC_BATCHES, 0.0);
-        for (size_t b = 0; b < size_t(MC_BATCHES); ++b)
-            for (size_t z = 0; z < o.zBins; ++z) {
-                const double* row = t.absorbedRZ.data() + (b * in.zBins + z) * in.rBins;
-                for (size_t i = 0; i < o.rBins; ++i) {
-                    double sum = 0;
-                    for (size_t j = 0; j < in.rBins; ++j) sum += w[i * in.rBins + j] * row[j];
-                    out[(b * o.zBins + z) * o.rBins + i] = sum;
-                }
-            }
+        std::vector<double> out(size_t(o.rBins) * o.zBins * MC_BATCHES);  // [batch][z][r] rows
+        vpsim::transport::convolveRings(t.absorbedRZ.data(), out.data(),
+                                        size_t(o.zBins) * MC_BATCHES, in.rBins, o.rBins, w);
         t.absorbedRZ = std::move(out);
     }
     Figures f;

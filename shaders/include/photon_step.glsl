@@ -230,7 +230,7 @@ bool photonTracksDepths(PHOTON_PARAMS_IN p) {
 
 // Flushes the track-length buffers at the end of a photon (carried fractions are dropped).
 void photonFlush(PHOTON_PARAMS_IN p, VPSIM_INOUT(PhotonState) s, uint batch, VPSIM_INOUT(PhotonTally) t) {
-    if (!photonBinsEstimated(p)) return;
+    if (!photonTracks(p)) return;  // only the track-length tallies buffer (collision counts do not)
     photonPend(s, batch, -1, float(0));
     if (!photonTracksDepths(p)) return;
     t.within0 += uint64_t(floor(s.above.x + float(0.5)));

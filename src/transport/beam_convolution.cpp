@@ -60,18 +60,12 @@ constexpr std::array<double, 4> GL_X{-0.8611363115940526, -0.3399810435848563, 0
 constexpr std::array<double, 4> GL_W{0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
                                      0.3478548451374538};
 
-/// Convolves `rows` rows of `pencilBins` values into rows of `rings` values, rounded to quanta.
+/// convolveRings of quanta, rounded back to quanta.
 void convolveRows(const uint64_t* in, uint64_t* out, size_t rows, uint32_t pencilBins,
                   uint32_t rings, const std::vector<double>& w) {
-    for (size_t z = 0; z < rows; ++z) {
-        const uint64_t* row = in + z * pencilBins;
-        for (uint32_t i = 0; i < rings; ++i) {
-            const double* wi = w.data() + size_t(i) * pencilBins;
-            double sum = 0.0;
-            for (uint32_t j = 0; j < pencilBins; ++j) sum += wi[j] * double(row[j]);
-            out[z * rings + i] = uint64_t(std::llround(sum));
-        }
-    }
+    std::vector<double> sums(rows * rings);
+    convolveRings(in, sums.data(), rows, pencilBins, rings, w);
+    for (size_t i = 0; i < sums.size(); ++i) out[i] = uint64_t(std::llround(sums[i]));
 }
 
 }  // namespace

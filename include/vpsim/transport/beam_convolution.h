@@ -15,6 +15,8 @@
 /// output rings (W0 >= MIN_W0_IN_RINGS ring widths; narrower beams gain little), and while the
 /// pencil tally fits MAX_RZ_BINS and the convolution stays within about a second.
 
+#include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "vpsim/transport/photon_mc.h"
@@ -34,6 +36,22 @@ McSetup pencilSetup(const McSetup& setup);
 /// intensity radius w0). Columns sum to the fraction landing inside the output grid. mm.
 std::vector<double> ringWeights(uint32_t rings, double ringWidth, uint32_t pencilBins,
                                 double pencilWidth, double w0);
+
+/// Applies ring weights (ringWeights) to `rows` rows: out[z * rings + i] = sum over j of
+/// weights[i * pencilBins + j] * in[z * pencilBins + j].
+template <class Value>
+void convolveRings(const Value* in, double* out, size_t rows, uint32_t pencilBins, uint32_t rings,
+                   const std::vector<double>& weights) {
+    for (size_t z = 0; z < rows; ++z) {
+        const Value* row = in + z * pencilBins;
+        for (uint32_t i = 0; i < rings; ++i) {
+            const double* wi = weights.data() + size_t(i) * pencilBins;
+            double sum = 0.0;
+            for (uint32_t j = 0; j < pencilBins; ++j) sum += wi[j] * double(row[j]);
+            out[z * rings + i] = sum;
+        }
+    }
+}
 
 /// The result of `setup` from the pencil run `pencil` (of pencilSetup(setup)): the totals as
 /// traced, the (r,z) bins (and per-batch bins) convolved with the beam and rounded to quanta.

@@ -63,9 +63,8 @@ enum class Estimator {
     Collision,      ///< analog transport, collision-estimated bins, point depth tallies (default)
 };  /// "analog", "implicit", "implicit-track", "track-length" or "collision". The totals (R, T,
 /// absorbed) are exact integer partitions for every estimator; the (r,z) bins of the track-length
-/// and collision ones (and
-/// McResult::absorbedWithin of implicit-track) are track-length estimates, which match the
-/// totals only within statistics.
+/// and collision ones (and McResult::absorbedWithin of implicit-track) are track-length or
+/// collision estimates, which match the totals only within statistics.
 const char* estimatorName(Estimator e);
 /// Every estimator's name, for command-line choices.
 std::vector<std::string> estimatorNames();
