@@ -55,23 +55,7 @@ std::unique_ptr<GeometricModel> buildModel(const std::vector<uint8_t>& solid,
         }
         d[k] = lp.column(0.0, INFINITY, 0.0);
     }
-    const int dMax = lp.column(0.0, INFINITY, o.spreadWeight),
-              dMin = lp.column(0.0, INFINITY, -o.spreadWeight);
-    for (size_t k = 0; k < n; ++k) {
-        // Print-through recursion D_k = x_k + r D_{k+1}.
-        std::vector<std::pair<int, double>> rec{{d[k], 1.0}};
-        if (k + 1 < n) rec.push_back({d[k + 1], -r});
-        if (solid[k]) rec.push_back({x[k], -1.0});
-        lp.row(rec, GLP_FX, 0.0, 0.0);
-        const int slack = lp.column(0.0, INFINITY, o.violationWeight);
-        if (solid[k]) {
-            lp.row({{d[k], 1.0}, {slack, 1.0}}, GLP_LO, 1.0, 0.0);  // reaches the gel dose
-            lp.row({{d[k], 1.0}, {dMax, -1.0}}, GLP_UP, 0.0, 0.0);
-            lp.row({{d[k], 1.0}, {dMin, -1.0}}, GLP_LO, 0.0, 0.0);
-        } else {
-            lp.row({{d[k], 1.0}, {slack, -1.0}}, GLP_UP, 0.0, 1.0 - o.margin);
-        }
-    }
+    detail::addPrintThroughRows(lp, solid, r, x, d, o);
     const bool runBottom = p.bonding == Bonding::RunBottom;
     for (size_t q = 0; q < n; ++q) {
         if (!solid[q]) continue;

@@ -34,22 +34,7 @@ GeometricPatternLp::GeometricPatternLp(const std::vector<uint8_t>& solid, const 
         if (solid[k]) m.x[k] = m.lp.column(0.0, 0.0, 1e-4);  // tiny cost: less light on ties
         d[k] = m.lp.column(0.0, INFINITY, 0.0);
     }
-    const int dMax = m.lp.column(0.0, INFINITY, o.spreadWeight),
-              dMin = m.lp.column(0.0, INFINITY, -o.spreadWeight);
-    for (size_t k = 0; k < n; ++k) {
-        std::vector<std::pair<int, double>> rec{{d[k], 1.0}};  // D_k = x_k + r D_{k+1}
-        if (k + 1 < n) rec.push_back({d[k + 1], -r});
-        if (solid[k]) rec.push_back({m.x[k], -1.0});
-        m.lp.row(rec, GLP_FX, 0.0, 0.0);
-        const int slack = m.lp.column(0.0, INFINITY, o.violationWeight);
-        if (solid[k]) {
-            m.lp.row({{d[k], 1.0}, {slack, 1.0}}, GLP_LO, 1.0, 0.0);  // reaches the gel dose
-            m.lp.row({{d[k], 1.0}, {dMax, -1.0}}, GLP_UP, 0.0, 0.0);
-            m.lp.row({{d[k], 1.0}, {dMin, -1.0}}, GLP_LO, 0.0, 0.0);
-        } else {
-            m.lp.row({{d[k], 1.0}, {slack, -1.0}}, GLP_UP, 0.0, 1.0 - o.margin);
-        }
-    }
+    detail::addPrintThroughRows(m.lp, solid, r, m.x, d, o);
 }
 
 GeometricPatternLp::~GeometricPatternLp() = default;
