@@ -41,9 +41,8 @@ std::unique_ptr<GeometricModel> buildModel(const std::vector<uint8_t>& solid,
         throw InputError("DLP geometric: margin must lie in [0, 1)");
     const double ec = cure::fppGelDose(p.rateConstant, p.gelPoint);
     const double mule = p.attenuation * p.layerThickness, r = std::exp(-mule);
-    const double cap = p.maxDose / ec;                                 // d_max in units of Ec
-    const int window = int(std::floor(std::log(cap) / mule + 1e-12));  // longest allowed n_z
-    if (window < 1) throw InputError("DLP geometric: d_max is below the bonding dose (Eq. 10)");
+    const double cap = p.maxDose / ec;  // d_max in units of Ec
+    const int window = longestGap(p);   // longest allowed n_z
     const size_t n = solid.size();
     glp_term_out(GLP_OFF);
     std::vector<int> x(n, 0), z(n, 0), y(n, 0), d(n);

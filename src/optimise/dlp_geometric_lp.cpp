@@ -154,10 +154,6 @@ int bottomSkip(const DlpColumnProblem& p, int gap) {
     return std::max(skip, 0);
 }
 
-}  // namespace vpsim::optimise
-
-namespace vpsim::optimise {
-
 double structuralBound(const std::vector<uint8_t>& solid, const DlpColumnProblem& p,
                        const DlpGeometricOptions& o) {
     const double r = std::exp(-p.attenuation * p.layerThickness), c = 1.0 - o.margin;
@@ -192,8 +188,7 @@ double structuralBound(const std::vector<uint8_t>& solid, const DlpColumnProblem
         violations += violation;
         excess = std::max(excess, run - violation);
     }
-    const double bound = violations + excess;
-    return bound;
+    return violations + excess;
 }
 
 }  // namespace vpsim::optimise
