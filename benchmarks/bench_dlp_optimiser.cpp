@@ -108,6 +108,18 @@ double loadAverage() {
     return getloadavg(load, 1) == 1 ? load[0] : -1.0;
 }
 
+/// A part optimisation's figures: time, the distinct columns solved and their optimality gaps.
+nlohmann::json partJson(const DlpPartResult& r, double cpuSeconds, nlohmann::json extra = {}) {
+    nlohmann::json j{{"seconds", r.seconds},
+                     {"cpu_seconds", cpuSeconds},
+                     {"distinct_columns", r.distinctColumns},
+                     {"max_gap", r.maxGap},
+                     {"mean_gap", r.meanGap},
+                     {"columns_with_gap", r.openColumns}};
+    if (extra.is_object()) j.update(extra);
+    return j;
+}
+
 long peakKiB() {
     rusage u{};
     getrusage(RUSAGE_SELF, &u);
@@ -252,27 +264,14 @@ int main(int argc, char** argv) {
           {"pixels", part.width * part.height},
           {"layers", part.layers.size()},
           {"columns_inside", pixels.size()}}},
-        {"conversion_l2",
-         {{"seconds", l2.seconds},
-          {"cpu_seconds", l2Cpu},
-          {"distinct_columns", l2.distinctColumns},
-          {"max_gap", l2.maxGap},
-          {"mean_gap", l2.meanGap},
-          {"columns_with_gap", l2.openColumns},
-          {"max_nodes", maxNodes}}},
+        {"conversion_l2", partJson(l2, l2Cpu, {{"max_nodes", maxNodes}})},
         {"conversion_l2_every_column",
          everyColumn ? nlohmann::json{{"seconds", allSeconds},
                                       {"columns", pixels.size()},
                                       {"max_gap", maxGap},
                                       {"ms_per_column", 1e3 * allSeconds / double(pixels.size())}}
                      : nlohmann::json(nullptr)},
-        {"geometric",
-         {{"seconds", geometric.seconds},
-          {"cpu_seconds", geometricCpu},
-          {"distinct_columns", geometric.distinctColumns},
-          {"max_gap", geometric.maxGap},
-          {"mean_gap", geometric.meanGap},
-          {"columns_with_gap", geometric.openColumns}}},
+        {"geometric", partJson(geometric, geometricCpu)},
         {"xy_coupling",
          {{"seconds", joint.seconds},
           {"cpu_seconds", xyCpu},
@@ -287,20 +286,8 @@ int main(int argc, char** argv) {
         {"porous_sphere",
          {{"cavities", cavities},
           {"distinct_columns_counted", profiles.size()},
-          {"conversion_l2",
-           {{"seconds", porousL2.seconds},
-            {"cpu_seconds", porousL2Cpu},
-            {"distinct_columns", porousL2.distinctColumns},
-            {"max_gap", porousL2.maxGap},
-            {"mean_gap", porousL2.meanGap},
-            {"columns_with_gap", porousL2.openColumns}}},
-          {"geometric",
-           {{"seconds", porousGeometric.seconds},
-            {"cpu_seconds", porousGeometricCpu},
-            {"distinct_columns", porousGeometric.distinctColumns},
-            {"max_gap", porousGeometric.maxGap},
-            {"mean_gap", porousGeometric.meanGap},
-            {"columns_with_gap", porousGeometric.openColumns}}},
+          {"conversion_l2", partJson(porousL2, porousL2Cpu)},
+          {"geometric", partJson(porousGeometric, porousGeometricCpu)},
           {"geometric_sample",
            {{"columns", sample.size()},
             {"every", stride},
