@@ -42,7 +42,6 @@
 #define PHOTON_DERIVED_IN PhotonDerived
 #endif
 
-const float PHOTON_TWO_PI = 6.283185307179586;
 const float PHOTON_FAR = 1.0e30;  // "no boundary in this direction", mm
 
 // Unpolarised Fresnel reflectance for light in index n1 hitting n2 with incidence cosine cosI
@@ -64,6 +63,8 @@ struct PhotonDerived {
     float absorbShare;   // mua / mut
     float invRBinWidth;  // 1 / the (r,z) bin sizes
     float invZBinWidth;
+    float rBins;         // the (r,z) bin counts as floats
+    float zBins;
     float hgOneMinusG2;  // Henyey-Greenstein: 1 - g^2, 1 - g, 2 g, 1 + g^2, 1 / (2 g)
     float hgOneMinusG;
     float hgTwoG;
@@ -78,6 +79,8 @@ PhotonDerived photonDerive(PHOTON_PARAMS_IN p) {
     k.absorbShare = p.mua * k.invMut;
     k.invRBinWidth = float(1) / p.rBinWidth;
     k.invZBinWidth = float(1) / p.zBinWidth;
+    k.rBins = float(p.rBins);
+    k.zBins = float(p.zBins);
     k.hgOneMinusG2 = float(1) - p.g * p.g;
     k.hgOneMinusG = float(1) - p.g;
     k.hgTwoG = float(2) * p.g;
@@ -101,19 +104,66 @@ float photonTableCos(uint n, float u) {
     return mix(photonPhaseTable(i), photonPhaseTable(i + 1), f);
 }
 
+// -ln(u) for the uniform u = (m + 1) 2^-24 that rngUniform makes of the same 32 bits (m their top
+// 24): an exponential deviate with mean 1, without calling log (a call in the step loop makes the
+// CPU path spill its registers). x = m + 1 = 2^e f with f in [sqrt(1/2), sqrt(2)) by integer
+// operations on its bits, ln f = 2 atanh(s) with s = (f - 1)/(f + 1), |s| < 0.172, as a series to
+// s^9 (truncation below 7e-10), so -ln(u) = (24 - e) ln 2 - ln f: exact at u = 1 and never negative.
+float photonExponential(uint bits) {
+    uint shifted = floatBitsToUint(float((bits >> 8) + 1u)) - 0x3F3504F3u;
+    float f = uintBitsToFloat((shifted & 0x7FFFFFu) + 0x3F3504F3u);
+    float s = (f - float(1)) / (f + float(1));
+    float s2 = s * s;
+    float s4 = s2 * s2;
+    float lnF = s * ((float(2) + s2 * float(2.0 / 3.0)) + s4 * ((float(0.4) + s2 * float(2.0 / 7.0)) +
+                                                                s4 * float(2.0 / 9.0)));
+    return float(24 - int(shifted >> 23)) * float(0.6931471805599453) - lnF;
+}
+
+// (cos, sin) of a uniform azimuth drawn from 32 random bits, without sin and cos (on the CPU
+// path sincosf, with its argument-range branches, took a fifth of the step's time). The top two bits
+// pick a quadrant q, the next 22 an angle a uniform in [-pi/4, pi/4] (centres of 2^22 equal
+// steps), and the azimuth is q pi/2 + a. sin a and cos a are Taylor series to a^9 and a^8
+// (truncation below 2e-9 and 3e-8, under float's rounding), evaluated by Estrin's scheme (short
+// dependency chains); the quadrant turns (cos a, sin a) by arithmetic, not branches.
+vec2 photonAzimuth(uint bits) {
+    uint quadrant = bits >> 30;
+    float a = (float((bits >> 8) & 0x3FFFFFu) - float(2097151.5)) * float(1.5707963267948966 / 4194304.0);
+    float a2 = a * a;
+    float a4 = a2 * a2;
+    float sinPoly = (float(-1.0 / 6.0) + a2 * float(1.0 / 120.0)) +
+                    a4 * (float(-1.0 / 5040.0) + a2 * float(1.0 / 362880.0));
+    float cosPoly = (float(-0.5) + a2 * float(1.0 / 24.0)) +
+                    a4 * (float(-1.0 / 720.0) + a2 * float(1.0 / 40320.0));
+    float s = a + (a * a2) * sinPoly;
+    float c = float(1) + a2 * cosPoly;
+    // q = 0..3: (c, s), (-s, c), (-c, -s), (s, -c): an odd q swaps the two (a bit mask selects),
+    // and the sign bits flip for q = 1, 2 (cos) and q = 2, 3 (sin).
+    uint swap = 0u - (quadrant & 1u);
+    uint cBits = floatBitsToUint(c), sBits = floatBitsToUint(s);
+    uint x = (cBits & ~swap) | (sBits & swap);
+    uint y = (sBits & ~swap) | (cBits & swap);
+    x ^= (((quadrant + 1u) >> 1) & 1u) << 31;
+    y ^= (quadrant >> 1) << 31;
+    return vec2(uintBitsToFloat(x), uintBitsToFloat(y));
+}
+
 // Turns direction d by polar angle theta (cos given) and azimuth phi about itself.
 vec3 photonRotate(vec3 d, float cosT, float cosP, float sinP) {
-    float sinT = sqrt(max(float(0), float(1) - cosT * cosT));
+    float sinT2 = max(float(0), float(1) - cosT * cosT);
     vec3 n;
     if (d.z * d.z > float(0.99999)) {
+        float sinT = sqrt(sinT2);
         float s = d.z > float(0) ? float(1) : float(-1);
         n = vec3(sinT * cosP, sinT * sinP, s * cosT);
     } else {
-        float t = sqrt(float(1) - d.z * d.z);
-        float sinTOverT = sinT / t;
+        // With t = sqrt(1 - dz^2) only sinT / t and sinT t = (sinT / t) t^2 appear: one square
+        // root and one division.
+        float t2 = float(1) - d.z * d.z;
+        float sinTOverT = sqrt(sinT2 / t2);
         n.x = sinTOverT * (d.x * d.z * cosP - d.y * sinP) + d.x * cosT;
         n.y = sinTOverT * (d.y * d.z * cosP + d.x * sinP) + d.y * cosT;
-        n.z = -sinT * cosP * t + d.z * cosT;
+        n.z = -sinTOverT * cosP * t2 + d.z * cosT;
     }
     // One Newton step towards |n| = 1 (n (3 - |n|^2) / 2): |n|^2 = 1 + e becomes 1 - 3e^2/4, so
     // float round-off cannot drift |d| over hundreds of scatterings, without a sqrt and a divide.
@@ -138,10 +188,10 @@ void photonLaunch(PHOTON_PARAMS_IN p, uint lo, uint hi, VPSIM_OUT(PhotonState) s
     s.pending = float(0);
     s.above = vec4(float(0), float(0), float(0), float(0));
     if (p.beamShape == PHOTON_BEAM_GAUSSIAN) {
-        float r = p.beamW0 * sqrt(float(-0.5) * log(rngUniform(rng)));
-        float phi = PHOTON_TWO_PI * rngUniform(rng);
-        s.pos.x = r * cos(phi);
-        s.pos.y = r * sin(phi);
+        float r = p.beamW0 * sqrt(float(0.5) * photonExponential(rngNext(rng)));
+        vec2 azimuth = photonAzimuth(rngNext(rng));
+        s.pos.x = r * azimuth.x;
+        s.pos.y = r * azimuth.y;
     }
 }
 
@@ -190,7 +240,7 @@ void photonTallyClear(VPSIM_OUT(PhotonTally) t) {
 int photonRzBin(PHOTON_PARAMS_IN p, PHOTON_DERIVED_IN k, vec3 pos) {
     float fr = sqrt(pos.x * pos.x + pos.y * pos.y) * k.invRBinWidth;
     float fz = pos.z * k.invZBinWidth;
-    if (!(fr < float(p.rBins)) || !(fz < float(p.zBins)) || fz < float(0)) return -1;
+    if (!(fr < k.rBins) || !(fz < k.zBins) || fz < float(0)) return -1;
     return int(uint(fz) * p.rBins + uint(fr));
 }
 
@@ -283,13 +333,20 @@ bool photonAdvance(PHOTON_PARAMS_IN p, PHOTON_DERIVED_IN k, VPSIM_INOUT(PhotonSt
                    uint batch, VPSIM_INOUT(PhotonTally) t) {
     uint estimator = photonEstimator(p);
     float mut = p.mua + p.mus;
-    float path = mut > float(0) ? -log(rngUniform(rng)) * k.invMut : PHOTON_FAR;
-    float toSurface = PHOTON_FAR;
-    if (s.dir.z < float(0)) toSurface = -s.pos.z / s.dir.z;
-    else if (s.dir.z > float(0) && p.thickness > float(0)) toSurface = (p.thickness - s.pos.z) / s.dir.z;
-    bool boundary = path >= toSurface;
+    float path = mut > float(0) ? photonExponential(rngNext(rng)) * k.invMut : PHOTON_FAR;
+    // Whether the free path reaches a surface, from the depth it would end at (the division for
+    // the distance to the surface only when it does).
+    float zEnd = s.pos.z + path * s.dir.z;
+    bool slab = p.thickness > float(0);
+    bool boundary = !(path < PHOTON_FAR) || (s.dir.z < float(0) && zEnd <= float(0)) ||
+                    (s.dir.z > float(0) && slab && zEnd >= p.thickness);
     vec3 start = s.pos;
-    float flight = boundary ? toSurface : path;
+    float flight = path;
+    if (boundary) {
+        flight = PHOTON_FAR;
+        if (s.dir.z < float(0)) flight = -s.pos.z / s.dir.z;
+        else if (s.dir.z > float(0) && slab) flight = (p.thickness - s.pos.z) / s.dir.z;
+    }
     s.pos += s.dir * flight;
     t.work += 1u;
     if (photonTracks(p)) {
@@ -340,8 +397,8 @@ bool photonAdvance(PHOTON_PARAMS_IN p, PHOTON_DERIVED_IN k, VPSIM_INOUT(PhotonSt
 
     float u = rngUniform(rng);
     float cosT = p.phaseModel == PHOTON_PHASE_TABLE ? photonTableCos(p.phaseTableSize, u) : photonHgCos(k, u);
-    float phi = PHOTON_TWO_PI * rngUniform(rng);
-    s.dir = photonRotate(s.dir, cosT, cos(phi), sin(phi));
+    vec2 azimuth = photonAzimuth(rngNext(rng));
+    s.dir = photonRotate(s.dir, cosT, azimuth.x, azimuth.y);
     t.scatterings += 1ul;
 
     if (!analog && s.weight < p.rouletteWeight) {

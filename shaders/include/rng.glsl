@@ -59,9 +59,10 @@ RngState rngSeed(uint seed, uint stream) {
 }
 
 /// Uniform float in (0, 1]: 24 random bits, never 0, so -log(u) is always finite.
-/// (m + 1) * 2^-24 is exact in float, so CPU and GPU agree bit for bit.
+/// (m + 1) * 2^-24 is exact in float, so CPU and GPU agree bit for bit (written with float(1):
+/// in C++ a 1.0 would make it double arithmetic and two conversions).
 float rngUniform(VPSIM_INOUT(RngState) r) {
-    return float((float(rngNext(r) >> 8) + 1.0) * (1.0 / 16777216.0));
+    return (float(rngNext(r) >> 8) + float(1)) * float(1.0 / 16777216.0);
 }
 
 #endif
