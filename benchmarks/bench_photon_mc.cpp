@@ -6,7 +6,9 @@
 //     mean relative variance of those bins),
 // for each estimator (analog, collision, track-length, implicit, implicit-track) and for an
 // in-process reference of MCML's algorithm (benchmarks/mcml_reference.h: implicit capture, roulette
-// at 1e-4, double precision, one thread), all in the same run. sigma comes from the 64 batch means;
+// at 1e-4, double precision, one thread), all in the same run (the default estimator, the analog
+// one and the reference back to back, since the machine's speed drifts). sigma comes from the 64
+// batch means;
 // t is CPU time (getrusage, all threads of the process, lavapipe's included), because the machine
 // is shared: "per machine" divides vpsim's CPU time by the threads it ran on (the machine's cores),
 // and the single-threaded reference's CPU time is its time on the machine; "per core" compares CPU
@@ -153,13 +155,20 @@ Figures vpsimFigures(const McResult& r, const std::vector<size_t>& bins, double 
     return f;
 }
 
+/// One run of the MCML reference: its tallies and CPU time.
+struct McmlRun {
+    bench::McmlTally tally;
+    double cpu = 0;
+};
+
 /// The MCML reference on `s`; with `conv`, as MCML users get a Gaussian beam: the pencil response
 /// (on vpsim's pencil grid) convolved with the beam afterwards, as MCML's CONV program does (with
 /// vpsim's ring weights, the convolution's time included).
-Figures mcmlFigures(const McSetup& s, const std::vector<size_t>& bins, bool conv = false) {
+McmlRun mcmlRun(const McSetup& s, bool conv) {
     const double start = cpuSeconds();
     const McSetup traced = conv ? vpsim::transport::pencilSetup(s) : s;
-    bench::McmlTally t = bench::McmlReference(traced).run();
+    McmlRun run{bench::McmlReference(traced).run()};
+    bench::McmlTally& t = run.tally;
     if (conv) {
         const auto& in = traced.bins;
         const auto& o = s.bins;
@@ -170,8 +179,15 @@ Figures mcmlFigures(const McSetup& s, const std::vector<size_t>& bins, bool conv
                                         size_t(o.zBins) * MC_BATCHES, in.rBins, o.rBins, w);
         t.absorbedRZ = std::move(out);
     }
+    run.cpu = cpuSeconds() - start;
+    return run;
+}
+
+/// The figures of a reference run of `s` (on the output grid of `s`).
+Figures mcmlFigures(const McSetup& s, const McmlRun& run, const std::vector<size_t>& bins) {
+    const bench::McmlTally& t = run.tally;
     Figures f;
-    f.cpu = cpuSeconds() - start;
+    f.cpu = run.cpu;
     std::array<double, MC_BATCHES> rd, w30, w84;
     for (int b = 0; b < MC_BATCHES; ++b) {
         double n = double(t.photons[b]);
@@ -216,29 +232,37 @@ nlohmann::json runCase(const std::string& caseName, const vpsim::optics::MediumO
         out = runPhotonMc(run, context);
         return cpuSeconds() - start;
     };
-    // Every estimator (the analog-transport ones at more photons: they are cheaper per photon).
+    // Every estimator (the analog-transport ones at more photons: they are cheaper per photon)
+    // and the MCML reference. This machine's speed drifts by tens of percent over a minute, so the
+    // runs the headline ratios compare go back to back: the default estimator, the analog one,
+    // then the reference (plain and with CONV), then the other estimators.
     // The cure front comes from a kernel fitted to the default estimator's run.
     const Estimator fallback = McSetup{}.estimator;
     std::map<std::string, Figures> f;
     std::map<std::string, McResult> runs;
     std::map<std::string, double> cpu;
-    for (Estimator e : {fallback, Estimator::Collision, Estimator::Track, Estimator::ImplicitTrack,
-                        Estimator::Implicit, Estimator::Analog}) {
+    auto runEstimator = [&](Estimator e) {
         const std::string name = estimatorName(e);
-        if (runs.count(name)) continue;
+        if (runs.count(name)) return;
         const bool implicitCapture = e == Estimator::Implicit || e == Estimator::ImplicitTrack;
         cpu[name] = runOne(e, implicitCapture ? 400000 : 3000000, runs[name]);
-    }
+    };
+    runEstimator(fallback);
+    runEstimator(Estimator::Analog);
+    McSetup reference = s;
+    reference.photons = std::max<uint64_t>(64, uint64_t(150000 * scale));
+    const McmlRun mcml = mcmlRun(reference, false), mcmlConv = mcmlRun(reference, true);
+    for (Estimator e :
+         {Estimator::Collision, Estimator::Track, Estimator::ImplicitTrack, Estimator::Implicit})
+        runEstimator(e);
     const std::string defaultName = estimatorName(fallback);
     vpsim::kernel::BeamKernel k = vpsim::kernel::kernelFromMonteCarlo(runs[defaultName], 10.0);
     std::vector<size_t> bins = cureFrontBins(s.bins, k.fit.we3d, k.fit.de3d);
     for (const auto& [name, run] : runs) f[name] = vpsimFigures(run, bins, cpu[name], threads);
     const Figures& fDefault = f[defaultName];
     const Figures& fAnalog = f["analog"];
-    McSetup reference = s;
-    reference.photons = std::max<uint64_t>(64, uint64_t(150000 * scale));
-    Figures fMcml = mcmlFigures(reference, bins);
-    Figures fMcmlConv = mcmlFigures(reference, bins, true);
+    Figures fMcml = mcmlFigures(reference, mcml, bins);
+    Figures fMcmlConv = mcmlFigures(reference, mcmlConv, bins);
 
     nlohmann::json j;
     j["case"] = caseName;
