@@ -132,16 +132,11 @@ struct Figures {
 Figures vpsimFigures(const McResult& r, const std::vector<size_t>& bins, double cpu,
                      double threads) {
     Figures f;
-    std::array<double, MC_BATCHES> rd, w30, w84;
-    for (int b = 0; b < MC_BATCHES; ++b) {
-        double launched = double(r.batches[b].photons * r.launchWeight);
-        rd[b] = r.batches[b].diffuse / launched;
-        w30[b] = r.batches[b].absorbedWithin[0] / launched;
-        w84[b] = r.batches[b].absorbedWithin[1] / launched;
-    }
-    f.rd = batchStat(rd);
-    f.within30 = batchStat(w30);
-    f.within84 = batchStat(w84);
+    // The estimates vpsim reports: for the collision and track-length estimators the tallies
+    // corrected by their control variates (McResult::diffuse).
+    f.rd = batchStat(r.diffuseBatches());
+    f.within30 = batchStat(r.absorbedWithinBatches(0));
+    f.within84 = batchStat(r.absorbedWithinBatches(1));
     const size_t perBatch = r.absorbedRZ.size();
     f.binsRelVar = binsRelativeVariance(bins, [&](int b, size_t i) {
         return double(r.absorbedRZBatches[b * perBatch + i]) /

@@ -81,6 +81,7 @@ void main() {
         rng.s3 = resume[slot + 14u];
         s.above = vec4(uintBitsToFloat(resume[slot + 15u]), uintBitsToFloat(resume[slot + 16u]),
                        uintBitsToFloat(resume[slot + 17u]), uintBitsToFloat(resume[slot + 18u]));
+        s.depthFactor = photonExp(-k.controlKappa * s.pos.z);  // as the step left it
     }
     bool suspended = false;
     for (;;) {
@@ -136,4 +137,15 @@ void main() {
     atomicAdd(tally[base + PHOTON_TALLY_INTERACTIONS], t.interactions);
     atomicAdd(tally[base + PHOTON_TALLY_ROULETTE_GAIN], t.rouletteGain);
     atomicAdd(tally[base + PHOTON_TALLY_ROULETTE_LOSS], t.rouletteLoss);
+    if (photonControls(p, k)) {
+        // The stride is a multiple of PHOTON_CONTROL_BATCHES: one control batch per invocation.
+        uint c = PHOTON_CONTROL_OFFSET + ((p.photonStart + invocation) % PHOTON_CONTROL_BATCHES) * PHOTON_CONTROL_STRIDE;
+        atomicAdd(tally[c + 0u], t.diffuse);
+        atomicAdd(tally[c + 1u], t.transmitted);
+        atomicAdd(tally[c + 2u], t.within0);
+        atomicAdd(tally[c + 3u], t.within1);
+        atomicAdd(tally[c + 4u], t.within2);
+        atomicAdd(tally[c + 5u], t.within3);
+        for (uint i = 0u; i < PHOTON_CONTROL_TERMS; ++i) atomicAdd(tally[c + 6u + i], t.controls[i]);
+    }
 }

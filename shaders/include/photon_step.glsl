@@ -57,6 +57,22 @@ float photonFresnel(float n1, float n2, float cosI) {
     return float(0.5) * (rs * rs + rp * rp);
 }
 
+// e^x for x <= 0 (0 below -87) without libm: x = n ln 2 + y, n an integer, |y| <= ln(2)/2, with
+// ln 2 in two parts so that y keeps float precision at any n (Cody and Waite); 2^n from the
+// exponent bits, e^y by its Taylor series to degree 7: relative error a few 1e-8. n = -int(1/2 -
+// x log2(e)) rounds by truncation (floor is a libm call or a long sequence on the CPU path's x86-64
+// baseline).
+float photonExp(float x) {
+    if (x < float(-87)) return float(0);
+    int n = -int(float(0.5) - x * float(1.4426950408889634));
+    float y = (x - float(n) * float(0.693145751953125)) - float(n) * float(1.4286068203094172e-6);
+    float y2 = y * y;
+    float p = (float(1) + y) + y2 * ((float(0.5) + y * float(1.0 / 6.0)) +
+                                     y2 * ((float(1.0 / 24.0) + y * float(1.0 / 120.0)) +
+                                           y2 * (float(1.0 / 720.0) + y * float(1.0 / 5040.0))));
+    return uintBitsToFloat(uint(n + 127) << 23) * p;
+}
+
 // Constants derived from PhotonParams once per photon (outside the step loop), so that the step
 // multiplies where it would otherwise divide (divisions and square roots bound its latency).
 struct PhotonDerived {
@@ -71,6 +87,9 @@ struct PhotonDerived {
     float hgTwoG;
     float hgOnePlusG2;
     float hgInvTwoG;     // 0 when g is 0 (isotropic)
+    float controlKappa;              // control variates (photon_control.glsl): kappa,
+    float controlKappaPath;          // kappa / mut,
+    float controlDepthFactorBottom;  // exp(-kappa thickness)
 };
 
 PhotonDerived photonDerive(PHOTON_PARAMS_IN p) {
@@ -87,6 +106,10 @@ PhotonDerived photonDerive(PHOTON_PARAMS_IN p) {
     k.hgTwoG = float(2) * p.g;
     k.hgOnePlusG2 = float(1) + p.g * p.g;
     k.hgInvTwoG = p.g * p.g < float(1.0e-12) ? float(0) : float(0.5) / p.g;
+    float diffusion = sqrt(float(3) * p.mua * (p.mua + p.mus * (float(1) - p.g)));
+    k.controlKappa = clamp(diffusion, float(0.01) * mut, float(0.5) * mut);
+    k.controlKappaPath = k.controlKappa * k.invMut;
+    k.controlDepthFactorBottom = photonExp(-k.controlKappa * p.thickness);
     return k;
 }
 
@@ -109,6 +132,7 @@ void photonLaunch(PHOTON_PARAMS_IN p, uint lo, uint hi, VPSIM_OUT(PhotonState) s
     s.pendingBin = -1;
     s.pending = float(0);
     s.above = vec4(float(0), float(0), float(0), float(0));
+    s.depthFactor = float(1);
     if (p.beamShape == PHOTON_BEAM_GAUSSIAN) {
         float r = p.beamW0 * sqrt(float(0.5) * photonExponential(rngNext(rng)));
         vec2 azimuth = photonAzimuth(rngNext(rng));
@@ -148,6 +172,7 @@ struct PhotonTally {
     uint64_t within1;
     uint64_t within2;
     uint64_t within3;
+    uint64_t controls[PHOTON_CONTROL_TERMS];  // photon_control.glsl, units of 2^-32
     uint work;  // photon steps + bin crossings of this invocation (GPU budget), not a tally
 };
 
@@ -155,6 +180,7 @@ void photonTallyClear(VPSIM_OUT(PhotonTally) t) {
     t.specular = 0ul; t.diffuse = 0ul; t.transmitted = 0ul; t.absorbed = 0ul; t.escaped = 0ul;
     t.scatterings = 0ul; t.interactions = 0ul; t.rouletteGain = 0ul; t.rouletteLoss = 0ul;
     t.within0 = 0ul; t.within1 = 0ul; t.within2 = 0ul; t.within3 = 0ul;
+    for (uint i = 0u; i < PHOTON_CONTROL_TERMS; ++i) t.controls[i] = 0ul;
     t.work = 0u;
 }
 
@@ -181,6 +207,7 @@ void photonPend(VPSIM_INOUT(PhotonState) s, uint batch, int bin, float amount) {
 }
 
 #include "photon_track.glsl"
+#include "photon_control.glsl"
 
 // Whether the (r,z) bins are track-length estimates.
 bool photonTracks(PHOTON_PARAMS_IN p) {
@@ -270,6 +297,8 @@ bool photonAdvance(PHOTON_PARAMS_IN p, PHOTON_DERIVED_IN k, VPSIM_INOUT(PhotonSt
         else if (s.dir.z > float(0) && slab) flight = (p.thickness - s.pos.z) / s.dir.z;
     }
     s.pos += s.dir * flight;
+    bool controls = photonControls(p, k);
+    if (controls) photonControlFlight(p, k, s, start.z, boundary, t);
     t.work += 1u;
     if (photonTracks(p)) {
         t.work += photonTrackBins(p, k, s, start, flight, batch);
@@ -280,7 +309,9 @@ bool photonAdvance(PHOTON_PARAMS_IN p, PHOTON_DERIVED_IN k, VPSIM_INOUT(PhotonSt
         bool top = s.dir.z < float(0);
         s.pos.z = top ? float(0) : p.thickness;
         float reflectance = photonFresnel(p.nMedium, top ? p.nAbove : p.nBelow, abs(s.dir.z));
-        if (rngUniform(rng) <= reflectance) {
+        bool reflected = rngUniform(rng) <= reflectance;
+        if (controls) photonControlSurface(k, s, top, reflected, reflectance, t);
+        if (reflected) {
             s.dir.z = -s.dir.z;
             return true;
         }
@@ -303,7 +334,9 @@ bool photonAdvance(PHOTON_PARAMS_IN p, PHOTON_DERIVED_IN k, VPSIM_INOUT(PhotonSt
             int bin = photonRzBin(p, k, s.pos);
             if (bin >= 0) photonAddBin(batch, uint(bin), 1ul);
         }
-        if (rngUniform(rng) * mut <= p.mua) {
+        bool absorbed = rngUniform(rng) * mut <= p.mua;
+        if (controls) photonControlAbsorption(k, s, absorbed, t);
+        if (absorbed) {
             photonDeposit(p, k, s.pos, s.weight, batch, t);
             photonFlush(p, s, batch, t);
             return false;
@@ -320,7 +353,9 @@ bool photonAdvance(PHOTON_PARAMS_IN p, PHOTON_DERIVED_IN k, VPSIM_INOUT(PhotonSt
     float u = rngUniform(rng);
     float cosT = p.phaseModel == PHOTON_PHASE_TABLE ? photonTableCos(p.phaseTableSize, u) : photonHgCos(k, u);
     vec2 azimuth = photonAzimuth(rngNext(rng));
+    float uzBefore = s.dir.z;
     s.dir = photonRotate(s.dir, cosT, azimuth.x, azimuth.y);
+    if (controls) photonControlScatter(p, s, uzBefore, t);
     t.scatterings += 1ul;
 
     if (!analog && s.weight < p.rouletteWeight) {

@@ -46,6 +46,8 @@ const uint PHOTON_ESTIMATOR_COLLISION = 4u;
 const uint PHOTON_FLAG_BATCH_BINS = 256u;
 // PhotonParams.estimator flag (GPU): continue the photons suspended by the previous dispatch.
 const uint PHOTON_FLAG_RESUME = 512u;
+// PhotonParams.estimator flag: tally the control variates (COLLISION and TRACK only).
+const uint PHOTON_FLAG_CONTROLS = 1024u;
 // Work (photon steps plus bin crossings) one GPU invocation does per dispatch before it saves its
 // photon and stops: lavapipe silently ends a shader after 65535 loop iterations (gallivm's loop
 // limiter), which lost the photons of very turbid media (issue 14: mus = 1e7/cm).
@@ -75,7 +77,30 @@ const uint PHOTON_TALLY_ROULETTE_GAIN = 11u;  // weight created by roulette surv
 const uint PHOTON_TALLY_ROULETTE_LOSS = 12u;  // weight of photons ended by roulette
 const uint PHOTON_MAX_DEPTHS = 4u;
 const uint PHOTON_TALLY_STRIDE = 13u;
-const uint PHOTON_BIN_OFFSET = 832u;        // PHOTON_BATCHES * PHOTON_TALLY_STRIDE
+// Then (analog-transport estimators with control variates) PHOTON_CONTROL_BATCHES control batches
+// of PHOTON_CONTROL_STRIDE words: photon i is in control batch i % PHOTON_CONTROL_BATCHES (a
+// refinement of the batches), which holds its diffuse, transmitted and 4 absorbed-within quanta
+// and its PHOTON_CONTROL_TERMS control sums: enough samples to fit the controls' coefficients.
+const uint PHOTON_CONTROL_OFFSET = 832u;    // PHOTON_BATCHES * PHOTON_TALLY_STRIDE
+const uint PHOTON_CONTROL_BATCHES = 1024u;
+const uint PHOTON_CONTROL_STRIDE = 16u;     // 6 tallies + PHOTON_CONTROL_TERMS
+const uint PHOTON_BIN_OFFSET = 17216u;      // + PHOTON_CONTROL_BATCHES * PHOTON_CONTROL_STRIDE
+
+// Control variates of the analog-transport estimators (photon_control.glsl): the terms, each a
+// sum over the photon's stages of (what happened) - (its exact expectation given the state
+// before), in units of 2^-32 (two's complement in the uint64 tally words). Words 6.. of a control
+// batch.
+const uint PHOTON_CONTROL_ARRIVE_TOP = 0u;      // a flight reaches z = 0
+const uint PHOTON_CONTROL_ARRIVE_BOTTOM = 1u;   // a flight reaches z = thickness
+const uint PHOTON_CONTROL_LEAVE_TOP = 2u;       // a photon at z = 0 leaves (is not reflected)
+const uint PHOTON_CONTROL_LEAVE_BOTTOM = 3u;    // the same at z = thickness
+const uint PHOTON_CONTROL_FLIGHT = 4u;          // exp(-kappa z) at the next interaction
+const uint PHOTON_CONTROL_FLIGHT_UZ = 5u;       // uz exp(-kappa z) at the next interaction
+const uint PHOTON_CONTROL_ABSORB = 6u;          // exp(-kappa z) if the photon survives
+const uint PHOTON_CONTROL_ABSORB_UZ = 7u;       // uz exp(-kappa z) if it survives
+const uint PHOTON_CONTROL_SCATTER = 8u;         // exp(-kappa z) x the new uz
+const uint PHOTON_CONTROL_ARRIVE_TOP_LEAVING = 9u;  // reaches z = 0, times its chance to leave
+const uint PHOTON_CONTROL_TERMS = 10u;
 
 // Everything one dispatch needs; lengths in mm, coefficients in 1/mm.
 struct PhotonParams {
@@ -121,6 +146,7 @@ struct PhotonState {
     int pendingBin;  // track-length estimator: bin of the not yet flushed deposit, -1 = none
     float pending;   // quanta pending for pendingBin (or the carried fraction of a quantum)
     vec4 above;      // track-length depth tallies of this photon (quanta above depth0..3)
+    float depthFactor;  // control variates: photonExp(-kappa pos.z), kept so each flight needs one
 };
 
 #endif

@@ -210,6 +210,9 @@ transport::McSetup kernelSetup(const optics::MediumOptics& optics, double w0, do
     setup.bins.zMax = optics.mua > 0 ? 3.0 / optics.mua : 1.0;
     if (thickness > 0) setup.bins.zMax = std::min(setup.bins.zMax, thickness);
     setup.bins.rBins = setup.bins.zBins = 80;
+    // The kernel is built from the bins alone: the reflectance's control variates would cost
+    // time and change no bin.
+    setup.controlVariates = false;
     return setup;
 }
 

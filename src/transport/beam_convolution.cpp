@@ -121,6 +121,7 @@ McResult convolveBeam(const McResult& pencil, const McSetup& setup) {
     r.setup = setup;
     r.launchWeight = pencil.launchWeight;
     r.batches = pencil.batches;
+    r.controlBatches = pencil.controlBatches;
     r.backend = pencil.backend;
     const size_t outBins = size_t(out.rBins) * out.zBins, inBins = size_t(in.rBins) * in.zBins;
     if (setup.binsPerBatch) {

@@ -75,12 +75,14 @@ namespace {
 /// One thread's share of the tallies.
 struct LocalTally {
     std::array<BatchTally, MC_BATCHES> batches{};
+    std::vector<ControlTally> controls;
     std::vector<uint64_t> rz, grid;
-    LocalTally(size_t rzBins, size_t voxels) : rz(rzBins, 0), grid(voxels, 0) {}
+    LocalTally(size_t rzBins, size_t voxels, bool controlled)
+        : controls(controlled ? MC_CONTROL_BATCHES : 0), rz(rzBins, 0), grid(voxels, 0) {}
 };
 
-using TraceFunction = void (*)(const glsl::PhotonParams&, uint64_t, uint64_t, uint32_t,
-                               BatchTally&);
+using TraceFunction = void (*)(const glsl::PhotonParams&, uint64_t, uint64_t, uint32_t, BatchTally&,
+                               ControlTally*);
 
 /// The step loop compiled for the run's estimator.
 TraceFunction traceFor(const glsl::PhotonParams& p) {
@@ -114,7 +116,11 @@ McResult runPhotonMcCpu(const McSetup& setup, int threads) {
     const size_t voxels = size_t(params.gridNxy) * params.gridNxy * params.gridNz;
 
     auto start = std::chrono::steady_clock::now();
-    tbb::enumerable_thread_specific<LocalTally> locals([&] { return LocalTally(rzWords, voxels); });
+    McResult result;
+    result.setup = setup;
+    const bool controlled = result.controlled();
+    tbb::enumerable_thread_specific<LocalTally> locals(
+        [&] { return LocalTally(rzWords, voxels, controlled); });
     Progress progress("photon Monte Carlo (CPU)", setup.photons);
     // More threads than cores would only make TBB warn: clamp.
     const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
@@ -139,7 +145,7 @@ McResult runPhotonMcCpu(const McSetup& setup, int threads) {
                                   const uint64_t first = setup.firstPhoton + i;
                                   const uint32_t batch = uint32_t(first % MC_BATCHES);
                                   trace(params, first, (range.end() - i - 1) / MC_BATCHES + 1,
-                                        batch, local.batches[batch]);
+                                        batch, local.batches[batch], local.controls.data());
                               }
                               glsl::flushBins();  // before another task sets tBins
                               progress.advance(range.size());
@@ -147,13 +153,14 @@ McResult runPhotonMcCpu(const McSetup& setup, int threads) {
     });
     progress.finish();
 
-    McResult result;
-    result.setup = setup;
     result.launchWeight = params.launchWeight;
     std::vector<uint64_t> rz(rzWords, 0);
     result.absorbedGrid.assign(voxels, 0);
+    result.controlBatches.assign(controlled ? MC_CONTROL_BATCHES : 0, ControlTally{});
     for (const LocalTally& local : locals) {
         for (int b = 0; b < MC_BATCHES; ++b) result.batches[size_t(b)] += local.batches[size_t(b)];
+        for (size_t c = 0; c < local.controls.size(); ++c)
+            result.controlBatches[c] += local.controls[c];
         for (size_t i = 0; i < rzWords; ++i) rz[i] += local.rz[i];
         for (size_t i = 0; i < voxels; ++i) result.absorbedGrid[i] += local.grid[i];
     }

@@ -22,12 +22,15 @@ constexpr uint64_t PHOTONS_PER_SUBMIT = 1u << 20;
 constexpr uint64_t PHOTONS_PER_INVOCATION = 32;
 constexpr uint64_t MAX_INVOCATIONS = 1u << 18;
 constexpr uint32_t LOCAL_SIZE = 64;  // photon_mc.comp local_size_x
+static_assert(MC_CONTROL_BATCHES % LOCAL_SIZE == 0 && MAX_INVOCATIONS % MC_CONTROL_BATCHES == 0,
+              "invocation counts are multiples of the control batches");
 
 uint32_t invocationsFor(uint64_t photons) {
-    uint64_t n =
-        std::clamp<uint64_t>(photons / PHOTONS_PER_INVOCATION, LOCAL_SIZE, MAX_INVOCATIONS);
-    return uint32_t((n + LOCAL_SIZE - 1) / LOCAL_SIZE *
-                    LOCAL_SIZE);  // a multiple of MC_BATCHES too
+    // A multiple of MC_CONTROL_BATCHES (so of LOCAL_SIZE and MC_BATCHES too): all photons of an
+    // invocation are in one batch and one control batch.
+    const uint64_t n =
+        std::clamp<uint64_t>(photons / PHOTONS_PER_INVOCATION, MC_CONTROL_BATCHES, MAX_INVOCATIONS);
+    return uint32_t((n + MC_CONTROL_BATCHES - 1) / MC_CONTROL_BATCHES * MC_CONTROL_BATCHES);
 }
 
 }  // namespace
@@ -118,6 +121,18 @@ McResult runPhotonMcGpu(const McSetup& setup, const std::shared_ptr<gpu::Context
         t.rouletteGain = w[glsl::PHOTON_TALLY_ROULETTE_GAIN];
         t.rouletteLoss = w[glsl::PHOTON_TALLY_ROULETTE_LOSS];
         for (size_t k = 0; k < 4; ++k) t.absorbedWithin[k] = w[glsl::PHOTON_TALLY_WITHIN + k];
+    }
+    if (result.controlled()) {
+        result.controlBatches.resize(MC_CONTROL_BATCHES);
+        for (size_t j = 0; j < size_t(MC_CONTROL_BATCHES); ++j) {
+            const uint64_t* w =
+                words.data() + glsl::PHOTON_CONTROL_OFFSET + j * glsl::PHOTON_CONTROL_STRIDE;
+            ControlTally& c = result.controlBatches[j];
+            c.diffuse = w[0];
+            c.transmitted = w[1];
+            for (size_t k = 0; k < 4; ++k) c.absorbedWithin[k] = w[2 + k];
+            for (size_t i = 0; i < c.controls.size(); ++i) c.controls[i] = int64_t(w[6 + i]);
+        }
     }
     setBins(result, std::vector<uint64_t>(words.begin() + glsl::PHOTON_BIN_OFFSET, words.end()),
             params);

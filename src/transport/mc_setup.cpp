@@ -119,6 +119,18 @@ void validateSetup(const McSetup& s) {
         require(finite(d) && d > 0, "depths", "depths must be > 0, got " + formatNumber(d));
 }
 
+namespace {
+
+/// Mean of cos(theta) sampled by linear interpolation of the inverse CDF at a uniform u: the
+/// trapezoid rule over the table's equal steps in u.
+double tableMeanCosine(const std::vector<float>& table) {
+    double sum = 0;
+    for (size_t i = 0; i + 1 < table.size(); ++i) sum += 0.5 * (double(table[i]) + table[i + 1]);
+    return table.size() > 1 ? sum / double(table.size() - 1) : 0.0;
+}
+
+}  // namespace
+
 glsl::PhotonParams makePhotonParams(const McSetup& s) {
     glsl::PhotonParams p{};
     p.seed = s.seed;
@@ -131,8 +143,10 @@ glsl::PhotonParams makePhotonParams(const McSetup& s) {
     p.beamW0 = float(s.w0);
     p.mua = float(s.optics.mua);
     p.mus = float(s.optics.mus);
-    p.g = float(s.optics.g);
     bool table = s.optics.phase == optics::PhaseModel::Tabulated;
+    // With a table, g is the mean cosine the step actually samples (the control variates'
+    // scattering term needs that exactly; Henyey-Greenstein's mean cosine is g itself).
+    p.g = float(table ? tableMeanCosine(makePhaseTable(s)) : s.optics.g);
     p.phaseModel = table ? glsl::PHOTON_PHASE_TABLE : glsl::PHOTON_PHASE_HG;
     p.phaseTableSize = table ? uint32_t(std::min(s.optics.inverseCdf.size(), MAX_PHASE_TABLE)) : 0u;
     p.nMedium = float(s.optics.refractiveIndex);
@@ -167,6 +181,7 @@ glsl::PhotonParams makePhotonParams(const McSetup& s) {
         case Estimator::Collision: p.estimator = glsl::PHOTON_ESTIMATOR_COLLISION; break;
     }
     if (s.binsPerBatch) p.estimator |= glsl::PHOTON_FLAG_BATCH_BINS;
+    if (s.controlVariates) p.estimator |= glsl::PHOTON_FLAG_CONTROLS;
     // At least 1 quantum: a photon of weight 0 must end.
     p.rouletteWeight = std::max(1u, uint32_t(std::llround(s.rouletteThreshold * LAUNCH_WEIGHT)));
     return p;
@@ -187,10 +202,10 @@ std::vector<float> makePhaseTable(const McSetup& s) {
     return out;
 }
 
-uint64_t photonsInBatch(uint64_t first, uint64_t photons, int batch) {
+uint64_t photonsInBatch(uint64_t first, uint64_t photons, int batch, int batches) {
     // Indices i < n with i % B == b number ceil((n - b) / B).
-    auto below = [batch](uint64_t n) {
-        return n > uint64_t(batch) ? (n - uint64_t(batch) + MC_BATCHES - 1) / MC_BATCHES : 0;
+    auto below = [batch, batches](uint64_t n) {
+        return n > uint64_t(batch) ? (n - uint64_t(batch) + batches - 1) / batches : 0;
     };
     return below(first + photons) - below(first);
 }
@@ -253,19 +268,19 @@ Fraction batchFraction(const McResult& r, Get get) {
 Fraction McResult::specular() const {
     return batchFraction(*this, [](const BatchTally& b) { return b.specular; });
 }
-Fraction McResult::diffuse() const {
+Fraction McResult::diffuseTally() const {
     return batchFraction(*this, [](const BatchTally& b) { return b.diffuse; });
 }
-Fraction McResult::transmitted() const {
+Fraction McResult::transmittedTally() const {
     return batchFraction(*this, [](const BatchTally& b) { return b.transmitted; });
 }
-Fraction McResult::absorbed() const {
+Fraction McResult::absorbedTally() const {
     return batchFraction(*this, [](const BatchTally& b) { return b.absorbed; });
 }
 Fraction McResult::escaped() const {
     return batchFraction(*this, [](const BatchTally& b) { return b.escaped; });
 }
-Fraction McResult::absorbedWithin(size_t k) const {
+Fraction McResult::absorbedWithinTally(size_t k) const {
     if (k >= 4)
         throw InputError("depth index " + std::to_string(k) + " out of range 0..3", "", "depths");
     return batchFraction(*this, [k](const BatchTally& b) { return b.absorbedWithin[k]; });
@@ -324,6 +339,8 @@ nlohmann::json McResult::summaryJson() const {
     put("absorbed", absorbed());
     if (setup.lateralRadius > 0) put("escaped", escaped());
     j["estimator"] = estimatorName(setup.estimator);
+    j["control_variates"] = controlled();  // diffuse, transmittance, absorbed(_within) controlled
+    if (controlled()) put("diffuse_reflectance_tally", diffuseTally());
     j["beam_convolved"] = convolvesBeam(setup);
     if (setup.estimator == Estimator::Implicit || setup.estimator == Estimator::ImplicitTrack) {
         j["roulette_threshold"] = setup.rouletteThreshold;

@@ -10,6 +10,20 @@
 
 namespace vpsim::test {
 
+/// A Henyey-Greenstein medium (coefficients in 1/mm; thickness 0 = semi-infinite).
+inline transport::McSetup hgSetup(double mua, double mus, double g, double n, double thickness,
+                                  uint64_t photons, uint32_t seed) {
+    transport::McSetup s;
+    s.optics.mua = mua;
+    s.optics.mus = mus;
+    s.optics.g = g;
+    s.optics.refractiveIndex = n;
+    s.thickness = thickness;
+    s.photons = photons;
+    s.seed = seed;
+    return s;
+}
+
 /// |a - b| within `sigmas` combined standard errors.
 inline bool agree(const transport::Fraction& a, const transport::Fraction& b, double sigmas = 3.0) {
     return std::abs(a.value - b.value) <= sigmas * std::hypot(a.standardError, b.standardError);

@@ -94,7 +94,8 @@ TEST_CASE("GPU photon MC with tabulated phase and Fresnel balances exactly and r
 
 TEST_CASE("GPU implicit capture and track-length bins match the CPU path", "[transport][gpu]") {
     // Same GLSL on both sides: exact balance each, and Rd, T, the depth tallies and the bins
-    // (per batch) within 4 combined standard errors. The photon range crosses index 2^32.
+    // (per batch) within 4 combined standard errors (controlled estimates for the analog-transport
+    // ones). The photon range crosses index 2^32.
     auto ctx = test::gpuContext();
     for (Estimator e :
          {Estimator::Implicit, Estimator::ImplicitTrack, Estimator::Track, Estimator::Collision}) {
@@ -134,6 +135,19 @@ TEST_CASE("GPU implicit capture and track-length bins match the CPU path", "[tra
             return f;
         };
         CHECK(agree(upper(gpu), upper(cpu), 4));
+        if (!gpu.controlled()) continue;
+        // Control variates: the control batches hold the batches' tallies (one control batch
+        // per invocation), and the controlled estimate beats the plain tally on the GPU too.
+        REQUIRE(gpu.controlBatches.size() == size_t(MC_CONTROL_BATCHES));
+        uint64_t diffuse = 0, transmitted = 0;
+        for (const ControlTally& c : gpu.controlBatches) {
+            diffuse += c.diffuse;
+            transmitted += c.transmitted;
+        }
+        CHECK(diffuse == gpu.total().diffuse);
+        CHECK(transmitted == gpu.total().transmitted);
+        CHECK(agree(gpu.diffuseTally(), cpu.diffuseTally(), 4));
+        CHECK(gpu.diffuse().standardError < gpu.diffuseTally().standardError);
     }
     VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
 }

@@ -87,3 +87,20 @@ TEST_CASE("photonAzimuth covers the circle uniformly", "[transport]") {
     CHECK(std::abs(sy / n) < 1e-5);
     for (uint64_t o : octants) CHECK(std::abs(double(o) / n - 0.125) < 1e-4);
 }
+
+TEST_CASE("photonExp is e^x for x <= 0 to float precision", "[transport]") {
+    // The control variates (photon_control.glsl) subtract expectations made of photonExp: their
+    // bias is its relative error times a few, so it must be float-exact, down to -87 where it
+    // flushes to 0.
+    double worst = 0;
+    for (int i = 0; i <= 2000000; ++i) {
+        const float x = float(-87.0 * i / 2000000.0);
+        const double exact = std::exp(double(x));
+        worst = std::max(worst, std::abs(double(vpsim::glsl::photonExp(x)) - exact) / exact);
+    }
+    INFO("worst relative error " << worst);
+    CHECK(worst < 3e-7);
+    CHECK(vpsim::glsl::photonExp(0.0f) == 1.0f);
+    CHECK(vpsim::glsl::photonExp(-88.0f) == 0.0f);
+    CHECK(vpsim::glsl::photonExp(-1e30f) == 0.0f);
+}

@@ -105,6 +105,11 @@ struct McSetup {
     /// the axis. Applies when there is no lateral radius and no Cartesian grid and W0 spans at
     /// least 4 radial bins; the totals are the same tallies either way.
     bool beamConvolution = true;
+    /// Collision and track-length estimators: tally control variates for the diffuse
+    /// reflectance, the transmittance and the absorbed-within fractions (McResult::diffuse). The
+    /// bins and the integer tallies are the same either way; the step costs about 45% more
+    /// (bench_photon_mc), so runs that only need the bins (the beam kernel) switch it off.
+    bool controlVariates = true;
 };
 
 /// Most photons one run may launch (64-bit indices; the launched weight, photons x 2^24
@@ -112,6 +117,11 @@ struct McSetup {
 constexpr uint64_t MAX_PHOTONS = 1000000000000ull;
 /// Batches used for the standard errors (photon i is in batch i % MC_BATCHES).
 constexpr int MC_BATCHES = 64;
+/// Control-variate terms the collision and track-length estimators tally
+/// (shaders/include/photon_control.glsl), in control batches: photon i is in control batch
+/// i % MC_CONTROL_BATCHES (so in batch i % MC_BATCHES too).
+constexpr int MC_CONTROL_TERMS = 10;
+constexpr int MC_CONTROL_BATCHES = 1024;
 
 /// A fraction of the launched weight with its standard error from the batch spread.
 struct Fraction {
@@ -141,11 +151,29 @@ struct BatchTally {
     }
 };
 
+/// Tallies of one control batch: the controlled tallies (quanta) and the control-variate sums
+/// (units of 2^-32; each has mean zero).
+struct ControlTally {
+    uint64_t diffuse = 0, transmitted = 0;
+    std::array<uint64_t, 4> absorbedWithin{};
+    std::array<int64_t, MC_CONTROL_TERMS> controls{};
+
+    ControlTally& operator+=(const ControlTally& o) {
+        diffuse += o.diffuse;
+        transmitted += o.transmitted;
+        for (size_t k = 0; k < absorbedWithin.size(); ++k) absorbedWithin[k] += o.absorbedWithin[k];
+        for (size_t c = 0; c < controls.size(); ++c) controls[c] += o.controls[c];
+        return *this;
+    }
+};
+
 /// Tallies of a run and the fractions derived from them (all fractions are of the launched weight).
 struct McResult {
     McSetup setup;              ///< the setup that produced it
     uint64_t launchWeight = 0;  ///< quanta per launched photon
     std::array<BatchTally, MC_BATCHES> batches;
+    /// MC_CONTROL_BATCHES control batches when controlled(), else empty.
+    std::vector<ControlTally> controlBatches;
     std::vector<uint64_t> absorbedRZ;  ///< quanta per cylindrical bin, [iz * rBins + ir]
     /// With setup.binsPerBatch: MC_BATCHES copies of absorbedRZ, [b * rBins * zBins + bin].
     std::vector<uint64_t> absorbedRZBatches;
@@ -157,13 +185,35 @@ struct McResult {
     BatchTally total() const;
     /// Launched weight of all photons, in quanta.
     uint64_t launched() const;
-    Fraction specular() const;     ///< reflected at entry (Fresnel, normal incidence)
-    Fraction diffuse() const;      ///< scattered back out through the top surface
-    Fraction transmitted() const;  ///< left through the bottom of a slab (scattered or not)
-    Fraction absorbed() const;     ///< absorbed anywhere (inside the bins or not)
-    Fraction escaped() const;      ///< interacted beyond setup.lateralRadius
+    Fraction specular() const;  ///< reflected at entry (Fresnel, normal incidence)
+    /// Scattered back out through the top surface. With control variates (controlled()) the
+    /// tally less a fitted combination of the batches' control sums (src/transport/mc_control.cpp):
+    /// the same expectation, several times less variance; diffuseTally() is the plain tally.
+    Fraction diffuse() const;
+    /// Left through the bottom of a slab (scattered or not); controlled as diffuse().
+    Fraction transmitted() const;
+    /// Absorbed anywhere (inside the bins or not). With control variates: what the controlled
+    /// diffuse() and transmitted() leave (entering - diffuse - transmitted - escaped), so the
+    /// reported fractions still add up to 1.
+    Fraction absorbed() const;
+    Fraction escaped() const;  ///< interacted beyond setup.lateralRadius
+    /// The exact integer tallies behind diffuse(), transmitted() and absorbed().
+    Fraction diffuseTally() const;
+    Fraction transmittedTally() const;
+    Fraction absorbedTally() const;
+    /// Whether the run tallied control variates (setup.controlVariates with the collision or
+    /// track-length estimator).
+    bool controlled() const;
+    /// Per-batch values (fraction of each batch's launched weight) behind diffuse() and
+    /// transmitted(); each batch's controls are fitted on the control batches of the other
+    /// parity.
+    std::array<double, MC_BATCHES> diffuseBatches() const;
+    std::array<double, MC_BATCHES> transmittedBatches() const;
+    std::array<double, MC_BATCHES> absorbedWithinBatches(size_t k) const;
     /// Fraction of launched weight absorbed at depths < setup.depths[k].
+    /// With control variates, corrected as diffuse() (the same terms: about 2x less variance).
     Fraction absorbedWithin(size_t k) const;
+    Fraction absorbedWithinTally(size_t k) const;  ///< the plain tally behind absorbedWithin(k)
     /// Net weight created by roulette, (gain - loss) / launched: 0 in expectation.
     Fraction rouletteNet() const;
     double scatteringsPerPhoton() const;
