@@ -214,6 +214,9 @@ nlohmann::json ratios(const Figures& a, const Figures& b, bool perMachine) {
 nlohmann::json runCase(const std::string& caseName, const vpsim::optics::MediumOptics& optics,
                        const std::shared_ptr<vpsim::gpu::Context>& context, double scale) {
     McSetup s = vpsim::kernel::kernelSetup(optics, 0.05);
+    // The estimators as `vpsim mc` runs them: with the control variates the kernel's own runs
+    // leave out (they change no bin).
+    s.controlVariates = McSetup{}.controlVariates;
     s.depths = {0.030, 0.084};
     s.binsPerBatch = true;
     s.seed = 11;
