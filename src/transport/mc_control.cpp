@@ -143,25 +143,4 @@ Fraction McResult::absorbed() const {
     return fractionOfBatches(*this, a);
 }
 
-Fraction fractionOfBatches(const McResult& r, const std::array<double, MC_BATCHES>& values) {
-    Fraction f;
-    double photons = 0, sum = 0;
-    for (int b = 0; b < MC_BATCHES; ++b) {
-        const double n = double(r.batches[size_t(b)].photons);
-        photons += n;
-        sum += n * values[size_t(b)];
-    }
-    if (photons == 0) return f;
-    f.value = sum / photons;
-    int used = 0;
-    double squares = 0;
-    for (int b = 0; b < MC_BATCHES; ++b) {
-        if (r.batches[size_t(b)].photons == 0) continue;
-        squares += (values[size_t(b)] - f.value) * (values[size_t(b)] - f.value);
-        ++used;
-    }
-    if (used > 1) f.standardError = std::sqrt(squares / (double(used) * (used - 1)));
-    return f;
-}
-
 }  // namespace vpsim::transport

@@ -242,28 +242,55 @@ uint64_t McResult::launched() const {
 
 namespace {
 
-/// Mean over all photons and standard error from the spread of the batch means.
+/// Standard error of the photon-weighted mean `mean` of per-batch values, from their spread
+/// (empty batches left out).
+double batchStandardError(const McResult& r, const std::array<double, MC_BATCHES>& values,
+                          double mean) {
+    int used = 0;
+    double squares = 0;
+    for (int b = 0; b < MC_BATCHES; ++b) {
+        if (r.batches[size_t(b)].photons == 0) continue;
+        squares += (values[size_t(b)] - mean) * (values[size_t(b)] - mean);
+        ++used;
+    }
+    return used > 1 ? std::sqrt(squares / (double(used) * (used - 1))) : 0.0;
+}
+
+/// A tally (get: a batch's quanta, an integer, or a double for signed ones) as a fraction of the
+/// launched weight: the mean over all photons (exact for integer tallies: summed as integers) and
+/// the standard error from the spread of the batch means.
 template <class Get>
 Fraction batchFraction(const McResult& r, Get get) {
     Fraction f;
-    uint64_t launched = r.launched();
+    const uint64_t launched = r.launched();
     if (launched == 0) return f;
-    uint64_t sum = 0;
-    for (const auto& b : r.batches) sum += get(b);
-    f.value = double(sum) / double(launched);
-    int used = 0;
-    double squares = 0;
-    for (const auto& b : r.batches) {
-        if (b.photons == 0) continue;
-        double fb = double(get(b)) / double(b.photons * r.launchWeight);
-        squares += (fb - f.value) * (fb - f.value);
-        ++used;
+    std::array<double, MC_BATCHES> values{};
+    decltype(get(r.batches[0])) sum = 0;
+    for (int b = 0; b < MC_BATCHES; ++b) {
+        const BatchTally& t = r.batches[size_t(b)];
+        sum += get(t);
+        if (t.photons > 0) values[size_t(b)] = double(get(t)) / double(t.photons * r.launchWeight);
     }
-    if (used > 1) f.standardError = std::sqrt(squares / (double(used) * (used - 1)));
+    f.value = double(sum) / double(launched);
+    f.standardError = batchStandardError(r, values, f.value);
     return f;
 }
 
 }  // namespace
+
+Fraction fractionOfBatches(const McResult& r, const std::array<double, MC_BATCHES>& values) {
+    Fraction f;
+    double photons = 0, sum = 0;
+    for (int b = 0; b < MC_BATCHES; ++b) {
+        const double n = double(r.batches[size_t(b)].photons);
+        photons += n;
+        sum += n * values[size_t(b)];
+    }
+    if (photons == 0) return f;
+    f.value = sum / photons;
+    f.standardError = batchStandardError(r, values, f.value);
+    return f;
+}
 
 Fraction McResult::specular() const {
     return batchFraction(*this, [](const BatchTally& b) { return b.specular; });
@@ -288,22 +315,8 @@ Fraction McResult::absorbedWithinTally(size_t k) const {
 
 Fraction McResult::rouletteNet() const {
     // Signed: (gain - loss) per batch through doubles (each is exact below 2^53 quanta per batch).
-    Fraction f;
-    const double launchedAll = double(launched());
-    if (launchedAll <= 0) return f;
-    BatchTally t = total();
-    f.value = (double(t.rouletteGain) - double(t.rouletteLoss)) / launchedAll;
-    double squares = 0;
-    int used = 0;
-    for (const auto& b : batches) {
-        if (b.photons == 0) continue;
-        double fb =
-            (double(b.rouletteGain) - double(b.rouletteLoss)) / double(b.photons * launchWeight);
-        squares += (fb - f.value) * (fb - f.value);
-        ++used;
-    }
-    if (used > 1) f.standardError = std::sqrt(squares / (double(used) * (used - 1)));
-    return f;
+    return batchFraction(
+        *this, [](const BatchTally& b) { return double(b.rouletteGain) - double(b.rouletteLoss); });
 }
 
 double McResult::interactionsPerPhoton() const {

@@ -107,7 +107,7 @@ struct McSetup {
     bool beamConvolution = true;
     /// Collision and track-length estimators: tally control variates for the diffuse
     /// reflectance, the transmittance and the absorbed-within fractions (McResult::diffuse). The
-    /// bins and the integer tallies are the same either way; the step costs about 45% more
+    /// bins and the integer tallies are the same either way; the step costs about 50% more
     /// (bench_photon_mc), so runs that only need the bins (the beam kernel) switch it off.
     bool controlVariates = true;
 };
