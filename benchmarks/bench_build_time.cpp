@@ -9,10 +9,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "vpsim/plan/aces.h"
-#include "vpsim/plan/build_time.h"
-#include "vpsim/plan/part_grouping.h"
-#include "vpsim/plan/trajectory.h"
+#include "vpsim/plan/aces/aces.h"
+#include "vpsim/plan/machine/build_time.h"
+#include "vpsim/plan/machine/part_grouping.h"
+#include "vpsim/plan/machine/trajectory.h"
 
 using namespace vpsim;
 using namespace vpsim::plan;

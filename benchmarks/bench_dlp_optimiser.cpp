@@ -44,7 +44,7 @@
 #include <tbb/parallel_for.h>
 #include <nlohmann/json.hpp>
 
-#include "vpsim/optimise/dlp_xy.h"
+#include "vpsim/optimise/dlp/xy.h"
 
 using namespace vpsim::optimise;
 

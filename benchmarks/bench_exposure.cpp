@@ -14,7 +14,7 @@
 #include "vpsim/exposure/dose_volume.h"
 #include "vpsim/exposure/exposure_engine.h"
 #include "vpsim/gpu/context.h"
-#include "vpsim/plan/aces.h"
+#include "vpsim/plan/aces/aces.h"
 
 namespace {
 

@@ -15,9 +15,9 @@
 #include "vpsim/exposure/exposure_engine.h"
 #include "vpsim/geometry/slicer.h"
 #include "vpsim/geometry/test_parts.h"
-#include "vpsim/optimise/dfbtp_exposure_error.h"
-#include "vpsim/optimise/dfbtp_planner.h"
-#include "vpsim/optimise/inverse_planner.h"
+#include "vpsim/optimise/laser/dfbtp.h"
+#include "vpsim/optimise/laser/exposure_error.h"
+#include "vpsim/optimise/laser/inverse.h"
 #include "vpsim/plan/feature_blocks.h"
 #include "vpsim/validate/slice_validator.h"
 

@@ -18,10 +18,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "vpsim/plan/aces.h"
-#include "vpsim/plan/part_order.h"
-#include "vpsim/plan/scanner.h"
-#include "vpsim/plan/trajectory.h"
+#include "vpsim/plan/aces/aces.h"
+#include "vpsim/plan/machine/part_order.h"
+#include "vpsim/plan/machine/scanner.h"
+#include "vpsim/plan/machine/trajectory.h"
 
 using namespace vpsim;
 using namespace vpsim::plan;

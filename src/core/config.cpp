@@ -1,7 +1,10 @@
 #include "vpsim/core/config.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "vpsim/core/error.h"
@@ -205,6 +208,32 @@ void applyOverride(nlohmann::json& document, const std::string& assignment) {
     }
 }
 
+std::string nearestKey(const std::string& key, const std::vector<std::string>& candidates) {
+    // Levenshtein distance, case-insensitive; a candidate is "near" within a third of its length.
+    auto lower = [](char c) { return char(std::tolower(static_cast<unsigned char>(c))); };
+    std::string best;
+    size_t bestDistance = std::numeric_limits<size_t>::max();
+    for (const std::string& candidate : candidates) {
+        std::vector<size_t> row(candidate.size() + 1);
+        for (size_t j = 0; j <= candidate.size(); ++j) row[j] = j;
+        for (size_t i = 1; i <= key.size(); ++i) {
+            size_t diagonal = row[0];
+            row[0] = i;
+            for (size_t j = 1; j <= candidate.size(); ++j) {
+                const size_t above = row[j];
+                const size_t substitute = diagonal + (lower(key[i - 1]) != lower(candidate[j - 1]));
+                row[j] = std::min({row[j] + 1, row[j - 1] + 1, substitute});
+                diagonal = above;
+            }
+        }
+        const size_t distance = row[candidate.size()];
+        const size_t longer = std::max(key.size(), candidate.size());
+        if (distance < bestDistance && 3 * distance <= longer)
+            bestDistance = distance, best = candidate;
+    }
+    return best;
+}
+
 ConfigNode::ConfigNode(nlohmann::json document, std::string file)
     : mState(std::make_shared<State>()), mNode(nullptr) {
     mState->document = std::move(document);
@@ -232,6 +261,7 @@ InputError ConfigNode::error(const std::string& key, const std::string& reason) 
 }
 
 const nlohmann::json* ConfigNode::find(const std::string& key) const {
+    accept(key);
     auto it = mNode->find(key);
     return it == mNode->end() ? nullptr : &*it;
 }
@@ -241,6 +271,14 @@ const nlohmann::json& ConfigNode::require(const std::string& key) const {
     if (!value) throw error(key, "missing required key");
     markRead(key);
     return *value;
+}
+
+void ConfigNode::accept(const std::string& key) const {
+    mState->accepted[mPath].insert(key);
+}
+
+void ConfigNode::setOwner(const std::string& owner) const {
+    mState->owners[mPath] = owner;
 }
 
 void ConfigNode::markRead(const std::string& key, bool wholeSubtree) const {
@@ -356,20 +394,29 @@ void ConfigNode::checkUnknownKeys() const {
     checkNode(*mNode, mPath);
 }
 
+InputError ConfigNode::unknownKey(const std::string& path, const std::string& key) const {
+    std::string reason = "unknown key";
+    const auto owner = mState->owners.find(path);
+    if (owner != mState->owners.end()) reason += " for " + owner->second;
+    std::vector<std::string> accepted;
+    const auto keys = mState->accepted.find(path);
+    if (keys != mState->accepted.end()) accepted.assign(keys->second.begin(), keys->second.end());
+    const std::string nearest = nearestKey(key, accepted);
+    if (!nearest.empty()) reason += "; did you mean " + quoteUser(nearest) + "?";
+    if (!accepted.empty()) {
+        std::string list;
+        for (const auto& k : accepted) list += (list.empty() ? "" : ", ") + k;
+        reason += " (accepted here: " + escaped(list, 400) + ")";
+    }
+    return InputError(reason, mState->file, joinPath(path, key));
+}
+
 void ConfigNode::checkNode(const nlohmann::json& node, const std::string& path) const {
     if (mState->readPaths.count(path + "/*")) return;
     if (node.is_object()) {
         for (auto it = node.begin(); it != node.end(); ++it) {
             std::string childPath = joinPath(path, it.key());
-            if (!mState->readPaths.count(childPath)) {
-                std::string known;
-                for (auto k = node.begin(); k != node.end(); ++k)
-                    if (mState->readPaths.count(joinPath(path, k.key())))
-                        known += (known.empty() ? "" : ", ") + k.key();
-                throw InputError(
-                    "unknown key" + (known.empty() ? "" : " (keys used here: " + known + ")"),
-                    mState->file, childPath);
-            }
+            if (!mState->readPaths.count(childPath)) throw unknownKey(path, it.key());
             checkNode(it.value(), childPath);
         }
     } else if (node.is_array()) {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "vpsim/core/error.h"
 #include "vpsim/cure/cure_model.h"
 
@@ -98,6 +100,24 @@ FppCalibration fppFromWorkingCurve(const WorkingCurveFit& fit, double gelPoint) 
     out.attenuationStderr =
         fit.penetrationDepthStderr / (fit.penetrationDepth * fit.penetrationDepth);
     return out;
+}
+
+std::unique_ptr<CureLaw> calibratedLaw(const CureLawRegistry& registry, const WorkingCurveFit& fit,
+                                       std::optional<double> gelPoint) {
+    nlohmann::json section{{"critical_dose", fit.criticalDose},
+                           {"penetration_depth", fit.penetrationDepth}};
+    if (gelPoint) section["gel_point"] = *gelPoint;
+    std::string refusals;
+    for (const std::string& name : registry.names()) {
+        nlohmann::json candidate = section;
+        candidate["model"] = name;
+        try {
+            return cureLawFromJson(registry, candidate);
+        } catch (const InputError& e) {
+            refusals += (refusals.empty() ? "" : "; ") + name + ": " + e.reason();
+        }
+    }
+    throw InputError("no registered cure law takes the calibrated values (" + refusals + ")");
 }
 
 }  // namespace vpsim::cure

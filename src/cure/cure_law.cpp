@@ -22,13 +22,22 @@ double CureLaw::cureDepth(double surfaceDose) const {
     return jacobsCureDepth(surfaceDose, criticalDose(), penetrationDepth());
 }
 
-double readPenetrationDepth(const ConfigNode& node) {
-    bool hasDepth = node.has("penetration_depth"), hasAttenuation = node.has("attenuation");
+KeyTable resinKeyTable() {
+    return {{
+        quantityKey("penetration_depth", dim::LENGTH, nullptr,
+                    "Dp of the resin (optional; or attenuation = 1/Dp)")
+            .positiveOnly(),
+        quantityKey("attenuation", dim::INVERSE_LENGTH, nullptr, "1/Dp (optional)").positiveOnly(),
+    }};
+}
+
+double readPenetrationDepth(const KeyReader& keys) {
+    bool hasDepth = keys.has("penetration_depth"), hasAttenuation = keys.has("attenuation");
     if (hasDepth && hasAttenuation)
-        throw node.error("attenuation",
+        throw keys.error("attenuation",
                          "give either penetration_depth or attenuation (= 1/Dp), not both");
-    if (hasDepth) return positiveQuantity(node, "penetration_depth", dim::LENGTH);
-    if (hasAttenuation) return 1.0 / positiveQuantity(node, "attenuation", dim::INVERSE_LENGTH);
+    if (hasDepth) return *keys.optionalQuantity("penetration_depth");
+    if (hasAttenuation) return 1.0 / *keys.optionalQuantity("attenuation");
     return 0.0;
 }
 

@@ -30,19 +30,33 @@ nlohmann::json FppLaw::toJson() const {
 
 namespace {
 
-std::unique_ptr<CureLaw> fppFromSection(const ConfigNode& node) {
-    double penetrationDepth = readPenetrationDepth(node);
-    double gelPoint = node.number("gel_point");
-    if (!(gelPoint > 0.0 && gelPoint < 1.0))
-        throw node.error("gel_point", "the gel point Phi_c must lie strictly between 0 and 1");
-    bool hasK = node.has("K"), hasEc = node.has("critical_dose");
+std::unique_ptr<CureLaw> fppFromKeys(const KeyReader& keys) {
+    double penetrationDepth = readPenetrationDepth(keys);
+    double gelPoint = keys.number("gel_point");
+    bool hasK = keys.has("K"), hasEc = keys.has("critical_dose");
     if (hasK == hasEc)
-        throw node.error(
+        throw keys.error(
             "K", "the fpp model needs exactly one of K (e.g. \"0.0053 cm^2/mJ\") or critical_dose");
-    double rateConstant = hasK ? positiveQuantity(node, "K", dim::INVERSE_DOSE)
-                               : fppRateConstantFromCriticalDose(
-                                     positiveQuantity(node, "critical_dose", dim::DOSE), gelPoint);
+    double rateConstant =
+        hasK ? *keys.optionalQuantity("K")
+             : fppRateConstantFromCriticalDose(*keys.optionalQuantity("critical_dose"), gelPoint);
     return std::make_unique<FppLaw>(rateConstant, gelPoint, penetrationDepth);
+}
+
+KeyTable fppKeyTable() {
+    KeyTable table({
+        numberKey("gel_point", nullptr, "Phi_c, the conversion at gelation")
+            .in(1e-9, 1.0 - 1e-9)
+            .requiredLike(0.276),
+        quantityKey("K", dim::INVERSE_DOSE, nullptr,
+                    "rate constant (exactly one of K and critical_dose)")
+            .positiveOnly()
+            .withExample("0.0053 cm^2/mJ"),
+        quantityKey("critical_dose", dim::DOSE, nullptr,
+                    "Ec instead of K: then K = ln(1/(1 - Phi_c)) / Ec")
+            .positiveOnly(),
+    });
+    return table.add(resinKeyTable());
 }
 
 }  // namespace
@@ -51,11 +65,7 @@ void registerFppLaw(CureLawRegistry& registry) {
     registry.add({"fpp",
                   "frontal photopolymerisation (seed 001 Eq. 1-2): conversion 1 - exp(-K E), "
                   "cured at the gel point",
-                  {{"gel_point", "Phi_c in (0, 1)"},
-                   {"K", "rate constant (inverse dose, e.g. \"0.0053 cm^2/mJ\"); or critical_dose"},
-                   {"critical_dose", "Ec (dose); then K = ln(1/(1 - Phi_c)) / Ec"},
-                   {"penetration_depth", "Dp (length), optional; or attenuation = 1/Dp"}},
-                  fppFromSection});
+                  fppKeyTable(), fppFromKeys});
 }
 
 }  // namespace vpsim::cure

@@ -19,14 +19,14 @@ nlohmann::json ThresholdLaw::toJson() const {
 }
 
 void registerThresholdLaw(CureLawRegistry& registry) {
-    registry.add({"threshold",
-                  "Jacobs threshold: cured where the local dose reaches Ec",
-                  {{"critical_dose", "Ec (dose, e.g. \"10 mJ/cm^2\")"},
-                   {"penetration_depth", "Dp (length), optional; or attenuation = 1/Dp"}},
-                  [](const ConfigNode& section) {
-                      double dp = readPenetrationDepth(section);
-                      return std::make_unique<ThresholdLaw>(
-                          positiveQuantity(section, "critical_dose", dim::DOSE), dp);
+    registry.add({"threshold", "Jacobs threshold: cured where the local dose reaches Ec",
+                  KeyTable({quantityKey("critical_dose", dim::DOSE, nullptr, "Ec")
+                                .positiveOnly()
+                                .requiredLike("10 mJ/cm^2")})
+                      .add(resinKeyTable()),
+                  [](const KeyReader& keys) {
+                      double dp = readPenetrationDepth(keys);
+                      return std::make_unique<ThresholdLaw>(keys.quantity("critical_dose"), dp);
                   }});
 }
 

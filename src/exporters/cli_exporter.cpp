@@ -169,11 +169,18 @@ std::string binaryGeometry(const plan::ScanPlan& plan, double u) {
 
 }  // namespace
 
-CliOptions cliOptionsFromConfig(const ConfigNode& options) {
+KeyTable cliKeyTable() {
+    return {{
+        choiceKey("format", {"ascii", "binary"}, "ascii", "the geometry section's encoding"),
+        quantityKey("units", dim::LENGTH, "1 um", "length of one coordinate unit ($$UNITS)")
+            .positiveOnly(),
+    }};
+}
+
+CliOptions cliOptionsFromKeys(const KeyReader& keys) {
     CliOptions cli;
-    cli.binary = options.choice("format", {"ascii", "binary"}, std::string("ascii")) == "binary";
-    cli.units = options.quantity("units", dim::LENGTH, cli.units);
-    if (!(cli.units > 0)) throw options.error("units", "must be a positive length");
+    cli.binary = keys.choice("format") == "binary";
+    cli.units = keys.quantity("units");
     return cli;
 }
 
@@ -193,12 +200,9 @@ void CliExporter::write(const plan::ScanPlan& plan, const std::string& path) con
 }
 
 void registerCliExporter(ExporterRegistry& registry) {
-    registry.add({"cli",
-                  "Common Layer Interface: polylines and hatches per layer (laser machines)",
-                  {{"format", "ascii (default) or binary"},
-                   {"units", "length of one coordinate unit, default \"1 um\""}},
-                  [](const ConfigNode& section) {
-                      return std::make_unique<CliExporter>(cliOptionsFromConfig(section));
+    registry.add({"cli", "Common Layer Interface: polylines and hatches per layer (laser machines)",
+                  cliKeyTable(), [](const KeyReader& keys) {
+                      return std::make_unique<CliExporter>(cliOptionsFromKeys(keys));
                   }});
 }
 

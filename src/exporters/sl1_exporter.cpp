@@ -1,5 +1,4 @@
 #include "vpsim/exporters/sl1_exporter.h"
-#include "vpsim/core/text.h"
 
 #include <png.h>
 #include <zip.h>
@@ -12,14 +11,11 @@
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
+#include "vpsim/core/text.h"
+#include "vpsim/exporters/grey_masks.h"
 
 namespace vpsim::exporters {
 namespace {
-
-void appendPng(png_structp png, png_bytep data, png_size_t length) {
-    auto* out = static_cast<std::vector<uint8_t>*>(png_get_io_ptr(png));
-    out->insert(out->end(), data, data + length);
-}
 
 /// The layer's grey image placed on the display (centred; pixels outside the mask are 0).
 std::vector<uint8_t> displayImage(const plan::MaskImage& mask, const plan::GreyLevels& levels,
@@ -36,43 +32,6 @@ std::vector<uint8_t> displayImage(const plan::MaskImage& mask, const plan::GreyL
 }
 
 }  // namespace
-
-std::vector<uint8_t> maskToGrey(const plan::MaskImage& mask, const plan::GreyLevels& levels) {
-    std::vector<uint8_t> grey(mask.dose.size());
-    for (size_t i = 0; i < grey.size(); ++i) {
-        const double d = mask.dose[i];
-        if (!(d >= 0.0) || !std::isfinite(d))
-            throw InputError("mask dose must be finite and >= 0 for grey levels");
-        if (d > levels.maxDose() * 1.005)
-            throw InputError("mask dose " + formatNumber(d * 100.0) +
-                             " mJ/cm^2 exceeds the projector's brightest grey (" +
-                             formatNumber(levels.maxDose() * 100.0) + " mJ/cm^2)");
-        grey[i] = levels.quantise(d);
-    }
-    return grey;
-}
-
-std::vector<uint8_t> encodePngGrey(int width, int height, const std::vector<uint8_t>& grey) {
-    if (width <= 0 || height <= 0 || grey.size() != size_t(width) * size_t(height))
-        throw InputError("PNG: image size does not match its pixels");
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-    png_infop info = png ? png_create_info_struct(png) : nullptr;
-    if (!info) throw InputError("PNG: libpng could not start");
-    std::vector<uint8_t> out;
-    if (setjmp(png_jmpbuf(png))) {
-        png_destroy_write_struct(&png, &info);
-        throw InputError("PNG: libpng failed to encode a layer");
-    }
-    png_set_write_fn(png, &out, appendPng, nullptr);
-    png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), 8, PNG_COLOR_TYPE_GRAY,
-                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    png_write_info(png, info);
-    for (int y = 0; y < height; ++y)
-        png_write_row(png, const_cast<png_bytep>(grey.data() + size_t(y) * size_t(width)));
-    png_write_end(png, nullptr);
-    png_destroy_write_struct(&png, &info);
-    return out;
-}
 
 Sl1Exporter::Sl1Exporter(plan::GreyLevels levels, Sl1Settings settings)
     : mLevels(std::move(levels)), mSettings(std::move(settings)) {}
@@ -159,69 +118,42 @@ void Sl1Exporter::write(const plan::ScanPlan& plan, const std::string& path) con
     std::filesystem::rename(temporary, path);
 }
 
-std::unique_ptr<Exporter> Sl1Exporter::fromConfig(const ConfigNode& section) {
+namespace {
+
+KeyTable sl1KeyTable() {
+    KeyTable table = greyLevelKeyTable();
+    table.add({{
+        integerKey("display_pixels_x", 0, "display pixels (0: the mask width)").in(0, 1e6),
+        integerKey("display_pixels_y", 0, "display pixels (0: the mask height)").in(0, 1e6),
+        quantityKey("display_width", dim::LENGTH, 0, "display width (0: pixels x pitch)")
+            .in(0, INFINITY),
+        quantityKey("display_height", dim::LENGTH, 0, "display height (0: pixels x pitch)")
+            .in(0, INFINITY),
+        stringKey("job_name", "print", "jobDir and layer-file prefix"),
+        stringKey("printer_model", "SL1", "printerModel in config.ini"),
+        integerKey("fade_layers", 0, "numFade: layers of exposure ramp").in(0, 1e6),
+    }});
+    return table;
+}
+
+}  // namespace
+
+std::unique_ptr<Exporter> Sl1Exporter::fromConfig(const KeyReader& keys) {
     Sl1Settings s;
-    s.jobName = section.string("job_name", std::string("print"));
-    s.printerModel = section.string("printer_model", std::string("SL1"));
-    s.displayPixelsX = int(section.integer("display_pixels_x", 0));
-    s.displayPixelsY = int(section.integer("display_pixels_y", 0));
-    s.displayWidth = section.quantity("display_width", dim::LENGTH, 0.0);
-    s.displayHeight = section.quantity("display_height", dim::LENGTH, 0.0);
-    s.fadeLayers = int(section.integer("fade_layers", 0));
-    if (s.displayPixelsX < 0 || s.displayPixelsY < 0 || s.fadeLayers < 0)
-        throw section.error("display_pixels_x", "display sizes and fade layers must be >= 0");
-    return std::make_unique<Sl1Exporter>(plan::greyLevelsFromConfig(section), s);
+    s.jobName = keys.string("job_name");
+    s.printerModel = keys.string("printer_model");
+    s.displayPixelsX = int(keys.integer("display_pixels_x"));
+    s.displayPixelsY = int(keys.integer("display_pixels_y"));
+    s.displayWidth = keys.quantity("display_width");
+    s.displayHeight = keys.quantity("display_height");
+    s.fadeLayers = int(keys.integer("fade_layers"));
+    return std::make_unique<Sl1Exporter>(greyLevelsFromKeys(keys), s);
 }
 
-bool PngStackExporter::accepts(const plan::ScanPlan& plan, std::string& reason) const {
-    for (size_t k = 0; k < plan.layers.size(); ++k)
-        if (plan.layers[k].masks.size() != 1)
-            return reason = "layer " + std::to_string(k) + " is not exactly one mask", false;
-    return !plan.layers.empty() || (reason = "the plan has no layers", false);
-}
-
-void PngStackExporter::write(const plan::ScanPlan& plan, const std::string& path) const {
-    std::string reason;
-    if (!accepts(plan, reason)) throw InputError("PNG stack: " + reason, path);
-    std::error_code ec;
-    std::filesystem::create_directories(path, ec);
-    if (ec) throw InputError("PNG stack: cannot create the directory", path);
-    char name[64];
-    for (size_t k = 0; k < plan.layers.size(); ++k) {
-        const plan::MaskImage& m = plan.layers[k].masks[0];
-        std::vector<uint8_t> png = encodePngGrey(m.width, m.height, maskToGrey(m, mLevels));
-        std::snprintf(name, sizeof name, "/layer%05zu.png", k);
-        writeFileAtomic(path + name, std::string(png.begin(), png.end()));
-    }
-    std::ostringstream index;
-    index << "{\"layers\": " << plan.layers.size()
-          << ", \"exposure_time_s\": " << formatNumber(mLevels.exposureTime())
-          << ", \"pixel_pitch_mm\": " << formatNumber(plan.layers[0].masks[0].pixelPitch)
-          << ", \"layer_thickness_mm\": " << formatNumber(plan.machine.layerThickness) << "}\n";
-    writeFileAtomic(path + "/masks.json", index.str());
-}
-
-std::unique_ptr<Exporter> PngStackExporter::fromConfig(const ConfigNode& section) {
-    return std::make_unique<PngStackExporter>(plan::greyLevelsFromConfig(section));
-}
-
-void registerSl1Exporters(ExporterRegistry& registry) {
+void registerSl1Exporter(ExporterRegistry& registry) {
     registry.add({"sl1",
                   "PrusaSlicer SL1 archive: config.ini, prusaslicer.ini, 8-bit grey PNG per layer",
-                  {{"grey_levels", "[[grey, irradiance mW/mm^2], ...] projector calibration"},
-                   {"exposure_time", "s, one exposure per layer"},
-                   {"display_pixels_x", "display pixels (default: the mask width)"},
-                   {"display_pixels_y", "display pixels (default: the mask height)"},
-                   {"display_width", "mm (default: pixels x pitch)"},
-                   {"display_height", "mm (default: pixels x pitch)"},
-                   {"job_name", "jobDir and layer-file prefix (default print)"},
-                   {"printer_model", "printerModel (default SL1)"},
-                   {"fade_layers", "numFade (default 0)"}},
-                  &Sl1Exporter::fromConfig});
-    registry.add({"png-stack",
-                  "directory of 8-bit greyscale PNG masks, one per layer",
-                  {{"grey_levels", "[[grey, irradiance mW/mm^2], ...]"}, {"exposure_time", "s"}},
-                  &PngStackExporter::fromConfig});
+                  sl1KeyTable(), &Sl1Exporter::fromConfig});
 }
 
 }  // namespace vpsim::exporters

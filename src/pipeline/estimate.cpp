@@ -16,7 +16,8 @@
 //  layer stack       geometry::sliceMesh: one contour vertex per triangle crossing a layer's
 //                    plane, dvec2 (16 B) in the PolygonSet plus Clipper's int64 copy and the
 //                    linked segments while slicing (x3), plus the slicer's 4 B buckets.
-//  plan              the planner's term (planner_estimates.cpp); saveScanPlan builds the whole
+//  plan              the planner's estimateSize (planners/plan_size.h); saveScanPlan builds the
+//  whole
 //                    nlohmann::json tree before dumping it: the planner's jsonBytes (a json
 //                    array per vector and move, 16 B per mask pixel), for the plan stage.
 //  exposure engine   ExposureEngine: deposit, blur pass, running sum, slice (SurfaceGrid floats)
@@ -135,13 +136,13 @@ void frontTerms(const Job& job, const geometry::Mesh& part, const Sizes& s, JobE
 }
 
 void planTerms(const Job& job, const Sizes& s, bool savedPlan, JobEstimate& e,
-               plan::PlanSize& size) {
-    const plan::PlanSizeInputs inputs{
-        s.bounds,        s.volume,
-        s.layers,        job.machine,
-        s.beamRadius,    job.cure->hasPenetrationDepth() ? job.cure->penetrationDepth() : 0.0,
-        job.planSection, s.contourVertices};
-    size = estimatePlan(job, inputs);
+               planners::PlanSize& size) {
+    const planners::PlanSizeInputs inputs{
+        s.bounds,         s.volume,
+        s.layers,         job.machine,
+        s.beamRadius,     job.cure->hasPenetrationDepth() ? job.cure->penetrationDepth() : 0.0,
+        s.contourVertices};
+    size = job.planner->estimateSize(inputs);
     add(e, "scan plan", size.planBytes, Stage::Plan, Stage::Validate, size.detail,
         "thicker layers or a smaller part");
     if (!savedPlan && size.workingBytes > 0)
@@ -210,7 +211,7 @@ void validateTerms(const Job& job, const geometry::Mesh& part, const Sizes& s, J
 }
 
 void outputTerms(const Job& job, const geometry::Mesh& part, const Sizes& s,
-                 const plan::PlanSize& plan, double referenceVoxels, JobEstimate& e) {
+                 const planners::PlanSize& plan, double referenceVoxels, JobEstimate& e) {
     auto out = [&e](std::string file, double bytes) { e.outputs.push_back({file, bytes}); };
     out("part.stl", 84.0 + 50.0 * part.triangles.size());
     if (job.machine.process == plan::Process::Laser &&
@@ -274,7 +275,7 @@ JobEstimate estimateJob(const Job& job, const geometry::Mesh& part, bool planOnl
     frontTerms(job, part, s, e);
     if (gpuDriver)  // measured: lavapipe's LLVM and the loader, from the first Vulkan call
         add(e, "Vulkan driver", 64 * MIB, Stage::Part, Stage::Validate, "loader and driver");
-    plan::PlanSize plan;
+    planners::PlanSize plan;
     planTerms(job, s, savedPlan, e, plan);
     e.figures["plan_elements"] = plan.elements;
     double referenceVoxels = 0;

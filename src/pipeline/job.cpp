@@ -6,7 +6,6 @@
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/log.h"
-#include "vpsim/plan/scan_report.h"
 
 namespace vpsim::pipeline {
 namespace {
@@ -47,10 +46,11 @@ void createExporters(const ConfigNode& root, const Builtins& builtins, Job& job)
         const ConfigNode machine = root.child("machine");
         for (const auto& [name, entry] : builtins.exporters.entries()) {
             nlohmann::json options = nlohmann::json::object();
-            for (const ConfigKeyDoc& key : entry.keys)
-                if (machine.has(key.key)) options[key.key] = machine.raw(key.key);
+            for (const KeySpec& key : entry.keys.keys())
+                if (machine.has(key.name)) options[key.name] = machine.raw(key.name);
             try {
-                job.exporters.emplace_back(name, entry.factory(ConfigNode(options, root.file())));
+                job.exporters.emplace_back(
+                    name, builtins.exporters.create(name, ConfigNode(options, root.file())));
             } catch (const InputError& e) {
                 logDebug("exporter " + name + " not run: " + std::string(e.what()) +
                          " (give its options in the job's export section)");
@@ -113,14 +113,13 @@ Job loadJob(const std::string& path, const Builtins& builtins,
                          "a DLP job needs the resin's penetration depth "
                          "(cure.penetration_depth or cure.attenuation)");
     createPlanner(root, builtins, job);
-    if (laser) job.scanOrder = plan::orderMethodFromConfig(root.child("plan"));
+    if (laser) job.scanOrder = job.planner->partOrder();
     job.simulation = simulationFromConfig(sectionOrEmpty(root, "simulation"));
     createExporters(root, builtins, job);
     checkScales(root, job);
     if (root.has("features"))
         job.features = validate::featureProbesFromConfig(root.children("features"));
     root.checkUnknownKeys();
-    job.planSection = root.raw("plan");  // after the check: raw() marks the subtree as known
     return job;
 }
 

@@ -8,9 +8,7 @@
 #include "vpsim/core/output_directory.h"
 #include "vpsim/geometry/stl_io.h"
 #include "vpsim/gpu/context.h"
-#include "vpsim/pipeline/dlp_report_stage.h"
 #include "vpsim/pipeline/estimate.h"
-#include "vpsim/pipeline/laser_report.h"
 #include "vpsim/report/figures.h"
 #include "vpsim/report/html_report.h"
 #include "vpsim/validate/feature_probe.h"
@@ -155,10 +153,6 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     timer.finish("plan");
     result.exports = exportStage(job, planned.plan, outDir);
     timer.finish("export");
-    nlohmann::json laserError = laserErrorStage(job, f.layers, planned.plan, f.beam, outDir);
-    if (!laserError.is_null()) result.plan.planner["layer_exposure_error"] = std::move(laserError);
-    timer.finish("exposure_error");
-
     const int layers = int(f.layers.layers.size());
     const exposure::ExposureGrid grid = exposureGrid(job, f.bounds, f.beam);
     auto model = exposureModel(job, grid, f.beam, context);
@@ -192,7 +186,14 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     result.validation = validateStage(job, f.part, cured, validator.summary(), features.result(),
                                       job.simulation.writeVdb ? outDir + "/reference.vdb" : "");
     timer.finish("validate");
-    dlpReportStage(job, f.part, f.layers, f.bounds, planned.plan, *model, result, outDir);
+    // The planner's own work on the exposed plan (the laser exposure error, DLP comparisons).
+    const planners::PlanReview review =
+        job.planner->review({f.part, f.layers, f.bounds, planned.plan, job.machine, f.beam.beam,
+                             law, job.features, result.validation.features, job.simulation.voxel,
+                             voxelHeight, *model, result.validation.slices, job.strategy, outDir});
+    result.plan.planner.merge_patch(review.report);
+    result.sections = review.sections;
+    timer.finish("review");
 
     sections.write(outDir);
     report::writeDeviationFigures(outDir, cured, result.validation.vertexDeviations);

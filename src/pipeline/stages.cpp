@@ -5,13 +5,13 @@
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/log.h"
-#include "vpsim/cure/cured_surface.h"
 #include "vpsim/exposure/exposure_engine.h"
 #include "vpsim/exposure/tabulated_engine.h"
 #include "vpsim/geometry/level_set.h"
 #include "vpsim/geometry/part_spec.h"
 #include "vpsim/gpu/context.h"
 #include "vpsim/kernel/kernel_cache.h"
+#include "vpsim/validate/cured_surface.h"
 
 namespace vpsim::pipeline {
 
@@ -59,9 +59,9 @@ PlanResult planStage(const Job& job, const geometry::LayerStack& layers,
                      const RunContext& context) {
     const kernel::BeamKernel* table =
         job.kernel.tabulated && beam.monteCarlo ? &*beam.monteCarlo : nullptr;
-    plan::PlannerInputs inputs{layers,    partBounds, job.machine,
-                               beam.beam, table,      job.cure->criticalDose(),
-                               *job.cure, context};
+    planners::PlannerInputs inputs{layers,    partBounds, job.machine,
+                                   beam.beam, table,      job.cure->criticalDose(),
+                                   *job.cure, context};
     PlanResult result;
     result.plan = job.planner->plan(inputs);
     result.summary = job.planner->summary();
@@ -145,7 +145,7 @@ report::ExposureSummary exposeStage(exposure::ExposureModel& model, const plan::
 }
 
 geometry::Mesh cureStage(const exposure::DoseVolume& exposure, const cure::CureLaw& law) {
-    return cure::curedSurface(exposure, law);
+    return validate::curedSurface(exposure, law);
 }
 
 report::ValidationReport validateStage(const Job& job, const geometry::Mesh& part,

@@ -203,4 +203,12 @@ ScanPlan loadScanPlan(const std::string& path) {
     }
 }
 
+ScanPlan emptyPlan(const geometry::LayerStack& layers, const Machine& machine) {
+    ScanPlan plan;
+    plan.machine = machine;
+    for (const geometry::Layer& layer : layers.layers)
+        plan.layers.push_back({layer.zBottom + layers.layerThickness, {}, {}, {}, {}});
+    return plan;
+}
+
 }  // namespace vpsim::plan

@@ -86,18 +86,8 @@ std::string greyColour(int g) {
     return c.str();
 }
 
-/// The features' uniform simulated lengths by name (mm), from the planner's comparison.
-double uniformFeature(const JobResult& r, const std::string& name) {
-    const nlohmann::json& p = r.plan.planner;
-    if (!p.contains("uniform_comparison") || !p["uniform_comparison"].contains("features"))
-        return std::numeric_limits<double>::quiet_NaN();
-    for (const auto& f : p["uniform_comparison"]["features"])
-        if (f.value("name", "") == name) return f.value("simulated_mm", 0.0);
-    return std::numeric_limits<double>::quiet_NaN();
-}
-
-void writeFeatures(const std::string& path, const JobResult& r) {
-    const validate::FeatureMeasurements& f = r.validation.features;
+void writeFeatures(const std::string& path, const validate::FeatureMeasurements& f,
+                   const std::vector<double>& uniform) {
     const char* colours[] = {"#999999", "#d62728", "#1f77b4", "#2ca02c"};
     const char* labels[] = {"objective", "uniform plan (simulated)", "this plan (simulated)",
                             "measured (mean, range)"};
@@ -105,7 +95,7 @@ void writeFeatures(const std::string& path, const JobResult& r) {
     for (size_t i = 0; i < f.probes.size(); ++i) {
         top = std::max({top, f.probes[i].objective, f.simulated[i]});
         for (double m : f.probes[i].measured) top = std::max(top, m);
-        const double u = uniformFeature(r, f.probes[i].name);
+        const double u = i < uniform.size() ? uniform[i] : NAN;
         if (std::isfinite(u)) top = std::max(top, u);
     }
     Canvas c(720, 420, "Features: predicted vs objective vs measured (seed 001 Table 2)");
@@ -116,7 +106,7 @@ void writeFeatures(const std::string& path, const JobResult& r) {
         double mean = 0, lo = INFINITY, hi = -INFINITY;
         for (double m : p.measured)
             mean += m / double(p.measured.size()), lo = std::min(lo, m), hi = std::max(hi, m);
-        const double values[] = {p.objective, uniformFeature(r, p.name), f.simulated[i],
+        const double values[] = {p.objective, i < uniform.size() ? uniform[i] : NAN, f.simulated[i],
                                  p.measured.empty() ? NAN : mean};
         for (int b = 0; b < 4; ++b) {
             if (!std::isfinite(values[b])) continue;
@@ -230,72 +220,17 @@ void writeHistogram(const std::string& path, const std::vector<double>& counts) 
 
 }  // namespace
 
-void writeDlpFigures(const std::string& outDir, const plan::ScanPlan& plan,
-                     const nlohmann::json& data, const JobResult& result) {
+void writeDlpFigures(const std::string& outDir, const DlpFigureInputs& in) {
+    const nlohmann::json& data = in.data;
     if (!data.is_object() || !data.contains("column")) return;
     writeFileAtomic(outDir + "/dlp_figures.json", data.dump(1));
-    if (!result.validation.features.probes.empty())
-        writeFeatures(outDir + "/dlp_features.svg", result);
+    if (!in.features.probes.empty())
+        writeFeatures(outDir + "/dlp_features.svg", in.features, in.uniformFeatures);
     writeAlongZ(outDir, data["column"]);
     const std::vector<double> greyDose = data["grey_dose_mJ_per_cm2"];
-    writeMask(outDir + "/dlp_mask.svg", plan, data.value("layer", 0L), greyDose);
-    if (result.plan.planner.contains("grey_histogram"))
-        writeHistogram(outDir + "/dlp_grey_histogram.svg",
-                       result.plan.planner["grey_histogram"].get<std::vector<double>>());
-}
-
-void writeDlpHtmlSection(std::ostringstream& html, const std::string& outDir, const JobResult& r) {
-    std::error_code missing;
-    if (!std::filesystem::exists(outDir + "/dlp_figures.json", missing)) return;
-    html << "<h2>Optimised DLP masks</h2>\n";
-    const validate::FeatureMeasurements& f = r.validation.features;
-    const nlohmann::json& p = r.plan.planner;
-    if (!f.probes.empty()) {
-        const bool uniform = p.contains("uniform_comparison");
-        html << "<table><tr><th>feature (mm)</th><th>objective</th>";
-        if (uniform)
-            html << "<th>uniform plan, "
-                 << formatNumber(p["uniform_comparison"].value("dose_mJ_per_cm2", 0.0), 4)
-                 << " mJ/cm&sup2; (simulated)</th>";
-        html << "<th>this plan (simulated)</th><th>measured mean</th></tr>\n";
-        for (size_t i = 0; i < f.probes.size(); ++i) {
-            double mean = 0;
-            for (double m : f.probes[i].measured) mean += m / double(f.probes[i].measured.size());
-            html << "<tr><th>" << htmlEscape(f.probes[i].name) << "</th><td>"
-                 << formatNumber(f.probes[i].objective, 4) << "</td>";
-            if (uniform)
-                html << "<td>" << formatNumber(uniformFeature(r, f.probes[i].name), 4) << "</td>";
-            html << "<td>" << formatNumber(f.simulated[i], 4) << "</td><td>"
-                 << (f.probes[i].measured.empty() ? "" : formatNumber(mean, 4)) << "</td></tr>\n";
-        }
-        html << "</table>\n";
-    }
-    if (p.contains("xy_coupling") && p["xy_coupling"].is_object()) {
-        const nlohmann::json& xy = p["xy_coupling"];
-        auto cell = [&](const char* key) {
-            return xy.contains(key) ? formatNumber(xy[key].get<double>(), 4) : std::string();
-        };
-        html << "<table><tr><th>xy coupling (from " << htmlEscape(xy.value("start", ""))
-             << ")</th><th>column optimum</th><th>joint optimum</th></tr>\n<tr><th>XY contour "
-                "error, this run's validation (mm)</th><td>"
-             << cell("validation_xy_contour_error_columns_mm") << "</td><td>"
-             << cell("validation_xy_contour_error_xy_mm") << "</td></tr>\n<tr><th>XY contour "
-             << "error, optimiser's model (mm)</th><td>" << cell("contour_error_columns_mm")
-             << "</td><td>" << cell("contour_error_xy_mm") << "</td></tr>\n<tr><th>shape "
-             << "objective J</th><td>" << cell("objective_columns") << "</td><td>"
-             << cell("objective_xy") << "</td></tr></table>\n";
-    }
-    const char* captions[] = {
-        "features: objective, the uniform plan and this plan simulated, measured (mm)",
-        "dose per layer along Z through one pixel column (seed 001 Fig. 13-16)",
-        "conversion along Z through the same column, with the gel point and the target",
-        "one layer's greyscale mask (grey as projected, mm axes, grey-to-dose scale)",
-        "histogram of the grey levels of all exposed pixels"};
-    for (size_t i = 0; i < std::size(DLP_FIGURE_FILES); ++i)
-        if (std::filesystem::exists(outDir + "/" + DLP_FIGURE_FILES[i], missing))
-            html << "<figure><img src='" << DLP_FIGURE_FILES[i] << "' alt='"
-                 << htmlEscape(captions[i]) << "'><figcaption>" << htmlEscape(captions[i])
-                 << "</figcaption></figure>\n";
+    writeMask(outDir + "/dlp_mask.svg", in.plan, data.value("layer", 0L), greyDose);
+    if (!in.greyHistogram.empty())
+        writeHistogram(outDir + "/dlp_grey_histogram.svg", in.greyHistogram);
 }
 
 }  // namespace vpsim::report

@@ -5,7 +5,6 @@
 
 #include "vpsim/core/io.h"
 #include "vpsim/core/text.h"
-#include "vpsim/report/dlp_figures.h"
 
 namespace vpsim::report {
 namespace {
@@ -20,6 +19,25 @@ void figure(std::ostringstream& html, const std::string& outDir, const std::stri
     if (!std::filesystem::exists(outDir + "/" + file, missing)) return;
     html << "<figure><img src='" << htmlEscape(file) << "' alt='" << htmlEscape(caption)
          << "'><figcaption>" << htmlEscape(caption) << "</figcaption></figure>\n";
+}
+
+/// A component's section: its tables, then its figures (those present in outDir).
+void section(std::ostringstream& html, const std::string& outDir, const ReportSection& s) {
+    html << "<h2>" << htmlEscape(s.title) << "</h2>\n";
+    for (const ReportTable& table : s.tables) {
+        html << "<table><tr>";
+        for (const std::string& cell : table.header) html << "<th>" << htmlEscape(cell) << "</th>";
+        html << "</tr>\n";
+        for (const auto& cells : table.rows) {
+            html << "<tr>";
+            for (size_t i = 0; i < cells.size(); ++i)
+                html << (i == 0 ? "<th>" : "<td>") << htmlEscape(cells[i])
+                     << (i == 0 ? "</th>" : "</td>");
+            html << "</tr>\n";
+        }
+        html << "</table>\n";
+    }
+    for (const ReportFigure& f : s.figures) figure(html, outDir, f.file, f.caption);
 }
 
 void row(std::ostringstream& html, const std::string& name, const std::string& value) {
@@ -69,7 +87,7 @@ void writeHtmlReport(const std::string& outDir, const JobResult& r) {
         }
         html << "</table>\n";
     }
-    writeDlpHtmlSection(html, outDir, r);
+    for (const ReportSection& s : r.sections) section(html, outDir, s);
     html << "<h2>Pictures</h2><p>Exposure in mJ/mm&sup2; from 0 to twice the critical dose; red: "
             "the model's outline, white: the cured outline at the critical dose.</p>\n";
     figure(html, outDir, "exposure_xz.png", "x-z cross-section through the middle of the part");
@@ -81,11 +99,6 @@ void writeHtmlReport(const std::string& outDir, const JobResult& r) {
     figure(html, outDir, "xy_error_per_layer.svg", "XY contour error per layer");
     figure(html, outDir, "scan_path.svg",
            "scan path of the busiest layer: marks, jumps within and between parts, part order");
-    figure(html, outDir, "exposure_top_layer.svg",
-           "surface exposure of the top layer (mJ/cm^2; red: the model's outline)");
-    figure(
-        html, outDir, "exposure_error_sorted.svg",
-        "sorted |exposure error| / Etar over the part plus Reff, every layer (seed 000 Fig. 23)");
     figure(html, outDir, "kernel/intensity_scattered.png",
            "beam kernel with scattering (Monte Carlo)");
     figure(html, outDir, "kernel/intensity_no_scattering.png", "beam kernel without scattering");

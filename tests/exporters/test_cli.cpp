@@ -8,8 +8,8 @@
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
 #include "vpsim/exporters/cli_exporter.h"
-#include "vpsim/plan/aces.h"
-#include "vpsim/plan/trajectory.h"
+#include "vpsim/plan/aces/aces.h"
+#include "vpsim/plan/machine/trajectory.h"
 
 using namespace vpsim;
 using namespace vpsim::exporters;

@@ -14,6 +14,8 @@
 
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
+#include "vpsim/exporters/grey_masks.h"
+#include "vpsim/exporters/png_stack_exporter.h"
 #include "vpsim/exporters/sl1_exporter.h"
 
 using namespace vpsim;

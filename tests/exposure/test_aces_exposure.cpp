@@ -2,7 +2,7 @@
 
 #include "vpsim/exposure/deposit.h"
 #include "vpsim/exposure/exposure_engine.h"
-#include "vpsim/plan/aces.h"
+#include "vpsim/plan/aces/aces.h"
 
 using namespace vpsim;
 

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "vpsim/core/error.h"
+#include "vpsim/pipeline/estimate.h"
 #include "vpsim/pipeline/run_job.h"
 
 using namespace vpsim;
@@ -68,12 +69,12 @@ TEST_CASE("bad jobs give one clear error naming the key", "[pipeline]") {
 namespace {
 
 /// A planner defined here, registered without touching the pipeline: it exposes one spot of
-/// `energy` at the centre of every layer.
-class SpotPlanner : public plan::Planner {
+/// `energy` at the centre of every layer, sizes itself and adds its own review to the report.
+class SpotPlanner : public planners::Planner {
 public:
     explicit SpotPlanner(double energy) : mEnergy(energy) {}
     plan::Process process() const override { return plan::Process::Laser; }
-    plan::ScanPlan plan(const plan::PlannerInputs& in) override {
+    plan::ScanPlan plan(const planners::PlannerInputs& in) override {
         plan::ScanPlan p = plan::emptyPlan(in.layers, in.machine);
         const geometry::Bounds& b = in.partBounds;
         for (auto& layer : p.layers)
@@ -81,6 +82,18 @@ public:
         return p;
     }
     nlohmann::json summary() const override { return {{"spot", {{"energy_mJ", mEnergy}}}}; }
+    planners::PlanSize estimateSize(const planners::PlanSizeInputs& in) const override {
+        planners::PlanSize size;
+        size.planBytes = 1234.0 * in.layers;  // a recognisable figure for the estimate
+        size.detail = "one spot per layer";
+        return size;
+    }
+    planners::PlanReview review(const planners::PlanReviewInputs& in) const override {
+        planners::PlanReview review;
+        review.report["spot_review"] = {{"layers", in.plan.layers.size()}};
+        review.sections.push_back({"Spot", {{{"energy (mJ)"}, {{std::to_string(mEnergy)}}}}, {}});
+        return review;
+    }
 
 private:
     double mEnergy;
@@ -88,11 +101,14 @@ private:
 
 }  // namespace
 
-TEST_CASE("a planner registered from a test plans a job through the pipeline", "[pipeline]") {
+TEST_CASE("a planner registered from a test plans, sizes and reviews a job", "[pipeline]") {
     pipeline::Builtins builtins = pipeline::makeBuiltins();
     builtins.planners.add(
-        {"spot", "one spot per layer", {{"energy", "mJ"}}, [](const ConfigNode& section) {
-             return std::make_unique<SpotPlanner>(section.number("energy"));
+        {"spot",
+         "one spot per layer",
+         {{quantityKey("energy", dim::ENERGY, "2 uJ", "energy of each spot").positiveOnly()}},
+         [](const KeyReader& keys) {
+             return std::make_unique<SpotPlanner>(keys.quantity("energy"));
          }});
     auto json = givenKernelJob();
     json["plan"] = {{"strategy", "spot"}, {"energy", 0.002}};
@@ -102,6 +118,26 @@ TEST_CASE("a planner registered from a test plans a job through the pipeline", "
     REQUIRE(plan.plan.layers.size() == 6);  // 0.3 mm in 50 um layers
     REQUIRE(plan.plan.totalEnergy() == Approx(6 * 0.002));
     REQUIRE(plan.summary["spot"]["energy_mJ"] == 0.002);
+    // Its size in the job's estimate, its keys in the listing, its review in the report.
+    const nlohmann::json estimate = pipeline::estimateJob(job, true).toJson();
+    bool sized = false;
+    for (const auto& item : estimate["memory"])
+        sized |= item.value("bytes", 0.0) == 1234.0 * 6 &&
+                 item.value("detail", "") == "one spot per layer";
+    CHECK(sized);
+    const nlohmann::json listed = pipeline::registryJson(builtins.planners);
+    bool keys = false;
+    for (const auto& p : listed)
+        keys |= p["name"] == "spot" && p["keys"][0]["name"] == "energy" &&
+                p["keys"][0]["default"] == "2 uJ";
+    CHECK(keys);
+    json["plan"] = {{"strategy", "spot"}};  // the default energy, 2 uJ
+    report::JobResult result =
+        pipeline::runJob(load("spot2", json, builtins), out.string(), cpuContext());
+    CHECK(result.plan.planner["spot_review"]["layers"] == 6);
+    CHECK(result.plan.energy == Approx(6 * 0.002));
+    REQUIRE(result.sections.size() == 1);
+    CHECK(result.sections[0].title == "Spot");
 }
 
 // A whole run on a small frustum with a given kernel: the ACES plan designed to cure at the

@@ -51,16 +51,12 @@ TEST_CASE("DLP figures: features, along Z, mask and histogram with axes and scal
                              {"y_mm", 0.03},
                              {"gel_point", 0.276},
                              {"target_conversion", 0.95}}}};
-    report::JobResult r;
     std::vector<double> histogram(256, 0.0);
     histogram[151] = 3, histogram[155] = 1000;
-    r.plan.planner["grey_histogram"] = histogram;
-    r.plan.planner["uniform_comparison"] = {
-        {"dose_mJ_per_cm2", 78.0}, {"features", {{{"name", "hole"}, {"simulated_mm", 0.72}}}}};
     validate::FeatureProbe hole;
     hole.name = "hole", hole.objective = 1.5, hole.measured = {1.35, 1.31};
-    r.validation.features = {{hole}, {1.34}};
-    report::writeDlpFigures(dir.string(), plan, data, r);
+    const validate::FeatureMeasurements features{{hole}, {1.34}};
+    report::writeDlpFigures(dir.string(), {plan, data, features, {0.72}, histogram});
     for (const char* file : report::DLP_FIGURE_FILES) {
         INFO(file);
         REQUIRE(std::filesystem::exists(dir / file));
@@ -76,9 +72,8 @@ TEST_CASE("DLP figures: features, along Z, mask and histogram with axes and scal
     REQUIRE(mask.find("grey 255: 135 mJ/cm^2") != std::string::npos);  // the grey/dose scale
     REQUIRE(mask.find("rgb(151,151,151)") != std::string::npos);       // pixel 1's grey level
     REQUIRE(readText(dir / "dlp_grey_histogram.svg").find("grey level") != std::string::npos);
-    std::ostringstream html;
-    report::writeDlpHtmlSection(html, dir.string(), r);
-    REQUIRE(html.str().find("uniform plan, 78 mJ/cm&sup2;") != std::string::npos);
-    REQUIRE(html.str().find("<td>0.72</td><td>1.34</td><td>1.33</td>") != std::string::npos);
+    // The uniform plan's bar: 0.72 mm drawn beside the objective, this plan and the measured.
+    REQUIRE(readText(dir / "dlp_features.svg").find("uniform plan (simulated)") !=
+            std::string::npos);
     std::filesystem::remove_all(dir);
 }

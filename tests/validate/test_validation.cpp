@@ -2,9 +2,9 @@
 
 #include <cmath>
 
-#include "vpsim/cure/cured_surface.h"
 #include "vpsim/cure/threshold_law.h"
 #include "vpsim/exposure/dose_volume.h"
+#include "vpsim/validate/cured_surface.h"
 #include "vpsim/validate/slice_validator.h"
 #include "vpsim/validate/surface_deviation.h"
 
@@ -114,7 +114,7 @@ TEST_CASE("the cured iso-surface encloses the cured voxels", "[validate][vdb]") 
             }
         volume.add({k, 0, (k + 0.5) * 0.02, &values});
     }
-    geometry::Mesh cured = cure::curedSurface(volume, cure::ThresholdLaw(1.0));
+    geometry::Mesh cured = validate::curedSurface(volume, cure::ThresholdLaw(1.0));
     REQUIRE(!cured.triangles.empty());
     CHECK(cured.volume() == Approx(0.6 * 0.4 * 0.4).epsilon(0.01));
 }

@@ -17,11 +17,13 @@
 #include "vpsim/core/image.h"
 #include "vpsim/core/log.h"
 #include "vpsim/cure/calibration.h"
+#include "vpsim/pipeline/builtins.h"
 
 namespace {
 
 using vpsim::InputError;
 using namespace vpsim::cure;
+namespace pipeline = vpsim::pipeline;
 
 constexpr double PER_MM2_TO_PER_CM2 = 100.0;  // mJ/mm^2 -> mJ/cm^2
 constexpr double MM2_TO_CM2 = 0.01;           // mm^2/mJ -> cm^2/mJ
@@ -33,12 +35,6 @@ struct CalibrateOptions {
     std::string plot;
     bool json = false;
 };
-
-std::string formatNumber(double value, const char* unit) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%.6g %s", value, unit);
-    return text;
-}
 
 nlohmann::json calibrationJson(const CalibrateOptions& o, const WorkingCurveData& data,
                                const WorkingCurveFit& fit) {
@@ -54,23 +50,19 @@ nlohmann::json calibrationJson(const CalibrateOptions& o, const WorkingCurveData
     out["r_squared"] = fit.rSquared;
     out["residual_std_mm"] = fit.residualStd;
     out["residuals_mm"] = fit.residuals;  // measured - fitted, in file order
-    nlohmann::json model{
-        {"model", "threshold"},
-        {"critical_dose", formatNumber(fit.criticalDose * PER_MM2_TO_PER_CM2, "mJ/cm^2")},
-        {"penetration_depth", formatNumber(fit.penetrationDepth, "mm")}};
-    if (o.hasGelPoint) {
-        FppCalibration fpp = fppFromWorkingCurve(fit, o.gelPoint);
+    const pipeline::Builtins builtins = pipeline::makeBuiltins();
+    const std::unique_ptr<CureLaw> law = calibratedLaw(
+        builtins.cureLaws, fit, o.hasGelPoint ? std::optional<double>(o.gelPoint) : std::nullopt);
+    if (law->conversionKinetics()) {  // the rate constant's and attenuation's standard errors
+        FppCalibration kinetics = fppFromWorkingCurve(fit, o.gelPoint);
         out["gel_point"] = o.gelPoint;
-        out["K_cm2_per_mJ"] = fpp.rateConstant * MM2_TO_CM2;
-        out["K_cm2_per_mJ_stderr"] = fpp.rateConstantStderr * MM2_TO_CM2;
-        out["attenuation_per_mm"] = fpp.attenuation;
-        out["attenuation_per_mm_stderr"] = fpp.attenuationStderr;
-        model = {{"model", "fpp"},
-                 {"K", formatNumber(fpp.rateConstant * MM2_TO_CM2, "cm^2/mJ")},
-                 {"gel_point", o.gelPoint},
-                 {"penetration_depth", formatNumber(fit.penetrationDepth, "mm")}};
+        out["K_cm2_per_mJ"] = kinetics.rateConstant * MM2_TO_CM2;
+        out["K_cm2_per_mJ_stderr"] = kinetics.rateConstantStderr * MM2_TO_CM2;
+        out["attenuation_per_mm"] = kinetics.attenuation;
+        out["attenuation_per_mm_stderr"] = kinetics.attenuationStderr;
     }
-    out["cure_model"] = model;  // ready to paste into a material's cure section
+    const nlohmann::json model = law->toJson();  // base units, read back by the cure section
+    out["cure_model"] = model;                   // ready to paste into a material's cure section
     nlohmann::json points = nlohmann::json::array();
     for (size_t i = 0; i < fit.count; ++i)
         points.push_back({{"line", data.line[i]},

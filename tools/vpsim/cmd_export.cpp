@@ -14,9 +14,9 @@
 #include "vpsim/core/error.h"
 #include "vpsim/core/units.h"
 #include "vpsim/exporters/cli_exporter.h"
-#include "vpsim/plan/build_time.h"
-#include "vpsim/plan/scan_report.h"
-#include "vpsim/plan/trajectory.h"
+#include "vpsim/plan/machine/build_time.h"
+#include "vpsim/plan/machine/scan_report.h"
+#include "vpsim/plan/machine/trajectory.h"
 
 namespace {
 

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "vpsim/pipeline/builtins.h"
 #include "vpsim/pipeline/estimate.h"
 #include "vpsim/pipeline/run_job.h"
 
@@ -14,28 +15,13 @@ struct PlanOptions {
     bool list = false, json = false, dryRun = false;
 };
 
-nlohmann::json plannerList(const vpsim::pipeline::Builtins& builtins) {
-    nlohmann::json out = nlohmann::json::array();
-    for (const auto& [name, entry] : builtins.planners.entries()) {
-        nlohmann::json keys = nlohmann::json::object();
-        for (const auto& key : entry.keys) keys[key.key] = key.description;
-        out.push_back({{"name", name}, {"description", entry.description}, {"keys", keys}});
-    }
-    return out;
-}
-
 void planCommand(const PlanOptions& options, const vpsim::cli::Globals& globals) {
     using namespace vpsim;
     const pipeline::Builtins builtins = pipeline::makeBuiltins();
     if (options.list) {
-        nlohmann::json list = plannerList(builtins);
+        const nlohmann::json list = pipeline::registryJson(builtins.planners);
         if (options.json) return cli::printJson(list);
-        for (const auto& p : list) {
-            std::cout << p["name"].get<std::string>() << ": " << p["description"].get<std::string>()
-                      << "\n";
-            for (const auto& [key, text] : p["keys"].items())
-                std::cout << "    plan." << key << "  " << text.get<std::string>() << "\n";
-        }
+        cli::printComponents(list, "plan");
         return;
     }
     if (options.job.empty()) throw InputError("vpsim plan needs a job file (or --list)");

@@ -71,4 +71,20 @@ void printJson(const nlohmann::json& value) {
     std::cout << value.dump(2) << std::endl;
 }
 
+void printComponents(const nlohmann::json& list, const std::string& section) {
+    for (const auto& c : list) {
+        std::cout << c["name"].get<std::string>() << ": " << c["description"].get<std::string>()
+                  << "\n";
+        for (const auto& key : c["keys"]) {
+            std::string fallback = key["required"].get<bool>() ? "required"
+                                   : key["default"].is_null()  ? "no default"
+                                                               : "default " + key["default"].dump();
+            std::string kind = key["dimension"].get<std::string>();
+            if (kind.empty()) kind = key["kind"].get<std::string>();
+            std::cout << "    " << section << "." << key["name"].get<std::string>() << "  (" << kind
+                      << ", " << fallback << ")  " << key["doc"].get<std::string>() << "\n";
+        }
+    }
+}
+
 }  // namespace vpsim::cli

@@ -70,4 +70,8 @@ uint64_t parseCount(const std::string& text, uint64_t max, const std::string& op
 /// Prints JSON to stdout with 2-space indentation.
 void printJson(const nlohmann::json& value);
 
+/// Prints registered components (pipeline::registryJson) for people: each name and description,
+/// then each key as `section.key  default  (dimension)  doc`.
+void printComponents(const nlohmann::json& list, const std::string& section);
+
 }  // namespace vpsim::cli

@@ -4,6 +4,7 @@
 /// and `--set key.path=value` overrides.
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
@@ -37,6 +38,10 @@ nlohmann::json loadJsonFile(const std::string& path);
 /// (numbers, true, arrays...), otherwise taken as a string ("50 um"). Creates missing objects.
 /// @throw InputError when the assignment has no '=' or walks through a non-object.
 void applyOverride(nlohmann::json& document, const std::string& assignment);
+
+/// The key of `candidates` nearest to `key` by edit distance, or "" when none is close (more
+/// than a third of the longer name differs).
+std::string nearestKey(const std::string& key, const std::vector<std::string>& candidates);
 
 /// A view of one JSON object in a config document. Getters record which keys were read;
 /// checkUnknownKeys() on the root then reports the first key nobody read, so typos are errors.
@@ -72,8 +77,15 @@ public:
     /// The keys of this object node (none for other kinds), without marking them read.
     std::vector<std::string> keys() const;
 
-    /// @throw InputError "unknown key 'x'" for the first key in the whole document never read.
+    /// @throw InputError "unknown key 'x'" for the first key in the whole document never read,
+    /// naming the component that owns its section and the nearest key accepted there.
     void checkUnknownKeys() const;
+
+    /// Records `key` as accepted at this node without reading it: unknown-key messages suggest
+    /// the nearest accepted key (every key a getter or has() was asked about is accepted too).
+    void accept(const std::string& key) const;
+    /// Names the component that owns this node ("planner 'aces'") in unknown-key messages.
+    void setOwner(const std::string& owner) const;
 
     const std::string& file() const { return mState->file; }
     /// Dotted path of this node ("" for the root), used in messages.
@@ -88,12 +100,15 @@ private:
         nlohmann::json document;
         std::string file;
         std::set<std::string> readPaths;  ///< keys read; a subtree read whole ends with "/*"
+        std::map<std::string, std::set<std::string>> accepted;  ///< node path -> keys asked
+        std::map<std::string, std::string> owners;              ///< node path -> component
     };
     ConfigNode(std::shared_ptr<State> state, const nlohmann::json* node, std::string path);
     const nlohmann::json& require(const std::string& key) const;
     const nlohmann::json* find(const std::string& key) const;
     void markRead(const std::string& key, bool wholeSubtree = false) const;
     void checkNode(const nlohmann::json& node, const std::string& path) const;
+    InputError unknownKey(const std::string& path, const std::string& key) const;
 
     std::shared_ptr<State> mState;
     const nlohmann::json* mNode;

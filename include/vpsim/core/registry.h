@@ -1,6 +1,8 @@
 #pragma once
 /// @file
-/// A registry of named components (planners, exporters, ...) created from their config section.
+/// A registry of named components (planners, cure laws, exporters) created from their config
+/// section. Each entry owns its key table (core/key_table.h): the factory reads the section
+/// through a KeyReader over it, so defaults, ranges and docs are declared once.
 /// There is no global instance: the caller fills one with an explicit registerBuiltins() call
 /// (static self-registration is dropped by static libraries) and passes it down, so two runs
 /// never share state.
@@ -13,26 +15,23 @@
 
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
+#include "vpsim/core/key_table.h"
 
 namespace vpsim {
-
-/// One documented key of a component's config section (for `--list` output and docs).
-struct ConfigKeyDoc {
-    std::string key;          ///< e.g. "homogeneity"
-    std::string description;  ///< what it sets, with its unit and default
-};
 
 template <class Component>
 class Registry {
 public:
-    /// Creates a component from its config section; the factory reads (and so claims) its keys.
-    using Factory = std::function<std::unique_ptr<Component>(const ConfigNode& section)>;
+    /// Creates a component from its config section, read through the entry's key table.
+    using Factory = std::function<std::unique_ptr<Component>(const KeyReader& keys)>;
 
     struct Entry {
         std::string name;
         std::string description;
-        std::vector<ConfigKeyDoc> keys;
+        KeyTable keys;
         Factory factory;
+        /// "planner 'aces'": how messages name the component.
+        std::string label(const std::string& kind) const { return kind + " '" + name + "'"; }
     };
 
     /// @param kind what the registry holds, for messages ("planner", "exporter")
@@ -58,7 +57,8 @@ public:
 
     /// Creates `name` from `section`. @throw InputError from the lookup or the factory
     std::unique_ptr<Component> create(const std::string& name, const ConfigNode& section) const {
-        return entry(name).factory(section);
+        const Entry& e = entry(name);
+        return e.factory(KeyReader(e.keys, section, e.label(mKind)));
     }
 
     /// Registered names, sorted.

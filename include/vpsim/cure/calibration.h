@@ -8,8 +8,12 @@
 /// method.
 
 #include <cstddef>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "vpsim/cure/cure_law.h"
 
 namespace vpsim::cure {
 
@@ -73,5 +77,13 @@ struct FppCalibration {
 
 /// @param gelPoint Phi_c in (0, 1) @throw InputError when out of range
 FppCalibration fppFromWorkingCurve(const WorkingCurveFit& fit, double gelPoint);
+
+/// The cure law a working curve calibrates, asked of the registry: every registered law is
+/// offered the fitted values as a cure section (critical_dose, penetration_depth and, when
+/// `gelPoint` is given, gel_point), and the first law (by name) whose factory takes all of them
+/// is returned (fpp with a gel point, threshold without, for the built-ins).
+/// @throw InputError when no registered law takes them
+std::unique_ptr<CureLaw> calibratedLaw(const CureLawRegistry& registry, const WorkingCurveFit& fit,
+                                       std::optional<double> gelPoint);
 
 }  // namespace vpsim::cure

@@ -15,6 +15,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json_fwd.hpp>
@@ -22,6 +23,13 @@
 #include "vpsim/core/registry.h"
 
 namespace vpsim::cure {
+
+/// Conversion kinetics Phi(E) = 1 - exp(-K E) with gelation at Phi_c (seed 001 Eq. 1-2), for
+/// planners that optimise the degree of conversion.
+struct ConversionKinetics {
+    double rateConstant = 0;  ///< K, mm^2/mJ
+    double gelPoint = 0;      ///< Phi_c
+};
 
 class CureLaw {
 public:
@@ -36,6 +44,8 @@ public:
     /// model answers 0 or 1 (hasConversion() false).
     virtual double conversion(double dose) const = 0;
     virtual bool hasConversion() const = 0;
+    /// The law's first-order kinetics when it has them (FPP), else nullopt.
+    virtual std::optional<ConversionKinetics> conversionKinetics() const { return std::nullopt; }
     /// conversion() over an array (overridden where a vectorised kernel exists).
     virtual void conversionRange(const float* dose, size_t count, float* conversion) const;
     /// Dp (mm) of the resin, 0 when the law was given none (e.g. a slurry whose attenuation
@@ -63,8 +73,10 @@ std::unique_ptr<CureLaw> cureLawFromJson(const CureLawRegistry& registry,
                                          const std::string& file = "",
                                          const std::string& keyPrefix = "");
 
+/// The resin keys every built-in law accepts: penetration_depth or attenuation (= 1/Dp).
+KeyTable resinKeyTable();
 /// Penetration depth from "penetration_depth" (mm) or "attenuation" (1/mm, = 1/Dp), 0 if
-/// neither: the resin keys every built-in law accepts. @throw InputError when both are given
-double readPenetrationDepth(const ConfigNode& section);
+/// neither. @throw InputError when both are given
+double readPenetrationDepth(const KeyReader& keys);
 
 }  // namespace vpsim::cure

@@ -20,6 +20,9 @@ public:
     double criticalDose() const override { return mCriticalDose; }
     double conversion(double dose) const override;
     bool hasConversion() const override { return true; }
+    std::optional<ConversionKinetics> conversionKinetics() const override {
+        return ConversionKinetics{mRateConstant, mGelPoint};
+    }
     /// Vectorised 1 - exp(-K E) in float (absolute error ~1e-7).
     void conversionRange(const float* dose, size_t count, float* conversion) const override;
     double penetrationDepth() const override { return mPenetrationDepth; }

@@ -30,8 +30,9 @@ struct CliOptions {
         1e-3;  ///< mm per coordinate unit (`units`, e.g. "1 um"); ASCII writes 3 decimals
 };
 
-/// Reads `format` and `units` from an exporter's options section. @throw InputError naming the key
-CliOptions cliOptionsFromConfig(const ConfigNode& options);
+/// The exporter's keys (format, units) and the options they give. @throw InputError naming the key
+KeyTable cliKeyTable();
+CliOptions cliOptionsFromKeys(const KeyReader& keys);
 
 class CliExporter : public Exporter {
 public:

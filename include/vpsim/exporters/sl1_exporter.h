@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// PrusaSlicer SL1 archives for greyscale DLP printers, and a plain PNG stack.
+/// PrusaSlicer SL1 archives for greyscale DLP printers.
 ///
 /// An SL1 file is a zip of `config.ini` (what the printer firmware reads: jobDir, layerHeight,
 /// expTime, expTimeFirst, numFade, numSlow/numFast, printTime, ...), `prusaslicer.ini` (the
@@ -32,13 +32,6 @@ struct Sl1Settings {
     int fadeLayers = 0;                ///< numFade (layers of exposure ramp; greyscale needs none)
 };
 
-/// Grey level of every pixel of a mask (row-major, as the mask). @throw InputError on a
-/// negative or non-finite dose, or one above the calibration's top by more than 0.5 %
-std::vector<uint8_t> maskToGrey(const plan::MaskImage& mask, const plan::GreyLevels& levels);
-
-/// 8-bit greyscale PNG of an image, in memory. @throw InputError when libpng fails
-std::vector<uint8_t> encodePngGrey(int width, int height, const std::vector<uint8_t>& grey);
-
 class Sl1Exporter : public Exporter {
 public:
     Sl1Exporter(plan::GreyLevels levels, Sl1Settings settings);
@@ -50,29 +43,14 @@ public:
     /// Creates one from its options section: grey_levels, exposure_time (as in the machine
     /// section), and optional job_name, printer_model, display_pixels_x/y, display_width/height,
     /// fade_layers. @throw InputError naming the key
-    static std::unique_ptr<Exporter> fromConfig(const ConfigNode& section);
+    static std::unique_ptr<Exporter> fromConfig(const KeyReader& keys);
 
 private:
     plan::GreyLevels mLevels;
     Sl1Settings mSettings;
 };
 
-/// A directory of 8-bit greyscale PNGs, one per layer (layer00000.png, ...), plus masks.json
-/// with the exposure time and pixel pitch.
-class PngStackExporter : public Exporter {
-public:
-    explicit PngStackExporter(plan::GreyLevels levels) : mLevels(std::move(levels)) {}
-    std::string defaultFileName() const override { return "masks"; }
-    bool accepts(const plan::ScanPlan& plan, std::string& reason) const override;
-    /// `path` is a directory (created). @throw InputError when a file cannot be written
-    void write(const plan::ScanPlan& plan, const std::string& path) const override;
-    static std::unique_ptr<Exporter> fromConfig(const ConfigNode& section);
-
-private:
-    plan::GreyLevels mLevels;
-};
-
-/// Adds "sl1" and "png-stack" to a registry.
-void registerSl1Exporters(ExporterRegistry& registry);
+/// Adds "sl1" to a registry.
+void registerSl1Exporter(ExporterRegistry& registry);
 
 }  // namespace vpsim::exporters

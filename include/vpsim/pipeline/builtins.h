@@ -6,12 +6,12 @@
 
 #include "vpsim/cure/cure_law.h"
 #include "vpsim/exporters/exporter.h"
-#include "vpsim/plan/planner.h"
+#include "vpsim/planners/planner.h"
 
 namespace vpsim::pipeline {
 
 struct Builtins {
-    plan::PlannerRegistry planners{"planner"};
+    planners::PlannerRegistry planners{"planner"};
     cure::CureLawRegistry cureLaws{"cure law"};
     exporters::ExporterRegistry exporters{"exporter"};
 };
@@ -21,5 +21,24 @@ void registerBuiltins(Builtins& builtins);
 
 /// A Builtins with registerBuiltins() applied.
 Builtins makeBuiltins();
+
+/// One registry's components with their key tables: [{"name", "description", "keys": [...]}]
+/// (KeyTable::toJson), sorted by name.
+template <class Component>
+nlohmann::json registryJson(const Registry<Component>& registry) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const auto& [name, entry] : registry.entries())
+        out.push_back(
+            {{"name", name}, {"description", entry.description}, {"keys", entry.keys.toJson()}});
+    return out;
+}
+
+/// Every registered component: {"planners": [...], "cure_laws": [...], "exporters": [...]}.
+nlohmann::json componentsJson(const Builtins& builtins);
+
+/// The key tables of every component in Markdown, as examples/README.md carries them between
+/// its `<!-- component keys -->` markers (tools/update-key-docs.sh writes them there; a test
+/// fails when they differ).
+std::string componentsMarkdown(const Builtins& builtins);
 
 }  // namespace vpsim::pipeline

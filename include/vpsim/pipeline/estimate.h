@@ -85,8 +85,4 @@ void checkEstimate(const JobEstimate& estimate);
 double contourVertexCount(const geometry::Mesh& part, int layers, double thickness, double zStart,
                           double planePosition);
 
-/// The plan's size and the planner's working set of `job` (the planner's estimateSize, else the
-/// pipeline's term for the strategy, else a generic one by process): planner_estimates.cpp.
-plan::PlanSize estimatePlan(const Job& job, const plan::PlanSizeInputs& inputs);
-
 }  // namespace vpsim::pipeline

@@ -18,9 +18,9 @@
 #include "vpsim/geometry/part_spec.h"
 #include "vpsim/kernel/kernel_spec.h"
 #include "vpsim/pipeline/builtins.h"
-#include "vpsim/plan/machine.h"
-#include "vpsim/plan/part_order.h"
-#include "vpsim/plan/planner.h"
+#include "vpsim/plan/machine/machine.h"
+#include "vpsim/plan/machine/part_order.h"
+#include "vpsim/planners/planner.h"
 #include "vpsim/validate/feature_probe.h"
 
 namespace vpsim::pipeline {
@@ -42,11 +42,9 @@ struct Job {
     plan::Machine machine;
     kernel::KernelSpec kernel;
     std::string strategy;  ///< the planner's registered name
-    std::unique_ptr<plan::Planner> planner;
-    /// The `plan` section as written, for the up-front estimate's planner terms (estimate.h).
-    nlohmann::json planSection = nlohmann::json::object();
+    std::unique_ptr<planners::Planner> planner;
     SimulationSpec simulation;
-    /// `plan.order` (laser strategies): how each layer's parts are ordered in the trajectories
+    /// How each layer's parts are ordered in the trajectories (the planner's partOrder())
     plan::OrderMethod scanOrder = plan::OrderMethod::Auto;
     std::vector<validate::FeatureProbe> features;  ///< Z dimensions to measure (seed 001 Table 2)
     /// Machine-file exporters run with the job, by name: those named in the `export` section

@@ -18,7 +18,7 @@
 #include "vpsim/geometry/mesh.h"
 #include "vpsim/kernel/beam_kernel.h"
 #include "vpsim/pipeline/job.h"
-#include "vpsim/plan/scan_report.h"
+#include "vpsim/plan/machine/scan_report.h"
 #include "vpsim/report/job_result.h"
 
 namespace vpsim::pipeline {

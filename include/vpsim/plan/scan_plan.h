@@ -9,7 +9,8 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "vpsim/plan/machine.h"
+#include "vpsim/geometry/layer_stack.h"
+#include "vpsim/plan/machine/machine.h"
 
 namespace vpsim::plan {
 
@@ -72,5 +73,8 @@ ScanPlan scanPlanFromJson(const nlohmann::json& json, const std::string& file = 
 void saveScanPlan(const ScanPlan& plan, const std::string& path);
 /// @throw InputError naming the file and the problem
 ScanPlan loadScanPlan(const std::string& path);
+
+/// The empty plan of `layers` (each layer's top z, nothing exposed) that planners fill.
+ScanPlan emptyPlan(const geometry::LayerStack& layers, const Machine& machine);
 
 }  // namespace vpsim::plan

@@ -62,6 +62,26 @@ struct ValidationReport {
     validate::FeatureMeasurements features;
 };
 
+/// A table of a report section: cells as text (already formatted).
+struct ReportTable {
+    std::vector<std::string> header;
+    std::vector<std::vector<std::string>> rows;
+};
+
+/// A picture in the output directory with its caption.
+struct ReportFigure {
+    std::string file;  ///< relative to the output directory
+    std::string caption;
+};
+
+/// A part of index.html that a component adds (a planner's review): a title, tables and
+/// figures, rendered the same way for every component.
+struct ReportSection {
+    std::string title;
+    std::vector<ReportTable> tables;
+    std::vector<ReportFigure> figures;
+};
+
 struct JobResult {
     std::string jobFile, name, backend;
     nlohmann::json cure;  ///< the cure law's parameters (CureLaw::toJson)
@@ -73,6 +93,7 @@ struct JobResult {
     double curedVolume = 0;            ///< mm^3 of the cured mesh
     ValidationReport validation;
     std::vector<std::pair<std::string, double>> stageSeconds;  ///< in run order
+    std::vector<ReportSection> sections;  ///< components' own parts of index.html
 };
 
 /// report.json's document.

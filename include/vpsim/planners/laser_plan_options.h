@@ -1,0 +1,35 @@
+#pragma once
+/// @file
+/// The `plan` keys every laser strategy accepts (ACES parameters that DFBTP and the inverse
+/// planner reuse, border scans, scan order and direction), so `--set plan.strategy=...` switches
+/// strategy on one job. Each laser planner's key table starts with laserPlanKeyTable() and its
+/// factory calls readLaserPlanOptions().
+
+#include "vpsim/core/key_table.h"
+#include "vpsim/kernel/fitted_beam.h"
+#include "vpsim/plan/aces/aces.h"
+#include "vpsim/plan/machine/part_order.h"
+#include "vpsim/plan/machine/scan_direction.h"
+
+namespace vpsim::planners {
+
+struct LaserPlanOptions {
+    /// The ACES keys: homogeneity, edge, border_count, border_offset. The beam, machine and dose
+    /// fields are filled by acesParameters().
+    plan::AcesParameters aces;
+    plan::DirectionRule direction;                      ///< `direction`: per layer
+    plan::OrderMethod order = plan::OrderMethod::Auto;  ///< `order` of the parts
+};
+
+/// The shared laser keys; `edgeDefault` is the strategy's default edge rule.
+KeyTable laserPlanKeyTable(plan::AcesEdge edgeDefault = plan::AcesEdge::SeedFivePercent);
+
+/// @throw InputError naming the file and key
+LaserPlanOptions readLaserPlanOptions(const KeyReader& keys);
+
+/// ACES parameters for a fitted beam, the machine and the cure law's critical dose (mJ/mm^2).
+/// The target is asked of the delivered dose, so Ec is divided by the beam's efficiency.
+plan::AcesParameters acesParameters(const LaserPlanOptions& options, const kernel::FittedBeam& beam,
+                                    const plan::Machine& machine, double criticalDose);
+
+}  // namespace vpsim::planners

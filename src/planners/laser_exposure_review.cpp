@@ -1,0 +1,87 @@
+#include "vpsim/planners/laser_exposure_review.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "vpsim/exposure/deposit.h"
+#include "vpsim/exposure/exposure_engine.h"
+#include "vpsim/optimise/laser/dfbtp.h"
+#include "vpsim/optimise/laser/exposure_error.h"
+#include "vpsim/plan/aces/aces.h"
+#include "vpsim/plan/feature_blocks.h"
+#include "vpsim/report/laser_figures.h"
+
+namespace vpsim::planners {
+namespace {
+
+/// The cells of `map` within `margin` (mm) of `region`'s bounding box.
+exposure::SurfaceGrid cropped(const exposure::SurfaceGrid& map, const geometry::PolygonSet& region,
+                              double margin) {
+    const auto [lo, hi] = region.bounds();
+    const int i0 = std::max(0, int(std::floor((lo.x - margin - map.originX) / map.pitch)));
+    const int j0 = std::max(0, int(std::floor((lo.y - margin - map.originY) / map.pitch)));
+    const int i1 = std::min(map.nx, int(std::ceil((hi.x + margin - map.originX) / map.pitch)));
+    const int j1 = std::min(map.ny, int(std::ceil((hi.y + margin - map.originY) / map.pitch)));
+    if (i1 <= i0 || j1 <= j0) return map;
+    exposure::SurfaceGrid out(i1 - i0, j1 - j0, map.originX + i0 * map.pitch,
+                              map.originY + j0 * map.pitch, map.pitch);
+    for (int j = j0; j < j1; ++j)
+        for (int i = i0; i < i1; ++i)
+            out.values[size_t(j - j0) * out.nx + (i - i0)] = map.values[size_t(j) * map.nx + i];
+    return out;
+}
+
+}  // namespace
+
+PlanReview laserExposureReview(const PlanReviewInputs& in) {
+    const plan::ScanPlan& plan = in.plan;
+    if (in.machine.process != plan::Process::Laser || plan.layers.empty() ||
+        plan.layers.size() != in.layers.layers.size())
+        return {};
+    std::vector<geometry::PolygonSet> regions;
+    for (const auto& layer : in.layers.layers) regions.push_back(layer.region);
+    const auto top = std::find_if(regions.rbegin(), regions.rend(),
+                                  [](const geometry::PolygonSet& r) { return !r.empty(); });
+    if (top == regions.rend()) return {};
+    const kernel::FittedBeam& b = in.beam;
+    const double lt = in.machine.layerThickness, ec = in.cure.criticalDose();
+    const double etar =
+        plan::acesTargetDose(ec, lt, std::min(b.depthOfMaximum, 0.99 * lt), b.attenuationLength);
+    exposure::ExposureEngine engine(optimise::planningGrid(regions, b.radius, in.voxel), b, lt);
+    optimise::ExposureError all;
+    nlohmann::json error = optimise::planExposureError(engine, plan, regions, etar,
+                                                       plan::effectiveRadius(b.radius), &all);
+    error["pitch_um"] = in.voxel * 1e3;
+    // The seed-style single layer: the top one, which nothing above reaches, cropped to its
+    // region plus Reff and two beam radii.
+    const size_t k = size_t(regions.rend() - top) - 1;
+    exposure::SurfaceGrid deposit = engine.grid().surface();
+    exposure::depositLayer(plan.layers[k], deposit);
+    const exposure::SurfaceGrid map = cropped(engine.layerMap(deposit, 0.0), regions[k],
+                                              plan::effectiveRadius(b.radius) + 2 * b.radius);
+    const optimise::ExposureError single =
+        optimise::layerExposureError(map, regions[k], etar, plan::effectiveRadius(b.radius));
+    report::writeSortedErrorFigure(
+        in.outDir + "/exposure_error_sorted.svg",
+        {{in.strategy + ", every layer (own + transmitted)", all.sortedRelative},
+         {in.strategy + ", top layer", single.sortedRelative}});
+    report::writeLayerExposureFigure(in.outDir + "/exposure_top_layer.svg", map, regions[k], etar,
+                                     ec, "Surface exposure of the top layer (" + in.strategy + ")");
+    PlanReview review;
+    review.report["layer_exposure_error"] = std::move(error);
+    review.sections.push_back(
+        {"Exposure error of the plan (seed 000 Fig. 23)",
+         {},
+         {{"exposure_top_layer.svg",
+           "surface exposure of the top layer (mJ/cm^2; red: the model's outline)"},
+          {"exposure_error_sorted.svg",
+           "sorted |exposure error| / Etar over the part plus Reff, "
+           "every layer (seed 000 Fig. 23)"}}});
+    return review;
+}
+
+PlanReview Planner::review(const PlanReviewInputs& inputs) const {
+    return process() == plan::Process::Laser ? laserExposureReview(inputs) : PlanReview{};
+}
+
+}  // namespace vpsim::planners

@@ -1,0 +1,3 @@
+#include "vpsim/planners/planner.h"
+
+namespace vpsim::planners {}  // namespace vpsim::planners
