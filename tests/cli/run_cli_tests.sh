@@ -221,6 +221,11 @@ if "$vpsim" export --help >/dev/null 2>&1; then
     "$data/plan_two_parts.json" -o "$work/bad.cli" --machine "$data/machine_bad_scanner.json"
   [[ -e "$work/bad.cli" ]] && { failed=$((failed + 1)); echo "FAILED: bad input wrote bad.cli"; }
   expect_error "missing_plan.json: cannot read" export "$data/missing_plan.json" -o "$work/x.cli"
+  # The exporter by the file's extension; SL1 needs the projector's calibration and takes masks.
+  expect_error "no exporter writes '.sl1' files.*sl1: .*grey_levels" export \
+    "$data/plan_two_parts.json" -o "$work/x.sl1"
+  expect_error "unknown key for exporter 'cli'; did you mean 'units'" export \
+    "$data/plan_two_parts.json" -o "$work/y.cli" --option unit=2um
 fi
 
 echo "cli: $passed passed, $failed failed"

@@ -6,6 +6,7 @@
 #include <iostream>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -13,7 +14,7 @@
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/units.h"
-#include "vpsim/exporters/cli_exporter.h"
+#include "vpsim/pipeline/builtins.h"
 #include "vpsim/plan/machine/build_time.h"
 #include "vpsim/plan/machine/scan_report.h"
 #include "vpsim/plan/machine/trajectory.h"
@@ -23,10 +24,49 @@ namespace {
 using namespace vpsim;
 
 struct ExportCliOptions {
-    std::string plan, out = "scan.cli", format = "ascii", units = "1 um", machine, order = "auto",
-                      svg;
+    std::string plan, out = "scan.cli", exporter, format, units, machine, order = "auto", svg;
+    std::vector<std::string> options;  ///< KEY=VALUE of the exporter's section
     bool trajectories = false, json = false;
 };
+
+std::string extensionOf(const std::string& path) {
+    const size_t dot = path.find_last_of('.'), slash = path.find_last_of('/');
+    return dot == std::string::npos || (slash != std::string::npos && dot < slash)
+               ? std::string()
+               : path.substr(dot);
+}
+
+/// The exporter's section from --option, --format and --units.
+nlohmann::json exporterSection(const ExportCliOptions& o) {
+    nlohmann::json section = nlohmann::json::object();
+    for (const std::string& assignment : o.options) applyOverride(section, assignment);
+    if (!o.format.empty()) section["format"] = o.format;
+    if (!o.units.empty()) section["units"] = o.units;
+    return section;
+}
+
+/// --exporter, else the exporter whose default file has `out`'s extension (its accepts() then
+/// says why it cannot write this plan); an exporter that cannot be created from the options says
+/// why in the error when none matches.
+std::string chooseExporter(const ExportCliOptions& o, const exporters::ExporterRegistry& registry,
+                           const nlohmann::json& section) {
+    if (!o.exporter.empty()) return o.exporter;
+    std::string reasons;
+    for (const auto& [name, entry] : registry.entries()) {
+        try {
+            auto exporter = registry.create(name, ConfigNode(section, "command line"));
+            if (extensionOf(exporter->defaultFileName()) == extensionOf(o.out)) return name;
+        } catch (const InputError& e) {
+            reasons +=
+                "; " + name + ": " + (e.key().empty() ? "" : "key '" + e.key() + "' ") + e.reason();
+        }
+    }
+    throw InputError("no exporter writes '" + extensionOf(o.out) +
+                         "' files with these options (give --exporter NAME and its --option "
+                         "KEY=VALUE)" +
+                         reasons,
+                     o.out);
+}
 
 void runExport(const ExportCliOptions& o, const cli::Globals& globals) {
     plan::ScanPlan scanPlan = plan::loadScanPlan(o.plan);
@@ -55,19 +95,21 @@ void runExport(const ExportCliOptions& o, const cli::Globals& globals) {
                                    "scan path of layer " + std::to_string(k));
         }
     }
-    exporters::ExporterRegistry registry("exporter");
-    exporters::registerCliExporter(registry);
-    ConfigNode section(nlohmann::json{{"format", o.format}, {"units", o.units}}, "command line");
-    auto exporter = registry.create("cli", section);
+    const pipeline::Builtins builtins = pipeline::makeBuiltins();
+    const nlohmann::json options = exporterSection(o);
+    const std::string name = chooseExporter(o, builtins.exporters, options);
+    ConfigNode section(options, "command line");
+    auto exporter = builtins.exporters.create(name, section);
+    section.checkUnknownKeys();
     std::string reason;
-    if (!exporter->accepts(scanPlan, reason)) throw InputError(reason, o.plan);
+    if (!exporter->accepts(scanPlan, reason)) throw InputError(name + ": " + reason, o.plan);
     exporter->write(scanPlan, o.out);
-    exporters::CliFile written = exporters::readCli(o.out);
     size_t vectors = 0;
-    for (const auto& layer : written.layers) vectors += layer.vectorCount();
+    for (const auto& layer : scanPlan.layers) vectors += layer.vectors.size();
     nlohmann::json summary = {{"file", o.out},
-                              {"format", written.binary ? "binary" : "ascii"},
-                              {"layers", written.layers.size()},
+                              {"exporter", name},
+                              {"options", options},
+                              {"layers", scanPlan.layers.size()},
                               {"vectors", vectors}};
     bool dlp = false;
     for (const auto& layer : scanPlan.layers) dlp = dlp || !layer.masks.empty();
@@ -76,8 +118,8 @@ void runExport(const ExportCliOptions& o, const cli::Globals& globals) {
     if (o.json)
         cli::printJson(summary);
     else
-        std::cout << "wrote " << o.out << ": " << written.layers.size() << " layers, " << vectors
-                  << " vectors"
+        std::cout << "wrote " << o.out << " (" << name << "): " << scanPlan.layers.size()
+                  << " layers, " << vectors << " vectors"
                   << (dlp ? ""
                           : ", build time " +
                                 std::to_string(summary["build_time_s"]["total"].get<double>()) +
@@ -87,13 +129,21 @@ void runExport(const ExportCliOptions& o, const cli::Globals& globals) {
 
 vpsim::cli::CommandRegistration registerExport{
     "export", [](CLI::App& app, const vpsim::cli::Globals& globals) {
-        auto* cmd = app.add_subcommand("export", "write a saved scan plan as a CLI machine file");
+        auto* cmd = app.add_subcommand(
+            "export",
+            "write a saved scan plan as a machine file (CLI, SL1, ...: vpsim components)");
         auto o = std::make_shared<ExportCliOptions>();
         cmd->add_option("plan", o->plan, "scan plan JSON (vpsim run writes plan.json)")->required();
         cmd->add_option("-o,--out", o->out, "output file (default scan.cli)");
-        cmd->add_option("--format", o->format, "ascii (default) or binary")
-            ->check(CLI::IsMember({"ascii", "binary"}));
-        cmd->add_option("--units", o->units, "length of one CLI coordinate unit (default 1 um)");
+        cmd->add_option("--exporter", o->exporter,
+                        "registered exporter (default: by the output's extension)");
+        cmd->add_option("--option", o->options,
+                        "KEY=VALUE of the exporter's section (repeatable; vpsim components)");
+        cmd->add_option("--format", o->format,
+                        "shorthand for --option format=... (CLI: ascii or "
+                        "binary)");
+        cmd->add_option("--units", o->units,
+                        "shorthand for --option units=... (CLI: length of one coordinate unit)");
         cmd->add_option("--machine", o->machine,
                         "machine JSON (or a job with a machine section): machine.scanner limits "
                         "and delays, recoat_time, projector_irradiance for the build time");
@@ -105,7 +155,7 @@ vpsim::cli::CommandRegistration registerExport{
         cmd->add_option("--svg", o->svg,
                         "with --trajectories: write the busiest layer's scan path here (SVG)");
         cmd->add_flag("--json", o->json,
-                      "print {file, format, layers, vectors, build_time_s, scan_order}");
+                      "print {file, exporter, options, layers, vectors, build_time_s, scan_order}");
         cmd->callback([o, &globals] { runExport(*o, globals); });
     }};
 
