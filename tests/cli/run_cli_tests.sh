@@ -213,6 +213,17 @@ check_files "$work/run/report.json" "$work/run/index.html" "$work/run/cured.stl"
 run_ok run_cached run "$data/small_job.json" --out "$work/run_cached" --json
 check "$work/run_cached.json" '.kernel.from_cache == true'
 
+# --- component listings: every key an object with name, default, dimension, doc ----------------
+run_ok plan_list plan --list --json
+check "$work/plan_list.json" 'map(.name) | index("aces") != null and index("inverse") != null' \
+  'all(.[]; .keys | all(.[]; has("name") and has("default") and has("dimension") and has("doc")))' \
+  '.[] | select(.name == "uniform-mask") | .keys[] | select(.name == "dose") | .default == "78 mJ/cm^2"'
+run_ok components components --json
+check "$work/components.json" '.cure_laws | map(.name) == ["fpp", "threshold"]' \
+  '.exporters | map(.name) | index("cli") != null'
+expect_error "key 'plan.homogenity': unknown key for planner 'aces'; did you mean 'homogeneity'" \
+  run "$data/small_job.json" --out "$work/typo" --set plan.homogenity=0.02
+
 if "$vpsim" export --help >/dev/null 2>&1; then
   expect_ok '"vectors": 24' export "$data/plan_two_parts.json" -o "$work/scan.cli" --json
   expect_ok '"proven_optimal": true' export "$data/plan_two_parts.json" -o "$work/scan_bin.cli" \
