@@ -34,7 +34,9 @@ struct Bytes {
         data += char(b0), data += char(b1), data += char(b2), data += char(b3);
         return *this;
     }
-    Bytes& i32(int v) { return i32(uint8_t(v), uint8_t(v >> 8), uint8_t(v >> 16), uint8_t(v >> 24)); }
+    Bytes& i32(int v) {
+        return i32(uint8_t(v), uint8_t(v >> 8), uint8_t(v >> 16), uint8_t(v >> 24));
+    }
 };
 
 // IEEE 754 binary32 patterns, little-endian (sign | exponent + 127 | mantissa), by hand:
@@ -46,14 +48,30 @@ struct Bytes {
 //   500  = 1.953125 x 2^8 = 0x43FA0000
 //   750  = 1.46484375 x 2^9 = 0x443B8000
 //   1000 = 1.953125 x 2^9 = 0x447A0000
-Bytes& f0(Bytes& b) { return b.i32(0x00, 0x00, 0x00, 0x00); }
-Bytes& f50(Bytes& b) { return b.i32(0x00, 0x00, 0x48, 0x42); }
-Bytes& f100(Bytes& b) { return b.i32(0x00, 0x00, 0xC8, 0x42); }
-Bytes& f250(Bytes& b) { return b.i32(0x00, 0x00, 0x7A, 0x43); }
-Bytes& f400(Bytes& b) { return b.i32(0x00, 0x00, 0xC8, 0x43); }
-Bytes& f500(Bytes& b) { return b.i32(0x00, 0x00, 0xFA, 0x43); }
-Bytes& f750(Bytes& b) { return b.i32(0x00, 0x80, 0x3B, 0x44); }
-Bytes& f1000(Bytes& b) { return b.i32(0x00, 0x00, 0x7A, 0x44); }
+Bytes& f0(Bytes& b) {
+    return b.i32(0x00, 0x00, 0x00, 0x00);
+}
+Bytes& f50(Bytes& b) {
+    return b.i32(0x00, 0x00, 0x48, 0x42);
+}
+Bytes& f100(Bytes& b) {
+    return b.i32(0x00, 0x00, 0xC8, 0x42);
+}
+Bytes& f250(Bytes& b) {
+    return b.i32(0x00, 0x00, 0x7A, 0x43);
+}
+Bytes& f400(Bytes& b) {
+    return b.i32(0x00, 0x00, 0xC8, 0x43);
+}
+Bytes& f500(Bytes& b) {
+    return b.i32(0x00, 0x00, 0xFA, 0x43);
+}
+Bytes& f750(Bytes& b) {
+    return b.i32(0x00, 0x80, 0x3B, 0x44);
+}
+Bytes& f1000(Bytes& b) {
+    return b.i32(0x00, 0x00, 0x7A, 0x44);
+}
 
 std::string hex(const std::string& s, size_t from, size_t count) {
     static const char* digits = "0123456789abcdef";
@@ -71,12 +89,9 @@ TEST_CASE("binary CLI export matches a fixture written from the specification", 
     plan::ScanPlan plan;
     plan::LayerPlan layer;
     layer.z = 0.05;
-    layer.vectors = {{0, 0, 1, 0, 10, 300},
-                     {1, 0, 1, 0.5, 10, 300},
-                     {1, 0.5, 0, 0.5, 10, 300},
-                     {0, 0.5, 0, 0, 10, 300},
-                     {0.25, 0.1, 0.75, 0.1, 10, 300},
-                     {0.75, 0.4, 0.25, 0.4, 10, 300}};
+    layer.vectors = {{0, 0, 1, 0, 10, 300},           {1, 0, 1, 0.5, 10, 300},
+                     {1, 0.5, 0, 0.5, 10, 300},       {0, 0.5, 0, 0, 10, 300},
+                     {0.25, 0.1, 0.75, 0.1, 10, 300}, {0.75, 0.4, 0.25, 0.4, 10, 300}};
     plan.layers.push_back(layer);
 
     // Header (ASCII; the spec fixes the commands and their order, vpsim the number format):
