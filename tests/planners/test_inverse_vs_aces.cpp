@@ -48,8 +48,8 @@ struct Process {
     }
     /// Etar by seed 000 Eq. 14, written out here (zmax below the layer thickness).
     double etar() const {
-        return ec * std::exp((machine.layerThickness - beam.depthOfMaximum) /
-                             beam.attenuationLength);
+        return ec *
+               std::exp((machine.layerThickness - beam.depthOfMaximum) / beam.attenuationLength);
     }
 };
 
@@ -72,8 +72,7 @@ plan::ScanPlan planWith(const std::string& name, const nlohmann::json& section,
     bounds.add({-1, -1, 0});
     bounds.add({1, 1, 0.05 * stack.layers.size()});
     const RunContext context{nullptr, false, ""};
-    return planner->plan(
-        {stack, bounds, p.machine, p.beam, nullptr, p.ec, p.law, context});
+    return planner->plan({stack, bounds, p.machine, p.beam, nullptr, p.ec, p.law, context});
 }
 
 /// The plan's total SSE over its layers (mJ^2/mm^4), measured from the plan alone.
@@ -82,8 +81,8 @@ double sseOf(const plan::ScanPlan& plan, const geometry::LayerStack& stack, cons
     for (const auto& layer : stack.layers) regions.push_back(layer.region);
     exposure::ExposureEngine engine(optimise::planningGrid(regions, p.beam.radius, 0.01), p.beam,
                                     p.machine.layerThickness);
-    const nlohmann::json e = optimise::planExposureError(
-        engine, plan, regions, p.etar(), plan::effectiveRadius(p.beam.radius));
+    const nlohmann::json e = optimise::planExposureError(engine, plan, regions, p.etar(),
+                                                         plan::effectiveRadius(p.beam.radius));
     return e["sse_mJ2_per_mm4"].get<double>();
 }
 
