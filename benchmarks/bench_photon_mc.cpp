@@ -10,10 +10,15 @@
 // one and the reference back to back, since the machine's speed drifts). sigma comes from the 64
 // batch means;
 // t is CPU time (getrusage, all threads of the process, lavapipe's included), because the machine
-// is shared: "per machine" divides vpsim's CPU time by the threads it ran on (the machine's cores),
-// and the single-threaded reference's CPU time is its time on the machine; "per core" compares CPU
-// seconds directly. The reference is pinned to MCML 1.2.2 built here (-O3): 19 million
-// interactions per CPU-second on the slurry-like case; it must land within +-40%.
+// is shared. The like-for-like figures come first ("like_for_like"): FOM per CPU-second on both
+// sides, against the MCML reference with CONV (the pencil response convolved with the Gaussian
+// beam afterwards, as MCML's users do and as vpsim does inside its run; every tally here is of the
+// Gaussian beam). The others are kept and labelled: "_per_machine" divides vpsim's CPU time by
+// the threads it ran on (the machine's cores) while the single-threaded reference keeps its own,
+// so it credits vpsim with the machine's cores; "_vs_mcml_direct" is against the reference
+// tracing the Gaussian beam's launch offsets, whose bins are several times noisier near the axis.
+// The reference is pinned to MCML 1.2.2 built here (-O3): 19 million interactions per CPU-second
+// on the slurry-like case; it must land within +-40%.
 // Usage: bench_photon_mc [auto|cpu|vulkan] [scale]   (run from the repository root; scale
 // multiplies every photon count, default 1; auto: the shader on a hardware GPU, else the CPU
 // path, as vpsim chooses; vulkan forces the shader, also on lavapipe)
@@ -42,6 +47,8 @@
 namespace {
 
 using namespace vpsim::transport;
+/// Keys in the order written, so the like-for-like figures print first.
+using Json = nlohmann::ordered_json;
 constexpr double MCML_INTERACTIONS_PER_CPU_SECOND = 19.0e6;  // MCML 1.2.2 -O3, measured here
 
 double cpuSeconds() {
@@ -107,7 +114,7 @@ struct Figures {
     double fom(double variance, bool perMachine) const {
         return 1.0 / (variance * (perMachine ? cpu / threads : cpu));
     }
-    nlohmann::json json(bool perMachine = true) const {
+    Json json() const {
         return {{"photons", photons},
                 {"cpu_seconds", cpu},
                 {"wall_seconds", wall},
@@ -121,11 +128,16 @@ struct Figures {
                 {"absorbed_within_84um", within84.mean},
                 {"absorbed_within_84um_stderr", std::sqrt(within84.variance)},
                 {"cure_front_bins_mean_relative_stderr", std::sqrt(binsRelVar)},
+                {"fom_per_cpu_second",
+                 {{"diffuse_reflectance", fom(rd.variance, false)},
+                  {"absorbed_within_30um", fom(within30.variance, false)},
+                  {"absorbed_within_84um", fom(within84.variance, false)},
+                  {"cure_front_bins", fom(binsRelVar, false)}}},
                 {"fom_per_machine",
-                 {{"diffuse_reflectance", fom(rd.variance, perMachine)},
-                  {"absorbed_within_30um", fom(within30.variance, perMachine)},
-                  {"absorbed_within_84um", fom(within84.variance, perMachine)},
-                  {"cure_front_bins", fom(binsRelVar, perMachine)}}}};
+                 {{"diffuse_reflectance", fom(rd.variance, true)},
+                  {"absorbed_within_30um", fom(within30.variance, true)},
+                  {"absorbed_within_84um", fom(within84.variance, true)},
+                  {"cure_front_bins", fom(binsRelVar, true)}}}};
     }
 };
 
@@ -203,7 +215,8 @@ Figures mcmlFigures(const McSetup& s, const McmlRun& run, const std::vector<size
     return f;
 }
 
-nlohmann::json ratios(const Figures& a, const Figures& b, bool perMachine) {
+/// FOM(a) / FOM(b) of each figure; perMachine: vpsim's CPU time over its threads (see the top).
+Json ratios(const Figures& a, const Figures& b, bool perMachine) {
     auto r = [&](double va, double vb) { return a.fom(va, perMachine) / b.fom(vb, perMachine); };
     return {{"diffuse_reflectance", r(a.rd.variance, b.rd.variance)},
             {"absorbed_within_30um", r(a.within30.variance, b.within30.variance)},
@@ -211,8 +224,8 @@ nlohmann::json ratios(const Figures& a, const Figures& b, bool perMachine) {
             {"cure_front_bins", r(a.binsRelVar, b.binsRelVar)}};
 }
 
-nlohmann::json runCase(const std::string& caseName, const vpsim::optics::MediumOptics& optics,
-                       const std::shared_ptr<vpsim::gpu::Context>& context, double scale) {
+Json runCase(const std::string& caseName, const vpsim::optics::MediumOptics& optics,
+             const std::shared_ptr<vpsim::gpu::Context>& context, double scale) {
     McSetup s = vpsim::kernel::kernelSetup(optics, 0.05);
     // The estimators as `vpsim mc` runs them: with the control variates the kernel's own runs
     // leave out (they change no bin).
@@ -262,8 +275,11 @@ nlohmann::json runCase(const std::string& caseName, const vpsim::optics::MediumO
     Figures fMcml = mcmlFigures(reference, mcml, bins);
     Figures fMcmlConv = mcmlFigures(reference, mcmlConv, bins);
 
-    nlohmann::json j;
+    Json j;
     j["case"] = caseName;
+    // Like for like first: per CPU-second, against MCML with CONV (what vpsim does for the beam).
+    j["fom_ratio_vs_mcml_conv_per_cpu_second"] = ratios(fDefault, fMcmlConv, false);
+    j["fom_ratio_vs_analog"] = ratios(fDefault, fAnalog, false);  // same threads on both sides
     j["mua_per_mm"] = optics.mua;
     j["mus_per_mm"] = optics.mus;
     j["g"] = optics.g;
@@ -275,20 +291,19 @@ nlohmann::json runCase(const std::string& caseName, const vpsim::optics::MediumO
     for (const auto& [name, figures] : f) {
         j["estimators"][name] = figures.json();
         if (name != "analog")
-            j["fom_ratio_vs_analog_by_estimator"][name] = ratios(figures, fAnalog, true);
-        j["fom_ratio_vs_mcml_reference_by_estimator"][name] = ratios(figures, fMcml, true);
+            j["fom_ratio_vs_analog_by_estimator"][name] = ratios(figures, fAnalog, false);
+        j["fom_ratio_vs_mcml_conv_per_cpu_second_by_estimator"][name] =
+            ratios(figures, fMcmlConv, false);
     }
-    j["mcml_reference"] = fMcml.json();
+    j["mcml_reference_with_conv"] = fMcmlConv.json();
+    j["mcml_reference_direct"] = fMcml.json();
     j["mcml_reference_interactions_per_cpu_second"] =
         fMcml.interactionsPerPhoton * fMcml.photons / fMcml.cpu;
-    j["fom_ratio_vs_analog"] = ratios(fDefault, fAnalog, true);
-    j["fom_ratio_vs_mcml_reference"] = ratios(fDefault, fMcml, true);
-    j["fom_ratio_vs_mcml_reference_per_core"] = ratios(fDefault, fMcml, false);
-    // vpsim convolves a Gaussian beam's pencil response (transport/beam_convolution.h); MCML's
-    // users get the same from its CONV program, so the ratio to that is the like-for-like one
-    // for the bins.
-    j["mcml_reference_with_conv"] = fMcmlConv.json();
-    j["fom_ratio_vs_mcml_reference_with_conv"] = ratios(fDefault, fMcmlConv, true);
+    // The others, labelled: against the reference tracing the Gaussian beam directly, and with
+    // vpsim's CPU time divided by its threads (the machine's cores).
+    j["fom_ratio_vs_mcml_direct_per_cpu_second"] = ratios(fDefault, fMcml, false);
+    j["fom_ratio_vs_mcml_conv_per_machine"] = ratios(fDefault, fMcmlConv, true);
+    j["fom_ratio_vs_mcml_direct_per_machine"] = ratios(fDefault, fMcml, true);
     // Same physics: each estimator's figures against the analog ones, in combined sigmas.
     auto sigmas = [](const Stat& a, const Stat& b) {
         return std::abs(a.mean - b.mean) / std::sqrt(a.variance + b.variance);
@@ -309,9 +324,11 @@ nlohmann::json runCase(const std::string& caseName, const vpsim::optics::MediumO
 int main(int argc, char** argv) {
     const std::string backend = argc > 1 ? argv[1] : "auto";
     const double scale = argc > 2 ? std::atof(argv[2]) : 1.0;
-    nlohmann::json out{{"benchmark", "photon_mc_efficiency"},
-                       {"cpu_cores", std::thread::hardware_concurrency()},
-                       {"load_average_start", loadAverage()}};
+    Json out{{"benchmark", "photon_mc_efficiency"}};
+    // The headline (like-for-like) figures are filled in once measured, but print first.
+    out["like_for_like"] = Json::object();
+    out["cpu_cores"] = std::thread::hardware_concurrency();
+    out["load_average_start"] = loadAverage();
     try {
         std::shared_ptr<vpsim::gpu::Context> context;
         if (backend != "cpu") {
@@ -334,17 +351,27 @@ int main(int argc, char** argv) {
         hg.mus = 303.0;
         hg.g = 0.9;
         hg.refractiveIndex = 1.0;
-        nlohmann::json slurryHg = runCase("slurry-like HG", hg, context, scale);
-        nlohmann::json seed000 =
+        Json slurryHg = runCase("slurry-like HG", hg, context, scale);
+        Json seed000 =
             runCase("seed-000 Mie slurry",
                     vpsim::optics::loadMediumOptics("examples/materials/alumina-seed000.json"),
                     context, scale);
-        out["cases"] = {slurryHg, seed000};
         // The headline figures: the slurry-like case (the one MCML was measured on).
+        out["like_for_like"] = {
+            {"basis",
+             "slurry-like HG case; figure of merit 1/(sigma^2 t) per CPU-second on both sides "
+             "(vpsim's CPU time on all its threads, the reference's on one); MCML reference "
+             "with CONV (pencil response convolved with the Gaussian beam, as vpsim does)"},
+            {"fom_ratio_vs_mcml_conv_per_cpu_second",
+             slurryHg["fom_ratio_vs_mcml_conv_per_cpu_second"]},
+            {"fom_ratio_vs_analog", slurryHg["fom_ratio_vs_analog"]},
+            {"seed000_fom_ratio_vs_mcml_conv_per_cpu_second",
+             seed000["fom_ratio_vs_mcml_conv_per_cpu_second"]}};
+        out["cases"] = {slurryHg, seed000};
+        // Kept, labelled: not like for like (see the top of this file).
         for (const char* key :
-             {"fom_ratio_vs_analog", "fom_ratio_vs_mcml_reference",
-              "fom_ratio_vs_mcml_reference_with_conv", "fom_ratio_vs_mcml_reference_per_core",
-              "mcml_reference_interactions_per_cpu_second"})
+             {"fom_ratio_vs_mcml_direct_per_cpu_second", "fom_ratio_vs_mcml_conv_per_machine",
+              "fom_ratio_vs_mcml_direct_per_machine", "mcml_reference_interactions_per_cpu_second"})
             out[key] = slurryHg[key];
         const double rate = slurryHg["mcml_reference_interactions_per_cpu_second"];
         out["mcml_1_2_2_interactions_per_cpu_second"] = MCML_INTERACTIONS_PER_CPU_SECOND;
@@ -354,19 +381,20 @@ int main(int argc, char** argv) {
             const auto& va = c["fom_ratio_vs_analog"];
             ok3 = ok3 && va["cure_front_bins"].get<double>() >= 3.0;
             for (const auto& [k, v] : va.items()) ok08 = ok08 && v.get<double>() >= 0.8;
-            const auto& vm = c["fom_ratio_vs_mcml_reference"];
+            const auto& vm = c["fom_ratio_vs_mcml_direct_per_machine"];
             ok10 = ok10 && vm["diffuse_reflectance"].get<double>() >= 10.0 &&
                    vm["cure_front_bins"].get<double>() >= 10.0;
-            const auto& vc = c["fom_ratio_vs_mcml_reference_with_conv"];
+            const auto& vc = c["fom_ratio_vs_mcml_conv_per_machine"];
             ok10conv = ok10conv && vc["diffuse_reflectance"].get<double>() >= 10.0 &&
                        vc["cure_front_bins"].get<double>() >= 10.0;
         }
         band = std::abs(rate / MCML_INTERACTIONS_PER_CPU_SECOND - 1.0) <= 0.4;
+        // Issue 14's targets as they were set (per machine); quote the like-for-like figures.
         out["targets"] = {
             {"default_vs_analog_cure_front_bins_at_least_3x", ok3},
             {"default_vs_analog_every_figure_at_least_0.8x", ok08},
-            {"default_vs_mcml_reference_rd_and_cure_front_at_least_10x", ok10},
-            {"default_vs_mcml_reference_with_conv_rd_and_cure_front_at_least_10x", ok10conv},
+            {"default_vs_mcml_direct_per_machine_rd_and_cure_front_at_least_10x", ok10},
+            {"default_vs_mcml_conv_per_machine_rd_and_cure_front_at_least_10x", ok10conv},
             {"mcml_reference_within_40_percent_of_mcml_1_2_2", band}};
     } catch (const vpsim::Error& e) {
         out["error"] = e.what();

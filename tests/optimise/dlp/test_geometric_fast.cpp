@@ -129,7 +129,16 @@ TEST_CASE("geometric structural bound never exceeds the optimum", "[optimise]") 
             REQUIRE(optimiseColumnGeometric(solid, p).lowerBound <=
                     exact.objective * (1 + 1e-9) + 1e-12);
         }
-    // Larger columns: never above what the search reaches (an upper bound on the optimum).
+    // Larger columns, beyond enumeration: the reported bound must lie below the optimum of every
+    // pattern we can solve independently (GLPK on the full per-layer LP of the greedy start
+    // patterns and of random ones; the optimum is the least of all patterns'), and the search's
+    // own result is re-evaluated from its doses. The search starts from the greedy patterns of
+    // the longest `startGaps` gaps, so it must end no worse than the best of those (up to the
+    // band trajectory's light-term tolerance, 1e-4 per Ec of light, see above). (Greedy patterns
+    // of shorter gaps are not among its starts, and one of them does beat its result here:
+    // in one of these columns 50.98 against 52.82; the search is a heuristic, certified by its
+    // bound only.)
+    int solvedPatterns = 0;
     for (Bonding bonding : {Bonding::OwnLayer, Bonding::RunBottom})
         for (int trial = 0; trial < 15; ++trial) {
             const DlpColumnProblem p = seedResin(bonding);
@@ -138,8 +147,27 @@ TEST_CASE("geometric structural bound never exceeds the optimum", "[optimise]") 
             const DlpGeometricResult r = optimiseColumnGeometric(solid, p);
             INFO("trial " << trial << " objective " << r.objective << " bound " << r.lowerBound);
             REQUIRE(r.lowerBound <= r.objective * (1 + 1e-9) + 1e-12);
-            REQUIRE(r.lowerBound == Approx(structuralBound(solid, p, {})));
+            REQUIRE(geometricObjective(solid, p, {}, r.dose) ==
+                    Approx(r.objective).epsilon(1e-7).margin(1e-9));
+            GeometricPatternLp full(solid, p, {});
+            double bestGreedy = INFINITY, bestGreedyLight = 0;
+            const int window = longestGap(p), starts = DlpGeometricOptions{}.startGaps;
+            for (int q = 0; q < window + 6; ++q) {
+                const bool greedy = q < window, start = greedy && q + 1 > window - starts;
+                const std::vector<uint8_t> pattern =
+                    greedy ? greedyPattern(solid, p, q + 1) : randomPattern(rng, solid, 0.3);
+                std::vector<double> dose;
+                const double value = full.solve(pattern, dose);
+                if (std::isinf(value)) continue;
+                ++solvedPatterns;
+                REQUIRE(r.lowerBound <= value * (1 + 1e-9) + 1e-12);
+                if (start && value < bestGreedy)
+                    bestGreedy = value, bestGreedyLight = lightPerEc(p, dose);
+            }
+            if (std::isfinite(bestGreedy))
+                REQUIRE(r.objective <= bestGreedy + 1e-4 * bestGreedyLight + 1e-9);
         }
+    REQUIRE(solvedPatterns > 100);
 }
 
 TEST_CASE("geometric greedy start patterns keep Eq. 10", "[optimise]") {

@@ -55,8 +55,13 @@ double energyOf(const plan::LayerPlan& layer) {
 
 // Seed 000 Fig. 22/23: on one layer (nothing above it) DFBTP's squared exposure error is 39
 // against ACES's 60 mJ^2/mm^4 (ratio 0.65) with the seed's 5% edge rule. Here: the default L part
-// on a 10 um grid, errors over the part plus Reff; DFBTP must reach that ratio and also beat ACES
-// with vpsim's cure-at-contour rule.
+// on a 10 um grid, errors over the part plus Reff. Measured: DFBTP 104.4, ACES 5% 295.9 (ratio
+// 0.35, the seed's 0.65 holds with room), ACES with vpsim's cure-at-contour rule 66.8 (as the
+// shipped `aces` planner designs it for a single layer: the stack-aware rule with nothing above
+// or below). So DFBTP does NOT beat ACES cure-at-contour on this metric: it is 1.56x its error.
+// DFBTP, held below the cure level outside by its liftings, lets less of its tail out but
+// undershoots Etar inside, where ACES cure-at-contour cures out to the contour at the surface;
+// the inverse planner goes below both (test_inverse_vs_aces.cpp in tests/planners).
 TEST_CASE("DFBTP lowers the single-layer exposure error of ACES as in seed 000",
           "[optimise][dfbtp]") {
     Setup s;
@@ -71,21 +76,26 @@ TEST_CASE("DFBTP lowers the single-layer exposure error of ACES as in seed 000",
     plan::LayerPlan aces5 = plan::planAcesLayer(region, plan::designAces(seed, region), 10.0, 0.05);
     plan::AcesParameters contour = s.p.aces;
     contour.edge = plan::AcesEdge::CureAtContour;
-    contour.steadyPrintThrough = false;
+    const plan::AcesStack alone;  // one layer: nothing above, nothing below
     plan::LayerPlan acesC =
-        plan::planAcesLayer(region, plan::designAces(contour, region), 10.0, 0.05);
+        plan::planAcesLayer(region, plan::designAces(contour, region, &alone), 10.0, 0.05);
 
     auto errorOf = [&](const plan::LayerPlan& l) {
         return optimise::layerExposureError(mapOf(l, grid, s.beam), region, etar, reff);
     };
     auto eAces5 = errorOf(aces5), eAcesC = errorOf(acesC), eDfbtp = errorOf(dfbtp.plan.layers[0]);
     INFO("SSE mJ^2/mm^4: ACES 5% " << eAces5.sse << ", ACES cure-at-contour " << eAcesC.sse
-                                   << ", DFBTP " << eDfbtp.sse);
+                                   << ", DFBTP " << eDfbtp.sse << " (DFBTP / ACES 5% "
+                                   << eDfbtp.sse / eAces5.sse << ", / ACES cure-at-contour "
+                                   << eDfbtp.sse / eAcesC.sse << ")");
+    // The seed's figure: at most 0.65 of ACES with its 5% rule (measured 0.35).
     CHECK(eDfbtp.sse <= 0.65 * eAces5.sse);
-    // The blurred step is near the floor for non-negative exposure: DFBTP, held below the cure
-    // level outside by its liftings, stays within 60% of ACES cure-at-contour (which cures out to
-    // the contour at the surface but lets its tail out); the inverse planner goes below it.
-    CHECK(eDfbtp.sse < 1.6 * eAcesC.sse);
+    // The claim as measured: ACES cure-at-contour stays below DFBTP, and DFBTP within 1.7x of it
+    // (measured 1.56x; the plans are deterministic, the 9% leaves room for float sums on other
+    // platforms and small design changes, not for a DFBTP that falls further behind). If DFBTP
+    // ever beats it, the first check fails so that this statement gets corrected.
+    CHECK(eAcesC.sse < eDfbtp.sse);
+    CHECK(eDfbtp.sse < 1.7 * eAcesC.sse);
     CHECK(dfbtp.layers[0].edgeBlocks == 6);
     CHECK(dfbtp.layers[0].cornerBlocks == 6);
     for (const auto& pt : dfbtp.plan.layers[0].points) CHECK(pt.energy > 0);

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <random>
 
@@ -71,6 +72,31 @@ TEST_CASE("exact ordering equals brute force up to 8 parts", "[plan]") {
             CHECK(heuristic.cost >= exact.cost - 1e-9);
             CHECK(heuristic.cost <= nn.cost + 1e-12);
         }
+}
+
+// Held-Karp must be exact in double: on 7 parts whose jump costs differ only in the 7th digit
+// (1 + 1e-6 u: every path costs about 6, so a float table, whose spacing there is 5e-7, cannot
+// tell the best path from its near-ties), its path must cost what brute-force enumeration of all
+// 5040 orders finds, to 1e-12 relative (double sums of 6 terms round at about 1e-15).
+TEST_CASE("exact ordering equals brute force to 1e-12 on near-ties", "[plan]") {
+    std::mt19937 rng(29);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int trial = 0; trial < 12; ++trial) {
+        const int n = 7;
+        CostMatrix cost(n);
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j)
+                cost(i, j) = i == j           ? 0.0
+                             : trial % 3 == 2 ? u(rng)  // plain random costs too
+                                              : 1.0 + 1e-6 * u(rng);
+        const double best = bruteForce(cost);
+        const OrderResult exact = exactOrder(cost);
+        INFO("trial " << trial << ": brute force " << best << ", Held-Karp " << exact.cost);
+        REQUIRE(isPermutation(exact.order, n));
+        CHECK(exact.provenOptimal);
+        CHECK(std::abs(pathCost(cost, exact.order) - best) <= 1e-12 * best);
+        CHECK(std::abs(exact.cost - best) <= 1e-12 * best);
+    }
 }
 
 TEST_CASE("orderParts dispatches, reports nearest neighbour beside the result", "[plan]") {

@@ -33,9 +33,13 @@ TEST_CASE("delays and times of a hand-counted layer (seed 002 Eq. 1-4)", "[plan]
     CHECK(t.marksAboveProcessSpeed == 0);
     CHECK(t.mark == Approx(3.0 / 300 + 3.0 / 300 + 3.0 / 150));
     CHECK(t.delays == Approx(250e-6 + 2 * 100e-6 + 50e-6));
-    // The jump (3,3) -> (10,3) leaves with +y 300 mm/s: x needs 7 mm from rest, y stops and
-    // comes back 2.25 mm.
-    CHECK(t.jump == Approx(jumpTime({3, 3}, {10, 3}, {0, 300}, options.scanner.machine)));
+    // The jump (3,3) -> (10,3) leaves with +y 300 mm/s (the last mark's velocity), machine
+    // limits 2 m/s and 20 m/s^2 per axis. By hand: x moves 7 mm from rest to rest, triangular
+    // (7 mm < v^2/a = 200 mm): 2 sqrt(7 / 20000) = 37.42 ms; y brakes from 300 mm/s
+    // (300/20000 = 15 ms over 2.25 mm) and comes back 2.25 mm: 15 ms + 2 sqrt(2.25 / 20000) =
+    // 36.21 ms. The slower axis, x, sets the jump: 1e-12 relative (closed forms in double).
+    CHECK(t.jump == Approx(2 * std::sqrt(7.0 / 20000.0)).epsilon(1e-12));
+    CHECK(t.jump > 0.015 + 2 * std::sqrt(2.25 / 20000.0));
     CHECK(t.total() == Approx(t.mark + t.jump + t.delays));
 
     ScanPlan plan;

@@ -43,14 +43,15 @@ struct OrderResult {
 
 /// Largest layer `auto` solves exactly (2^16 x 16 states: milliseconds).
 constexpr int AUTO_EXACT_LIMIT = 16;
-/// Largest layer `exact` accepts (2^20 x 20 float states: 80 MB, about a second).
+/// Largest layer `exact` accepts (20 x 2^19 double states: 84 MB, about a second).
 constexpr int MAX_EXACT_PARTS = 20;
 
 /// Sum of cost(order[k], order[k+1]).
 double pathCost(const CostMatrix& cost, const std::vector<int>& order);
 /// Nearest neighbour from every start; the cheapest path.
 OrderResult nearestNeighbourOrder(const CostMatrix& cost);
-/// Held-Karp over subsets, free start and end. @throw InputError above MAX_EXACT_PARTS parts
+/// Held-Karp over subsets in double, free start and end. @throw InputError above MAX_EXACT_PARTS
+/// parts
 OrderResult exactOrder(const CostMatrix& cost);
 /// Or-opt (segments of 1-3 parts moved, either way round) and 2-opt (segment reversal) from the
 /// best few nearest-neighbour paths until no move improves.
