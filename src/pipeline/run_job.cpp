@@ -7,6 +7,7 @@
 #include "vpsim/core/io.h"
 #include "vpsim/core/log.h"
 #include "vpsim/core/output_directory.h"
+#include "vpsim/core/text.h"
 #include "vpsim/geometry/stl_io.h"
 #include "vpsim/gpu/context.h"
 #include "vpsim/pipeline/estimate.h"
@@ -28,7 +29,7 @@ public:
         auto now = std::chrono::steady_clock::now();
         double seconds = std::chrono::duration<double>(now - mStart).count();
         mOut.emplace_back(stage, seconds);
-        logInfo("stage " + stage + ": " + std::to_string(seconds).substr(0, 6) + " s");
+        logInfo("stage " + stage + ": " + formatNumber(seconds, 3) + " s");
         mStart = now;
     }
 

@@ -21,8 +21,8 @@ struct Run {
     std::vector<ManifestEntry> files;
 };
 
-const Rgb PALETTE[] = {{31, 119, 180}, {255, 127, 14}, {44, 160, 44}, {214, 39, 40},
-                       {148, 103, 189}, {140, 86, 75}, {227, 119, 194}, {127, 127, 127}};
+const Rgb PALETTE[] = {{31, 119, 180},  {255, 127, 14}, {44, 160, 44},   {214, 39, 40},
+                       {148, 103, 189}, {140, 86, 75},  {227, 119, 194}, {127, 127, 127}};
 
 /// Per-layer curves of all runs: `pick(layer entry)` -> (x, y) from report.json's array at
 /// `path` (validation.layers, layer_exposure_error.layers).
@@ -63,8 +63,11 @@ std::string writeComparePage(const std::vector<std::string>& runDirs, const std:
     std::vector<std::string> labels;
     for (size_t i = 0; i < runs.size(); ++i) {
         const nlohmann::json& r = runs[i].report;
-        runs[i].label = std::to_string(i + 1) + ": " + humanValue(r.value("name", nlohmann::json())) +
-                        " (" + humanValue(r.contains("plan") ? r["plan"].value("strategy", nlohmann::json()) : nlohmann::json()) + ")";
+        runs[i].label =
+            std::to_string(i + 1) + ": " + humanValue(r.value("name", nlohmann::json())) + " (" +
+            humanValue(r.contains("plan") ? r["plan"].value("strategy", nlohmann::json())
+                                          : nlohmann::json()) +
+            ")";
         labels.push_back(runs[i].label);
     }
     OutputDirectory output(outDir, {{"command", "compare"}, {"runs", runDirs}});
@@ -83,16 +86,16 @@ std::string writeComparePage(const std::vector<std::string>& runDirs, const std:
         }
     }
     LineFigure xy{"XY contour error per layer", "z (mm)", "mean XY error (µm)", {}, "", true};
-    const bool haveXy = overlay(runs, "validation", xy, [](const nlohmann::json& l, double& x,
-                                                           double& y) {
-        if (!l.contains("xy_contour_error_mm") || l.value("reference_area_mm2", 0.0) <= 0)
-            return false;
-        x = l.value("z", 0.0), y = l["xy_contour_error_mm"].get<double>() * 1000;
-        return true;
-    });
+    const bool haveXy =
+        overlay(runs, "validation", xy, [](const nlohmann::json& l, double& x, double& y) {
+            if (!l.contains("xy_contour_error_mm") || l.value("reference_area_mm2", 0.0) <= 0)
+                return false;
+            x = l.value("z", 0.0), y = l["xy_contour_error_mm"].get<double>() * 1000;
+            return true;
+        });
     if (haveXy) writeLineFigure(outDir + "/compare_xy_error", xy);
-    LineFigure laser{"Laser exposure error per layer (seed 000)", "layer", "RMS |E - Etm| / Etar",
-                     {}, "", true};
+    LineFigure laser{
+        "Laser exposure error per layer (seed 000)", "layer", "RMS |E - Etm| / Etar", {}, "", true};
     const bool haveLaser = overlay(runs, "layer_exposure_error", laser,
                                    [](const nlohmann::json& l, double& x, double& y) {
                                        if (!l.contains("rms_over_Etar")) return false;
@@ -107,7 +110,8 @@ std::string writeComparePage(const std::vector<std::string>& runDirs, const std:
             "body{font-family:sans-serif;margin:2em}table{border-collapse:collapse;margin:.3em 0}"
             "td,th{border:1px solid #ccc;padding:3px 8px;text-align:left;vertical-align:top}"
             "th{background:#f6f6f6;font-weight:normal}img{max-width:480px}"
-            "</style></head><body>\n<h1>vpsim compare: " << runs.size() << " runs</h1>\n";
+            "</style></head><body>\n<h1>vpsim compare: "
+         << runs.size() << " runs</h1>\n";
     ReportTable list{{"run", "directory", "job file"}, {}};
     for (const Run& r : runs)
         list.rows.push_back({r.label, r.dir, humanValue(r.report.value("job", nlohmann::json()))});

@@ -64,7 +64,9 @@ TopView topView(const geometry::Bounds& b) {
     return view;
 }
 
-std::string micrometres(double mm) { return formatNumber(mm * 1000, 3); }
+std::string micrometres(double mm) {
+    return formatNumber(mm * 1000, 3);
+}
 
 }  // namespace
 
@@ -91,7 +93,8 @@ DeviationScale deviationScale(const std::vector<float>& deviations) {
 }
 
 DeviationScale writeDeviationFigures(const std::string& directory, const geometry::Mesh& cured,
-                           const std::vector<float>& deviations, const geometry::Mesh& part) {
+                                     const std::vector<float>& deviations,
+                                     const geometry::Mesh& part) {
     if (deviations.empty() || deviations.size() != cured.vertices.size()) return {};
     const DeviationScale scale = deviationScale(deviations);
     float lo = *std::min_element(deviations.begin(), deviations.end());
@@ -129,8 +132,8 @@ DeviationScale writeDeviationFigures(const std::string& directory, const geometr
     f.y0 = curedView.y0, f.y1 = f.y0 + f.ny * curedView.pitch;
     f.values = curedView.value;
     const double l = scale.limit * 1000;
-    f.scale = {ColourMap::Diverging, -l, l, "deviation (µm), + outside the model", lo * 1000 < -l,
-               hi * 1000 > l};
+    f.scale = {ColourMap::Diverging, -l,           l, "deviation (µm), + outside the model",
+               lo * 1000 < -l,       hi * 1000 > l};
     f.outlines.push_back({"model silhouette", modelView.covered(), 0.5, {0, 0, 0}, true});
     f.outlines.push_back({"cured silhouette", curedView.covered(), 0.5, {120, 40, 160}, false});
     f.note = formatNumber(100 * scale.beyond, 2) + "% of the cured surface (vertices) beyond ±" +

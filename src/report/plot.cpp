@@ -101,8 +101,8 @@ void lineLegend(const std::vector<std::string>& labels, const std::vector<PLINT>
     pllegend(&w, &h, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX, position, x, y, 0.07, GREY,
              BLACK, 1, (n + columns - 1) / columns, columns, n, opts.data(), 0.8, 0.8, 2.0, 0.0,
              textColours.data(), text.data(), zeros.data(), zeros.data(), ones.data(),
-             widths.data(), colours.data(), styles.data(), widths.data(), zeros.data(),
-             ones.data(), zeros.data(), symbols.data());
+             widths.data(), colours.data(), styles.data(), widths.data(), zeros.data(), ones.data(),
+             zeros.data(), symbols.data());
 }
 
 /// The colour of t in [0, 1] on `map` (PLplot's cmap1 as setColourMap sets it).
@@ -285,65 +285,68 @@ void writeMapFigure(const std::string& stem, const MapFigure& f) {
     plotTwice(
         stem, width, height,
         [&](bool svg) {
-        plvpor(left / width, (left + pw) / width, bottom / height, (bottom + ph) / height);
-        plwind(f.x0, f.x1, f.y0, f.y1);
-        PLFLT bx[] = {f.x0, f.x1, f.x1, f.x0}, by[] = {f.y0, f.y0, f.y1, f.y1};
-        setColourMap(s.map);
-        if (!svg) {
-            plcol0(GREY);  // where there is no data
-            plfill(4, bx, by);
-        }
-        const double noData = -std::numeric_limits<double>::max();
-        std::vector<float> clamped(f.values);
-        for (float& v : clamped)
-            if (std::isfinite(v)) v = float(std::clamp(double(v), s.lo, s.hi));
-        Matrix image(clamped, f.nx, f.ny, noData);
-        if (!svg)
-            plimagefr(image.rows.data(), f.nx, f.ny, f.x0, f.x1, f.y0, f.y1, s.lo, s.hi, s.lo,
-                      s.hi, nullptr, nullptr);
-        GridTransform transform{f.x0, f.y0, (f.x1 - f.x0) / f.nx, (f.y1 - f.y0) / f.ny};
-        std::vector<std::string> labels;
-        std::vector<PLINT> colours, styles;
-        PLINT index = FIRST_FREE;
-        for (const Outline& o : f.outlines) {
-            const std::vector<float>& field = o.field.empty() ? f.values : o.field;
-            if (field.size() != f.values.size()) continue;
-            Matrix m(field, f.nx, f.ny, noData);
-            colour(index, o.colour);
-            pllsty(o.dashed ? 2 : 1);
-            plwidth(2);
-            PLFLT level = o.level;
-            plcont(m.rows.data(), f.nx, f.ny, 1, f.nx, 1, f.ny, &level, 1, cellCentre, &transform);
-            labels.push_back(o.label), colours.push_back(index), styles.push_back(o.dashed ? 2 : 1);
-            ++index;
-        }
-        pllsty(1);
-        plwidth(1);
-        if (f.scaleBar && ph >= 50) scaleBar(f, (f.y1 - f.y0) / ph);
-        plcol0(BLACK);
-        plbox("bcnst", 0, 0, "bcnstv", 0, 0);
-        plmtex("t", 1.5, 0.5, 0.5, f.title.c_str());
-        plmtex("b", 3.2, 0.5, 0.5, f.xLabel.c_str());
-        plmtex("l", 5.0, 0.5, 0.5, f.yLabel.c_str());
-        // Colour bar right of the plot, as tall as the plot (at least 150 px).
-        const char* axis = "bcvtm";
-        const char* label = s.label.c_str();
-        PLINT labelOpt = PL_COLORBAR_LABEL_RIGHT, nValues = 2, ticks = 0;
-        PLFLT ticksSpacing = 0, range[] = {s.lo, s.hi};
-        const PLFLT* values[] = {range};
-        PLFLT cw = 0, ch = 0;
-        plcolorbar(&cw, &ch,
-                   PL_COLORBAR_IMAGE | (s.capLow ? PL_COLORBAR_CAP_LOW : 0) |
-                       (s.capHigh ? PL_COLORBAR_CAP_HIGH : 0),
-                   PL_POSITION_RIGHT | PL_POSITION_OUTSIDE | PL_POSITION_VIEWPORT, 0.03, 0.0,
-                   0.04 * 640 / pw, std::max(1.0, 150 / ph) * 0.95, WHITE, BLACK, 1, 0.0, 1.0, 0,
-                   0, 1, &labelOpt, &label, 1, &axis, &ticksSpacing, &ticks, &nValues, values);
-        if (!labels.empty())
-            lineLegend(labels, colours, styles,
-                       PL_POSITION_BOTTOM | PL_POSITION_OUTSIDE | PL_POSITION_VIEWPORT, 0.0,
-                       55.0 / ph, int(labels.size()));
-        if (!f.note.empty())
-            plmtex("b", 7.2 + (labels.empty() ? 0 : 0.5), 0.0, 0.0, f.note.c_str());
+            plvpor(left / width, (left + pw) / width, bottom / height, (bottom + ph) / height);
+            plwind(f.x0, f.x1, f.y0, f.y1);
+            PLFLT bx[] = {f.x0, f.x1, f.x1, f.x0}, by[] = {f.y0, f.y0, f.y1, f.y1};
+            setColourMap(s.map);
+            if (!svg) {
+                plcol0(GREY);  // where there is no data
+                plfill(4, bx, by);
+            }
+            const double noData = -std::numeric_limits<double>::max();
+            std::vector<float> clamped(f.values);
+            for (float& v : clamped)
+                if (std::isfinite(v)) v = float(std::clamp(double(v), s.lo, s.hi));
+            Matrix image(clamped, f.nx, f.ny, noData);
+            if (!svg)
+                plimagefr(image.rows.data(), f.nx, f.ny, f.x0, f.x1, f.y0, f.y1, s.lo, s.hi, s.lo,
+                          s.hi, nullptr, nullptr);
+            GridTransform transform{f.x0, f.y0, (f.x1 - f.x0) / f.nx, (f.y1 - f.y0) / f.ny};
+            std::vector<std::string> labels;
+            std::vector<PLINT> colours, styles;
+            PLINT index = FIRST_FREE;
+            for (const Outline& o : f.outlines) {
+                const std::vector<float>& field = o.field.empty() ? f.values : o.field;
+                if (field.size() != f.values.size()) continue;
+                Matrix m(field, f.nx, f.ny, noData);
+                colour(index, o.colour);
+                pllsty(o.dashed ? 2 : 1);
+                plwidth(2);
+                PLFLT level = o.level;
+                plcont(m.rows.data(), f.nx, f.ny, 1, f.nx, 1, f.ny, &level, 1, cellCentre,
+                       &transform);
+                labels.push_back(o.label), colours.push_back(index),
+                    styles.push_back(o.dashed ? 2 : 1);
+                ++index;
+            }
+            pllsty(1);
+            plwidth(1);
+            if (f.scaleBar && ph >= 50) scaleBar(f, (f.y1 - f.y0) / ph);
+            plcol0(BLACK);
+            plbox("bcnst", 0, 0, "bcnstv", 0, 0);
+            plmtex("t", 1.5, 0.5, 0.5, f.title.c_str());
+            plmtex("b", 3.2, 0.5, 0.5, f.xLabel.c_str());
+            plmtex("l", 5.0, 0.5, 0.5, f.yLabel.c_str());
+            // Colour bar right of the plot, as tall as the plot (at least 150 px).
+            const char* axis = "bcvtm";
+            const char* label = s.label.c_str();
+            PLINT labelOpt = PL_COLORBAR_LABEL_RIGHT, nValues = 2, ticks = 0;
+            PLFLT ticksSpacing = 0, range[] = {s.lo, s.hi};
+            const PLFLT* values[] = {range};
+            PLFLT cw = 0, ch = 0;
+            plcolorbar(&cw, &ch,
+                       PL_COLORBAR_IMAGE | (s.capLow ? PL_COLORBAR_CAP_LOW : 0) |
+                           (s.capHigh ? PL_COLORBAR_CAP_HIGH : 0),
+                       PL_POSITION_RIGHT | PL_POSITION_OUTSIDE | PL_POSITION_VIEWPORT, 0.03, 0.0,
+                       0.04 * 640 / pw, std::max(1.0, 150 / ph) * 0.95, WHITE, BLACK, 1, 0.0, 1.0,
+                       0, 0, 1, &labelOpt, &label, 1, &axis, &ticksSpacing, &ticks, &nValues,
+                       values);
+            if (!labels.empty())
+                lineLegend(labels, colours, styles,
+                           PL_POSITION_BOTTOM | PL_POSITION_OUTSIDE | PL_POSITION_VIEWPORT, 0.0,
+                           55.0 / ph, int(labels.size()));
+            if (!f.note.empty())
+                plmtex("b", 7.2 + (labels.empty() ? 0 : 0.5), 0.0, 0.0, f.note.c_str());
         },
         raster);
 }

@@ -50,10 +50,15 @@ std::string base64(std::string_view bytes) {
 }
 
 std::string humanKey(const std::string& key) {
-    static const std::pair<const char*, const char*> units[] = {
-        {"_mJ_per_cm2", " (mJ/cm²)"}, {"_mm_per_s", " (mm/s)"}, {"_mm3", " (mm³)"},
-        {"_mm2", " (mm²)"},           {"_um", " (µm)"},          {"_mm", " (mm)"},
-        {"_mJ", " (mJ)"},             {"_s", " (s)"},            {"_mW", " (mW)"}};
+    static const std::pair<const char*, const char*> units[] = {{"_mJ_per_cm2", " (mJ/cm²)"},
+                                                                {"_mm_per_s", " (mm/s)"},
+                                                                {"_mm3", " (mm³)"},
+                                                                {"_mm2", " (mm²)"},
+                                                                {"_um", " (µm)"},
+                                                                {"_mm", " (mm)"},
+                                                                {"_mJ", " (mJ)"},
+                                                                {"_s", " (s)"},
+                                                                {"_mW", " (mW)"}};
     std::string base = key, unit;
     for (const auto& [suffix, text] : units) {
         const std::string s = suffix;
@@ -98,12 +103,16 @@ std::vector<SummaryTable> inputTables(const nlohmann::json& report) {
         addRows(m.table, inputs["material"]);
         out.push_back(m);
     }
-    for (const auto& [key, title] : std::vector<std::pair<const char*, const char*>>{
-             {"cure", "Cure law"}, {"part", "Part"}, {"machine", "Machine"},
-             {"kernel", "Beam kernel"}, {"simulation", "Simulation grid"}}) {
+    for (const auto& [key, title] :
+         std::vector<std::pair<const char*, const char*>>{{"cure", "Cure law"},
+                                                          {"part", "Part"},
+                                                          {"machine", "Machine"},
+                                                          {"kernel", "Beam kernel"},
+                                                          {"simulation", "Simulation grid"}}) {
         SummaryTable t{title, {{"", ""}, {}}};
         addRows(t.table, at(job, key));
-        if (std::string(key) == "cure" && t.table.rows.empty()) addRows(t.table, at(report, "cure"));
+        if (std::string(key) == "cure" && t.table.rows.empty())
+            addRows(t.table, at(report, "cure"));
         if (std::string(key) == "part") {
             const nlohmann::json& part = at(report, "part");
             t.table.rows.push_back({"size (mm)", humanValue(at(part, "size_mm"))});
@@ -123,7 +132,8 @@ std::vector<SummaryTable> inputTables(const nlohmann::json& report) {
     if (settings.is_object())
         for (const auto& [key, value] : settings.items())
             if (key != "strategy") plan.table.rows.push_back({humanKey(key), humanValue(value)});
-    const std::string strategy = at(p, "strategy").is_string() ? p["strategy"].get<std::string>() : "";
+    const std::string strategy =
+        at(p, "strategy").is_string() ? p["strategy"].get<std::string>() : "";
     addRows(plan.table, at(report, strategy.c_str()));
     out.push_back(plan);
     return out;
@@ -153,8 +163,8 @@ SummaryTable verdictTable(const nlohmann::json& report) {
     const nlohmann::json& xy = at(v, "xy_contour_error_mm");
     rows.push_back({"XY contour error (µm)",
                     "mean " + num(at(xy, "mean"), 1000) + ", max " + num(at(xy, "max"), 1000)});
-    rows.push_back({"part / cured volume (mm³)", num(at(at(report, "part"), "volume_mm3")) +
-                                                     " / " + num(at(report, "cured_volume_mm3"))});
+    rows.push_back({"part / cured volume (mm³)", num(at(at(report, "part"), "volume_mm3")) + " / " +
+                                                     num(at(report, "cured_volume_mm3"))});
     return t;
 }
 
@@ -189,8 +199,7 @@ ReportTable sideBySide(const std::vector<ReportTable>& tables,
             if (cells.empty()) continue;
             // Multi-column tables (features) keep their columns joined in one cell per run.
             std::string value;
-            for (size_t c = 1; c < cells.size(); ++c)
-                value += (c > 1 ? " | " : "") + cells[c];
+            for (size_t c = 1; c < cells.size(); ++c) value += (c > 1 ? " | " : "") + cells[c];
             auto [it, added] = rowOf.emplace(cells[0], out.rows.size());
             if (added) {
                 out.rows.push_back(std::vector<std::string>(runNames.size() + 1));
@@ -214,7 +223,8 @@ std::string tableHtml(const ReportTable& table) {
     for (const auto& cells : table.rows) {
         html += "<tr>";
         for (size_t i = 0; i < cells.size(); ++i)
-            html += (i == 0 ? "<th>" : "<td>") + htmlEscape(cells[i]) + (i == 0 ? "</th>" : "</td>");
+            html +=
+                (i == 0 ? "<th>" : "<td>") + htmlEscape(cells[i]) + (i == 0 ? "</th>" : "</td>");
         html += "</tr>\n";
     }
     return html + "</table>\n";

@@ -5,10 +5,10 @@
 #include <filesystem>
 #include <unordered_map>
 
+#include "viewer3d_js.h"  // generated from assets/viewer3d.js: VIEWER3D_JS
 #include "vpsim/core/io.h"
 #include "vpsim/core/text.h"
 #include "vpsim/report/summary_tables.h"
-#include "viewer3d_js.h"  // generated from assets/viewer3d.js: VIEWER3D_JS
 
 #ifndef VPSIM_THREE_JS_DIR
 #define VPSIM_THREE_JS_DIR "/usr/share/javascript/three"
@@ -29,8 +29,8 @@ std::string meshJs(const geometry::Mesh& mesh, const glm::dvec3& centre) {
     std::vector<float> positions;
     positions.reserve(mesh.vertices.size() * 3);
     for (const glm::dvec3& v : mesh.vertices)
-        positions.insert(positions.end(), {float(v.x - centre.x), float(v.y - centre.y),
-                                           float(v.z - centre.z)});
+        positions.insert(positions.end(),
+                         {float(v.x - centre.x), float(v.y - centre.y), float(v.z - centre.z)});
     std::vector<uint32_t> indices;
     indices.reserve(mesh.triangles.size() * 3);
     for (const auto& t : mesh.triangles) indices.insert(indices.end(), t.begin(), t.end());
@@ -124,8 +124,9 @@ ViewerSummary writeViewer3d(const std::string& outDir, const geometry::Mesh& cur
     if (!cb.empty()) b.add(cb.lo), b.add(cb.hi);
     const glm::dvec3 centre{(b.lo.x + b.hi.x) / 2, (b.lo.y + b.hi.y) / 2, b.lo.z};
     std::string js = "window.VPSIM_MESH={\"cured\":" + meshJs(curedView, centre) +
-                     ",\"deviation_um\":\"" + base64Of(microns) + "\",\"model\":" +
-                     meshJs(modelView, centre) + ",\"limit_um\":" + formatNumber(s.limitUm, 6) +
+                     ",\"deviation_um\":\"" + base64Of(microns) +
+                     "\",\"model\":" + meshJs(modelView, centre) +
+                     ",\"limit_um\":" + formatNumber(s.limitUm, 6) +
                      ",\"layer_mm\":" + formatNumber(layerThickness, 6) +
                      ",\"height_mm\":" + formatNumber(b.hi.z - b.lo.z, 6) + "};\n";
     s.dataBytes = js.size();

@@ -13,12 +13,12 @@ struct CompareOptions {
 
 vpsim::cli::CommandRegistration registerCompare{
     "compare", [](CLI::App& app, const vpsim::cli::Globals&) {
-        auto* command = app.add_subcommand(
-            "compare", "put runs side by side: inputs, verdicts, features, figures and "
-                       "exposure-error curves in columns on one page (DIR/index.html)");
+        auto* command =
+            app.add_subcommand("compare",
+                               "put runs side by side: inputs, verdicts, features, figures and "
+                               "exposure-error curves in columns on one page (DIR/index.html)");
         auto options = std::make_shared<CompareOptions>();
-        command->add_option("runs", options->runs, "run directories (from vpsim run)")
-            ->required();
+        command->add_option("runs", options->runs, "run directories (from vpsim run)")->required();
         command->add_option("--out", options->out, "output directory")->required();
         command->callback([options] {
             const std::string page = vpsim::report::writeComparePage(options->runs, options->out);

@@ -15,7 +15,7 @@ namespace vpsim::report {
 /// The symmetric deviation scale of a run: a round value near the 95th percentile of
 /// |deviation| (mm), and the share of the samples beyond it.
 struct DeviationScale {
-    double limit = 0;    ///< mm
+    double limit = 0;   ///< mm
     double beyond = 0;  ///< fraction of the samples with |deviation| > limit
 };
 DeviationScale deviationScale(const std::vector<float>& deviations);
@@ -24,6 +24,7 @@ DeviationScale deviationScale(const std::vector<float>& deviations);
 /// when there are no deviations. Returns the scale used. @throw InputError when a file cannot be
 /// written
 DeviationScale writeDeviationFigures(const std::string& directory, const geometry::Mesh& cured,
-                           const std::vector<float>& deviations, const geometry::Mesh& part);
+                                     const std::vector<float>& deviations,
+                                     const geometry::Mesh& part);
 
 }  // namespace vpsim::report

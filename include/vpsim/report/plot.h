@@ -30,7 +30,7 @@ struct Curve {
 struct LineFigure {
     std::string title, xLabel, yLabel;
     std::vector<Curve> curves;
-    std::string note;   ///< a line under the plot
+    std::string note;    ///< a line under the plot
     bool legend = true;  ///< a legend of the curves' labels (when more than one or labelled)
 };
 
@@ -42,7 +42,7 @@ enum class ColourMap {
 struct ColourScale {
     ColourMap map = ColourMap::Sequential;
     double lo = 0, hi = 1;
-    std::string label;  ///< with its unit, e.g. "exposure (mJ/cm#u2#d)"
+    std::string label;                     ///< with its unit, e.g. "exposure (mJ/cm#u2#d)"
     bool capLow = false, capHigh = false;  ///< values beyond lo / hi exist (drawn as caps)
 };
 
