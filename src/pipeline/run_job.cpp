@@ -1,16 +1,20 @@
 #include "vpsim/pipeline/run_job.h"
 
 #include <chrono>
+#include <filesystem>
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
 #include "vpsim/core/log.h"
 #include "vpsim/core/output_directory.h"
+#include "vpsim/core/text.h"
 #include "vpsim/geometry/stl_io.h"
 #include "vpsim/gpu/context.h"
 #include "vpsim/pipeline/estimate.h"
+#include "vpsim/report/deviation_map.h"
 #include "vpsim/report/figures.h"
 #include "vpsim/report/html_report.h"
+#include "vpsim/report/viewer3d.h"
 #include "vpsim/validate/feature_probe.h"
 #include "vpsim/validate/slice_validator.h"
 
@@ -25,7 +29,7 @@ public:
         auto now = std::chrono::steady_clock::now();
         double seconds = std::chrono::duration<double>(now - mStart).count();
         mOut.emplace_back(stage, seconds);
-        logInfo("stage " + stage + ": " + std::to_string(seconds).substr(0, 6) + " s");
+        logInfo("stage " + stage + ": " + formatNumber(seconds, 3) + " s");
         mStart = now;
     }
 
@@ -33,6 +37,19 @@ private:
     std::vector<std::pair<std::string, double>>& mOut;
     std::chrono::steady_clock::time_point mStart = std::chrono::steady_clock::now();
 };
+
+/// The job file and its material as written, for the report's inputs (both were read and
+/// checked by loadJob, under its limits).
+nlohmann::json jobInputs(const Job& job) {
+    auto parsed = [](const std::string& path) {
+        return path.empty() ? nlohmann::json()
+                            : nlohmann::json::parse(readFile(path), nullptr, false);
+    };
+    nlohmann::json inputs{{"job", parsed(job.file)}, {"material", parsed(job.materialFile)}};
+    for (auto& [key, value] : inputs.items())
+        if (value.is_discarded()) value = nullptr;
+    return inputs;
+}
 
 std::string deviceName(const RunContext& context) {
     return context.gpu ? context.gpu->info().name : std::string("cpu");
@@ -123,6 +140,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     checkEstimate(estimateJob(job, part, false, saved.has_value(), context.gpu != nullptr));
     // From here the directory is untrusted until manifest.json, written last, lists every file
     // of this run with its size and SHA-256 (core/output_directory.h).
+    const auto runStart = std::filesystem::file_time_type::clock::now();
     OutputDirectory output(outDir, {{"command", "run"}, {"job", job.name}, {"job_file", job.file}});
 
     report::JobResult result;
@@ -196,10 +214,17 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     timer.finish("review");
 
     sections.write(outDir);
-    report::writeDeviationFigures(outDir, cured, result.validation.vertexDeviations);
-    report::writeLayerErrorPlot(outDir + "/xy_error_per_layer.svg", result.validation.slices);
+    const report::DeviationScale scale =
+        report::writeDeviationFigures(outDir, cured, result.validation.vertexDeviations, f.part);
+    result.deviationLimit = scale.limit;
+    result.beyondDeviationLimit = scale.beyond;
+    result.viewer = report::writeViewer3d(outDir, cured, result.validation.vertexDeviations, f.part,
+                                          scale.limit, job.machine.layerThickness);
+    report::writeLayerErrorPlot(outDir + "/xy_error_per_layer", result.validation.slices);
     timer.finish("report");
+    result.inputs = jobInputs(job);
     writeFileAtomic(outDir + "/report.json", report::toJson(result).dump(2));
+    result.files = report::filesWrittenSince(outDir, runStart);
     report::writeHtmlReport(outDir, result);
     output.finish();
     return result;

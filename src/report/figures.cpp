@@ -4,45 +4,53 @@
 #include <cmath>
 
 #include "vpsim/core/image.h"
+#include "vpsim/core/text.h"
 #include "vpsim/geometry/raster.h"
 #include "vpsim/geometry/slicer.h"
+#include "vpsim/report/deviation_map.h"
+#include "vpsim/report/plot.h"
 
 namespace vpsim::report {
 namespace {
 
-/// Draws a scalar field with outlines of two masks, scaled up by an integer factor to about 800 px.
-RgbImage outlinedMap(const std::vector<float>& values, const std::vector<uint8_t>& reference,
-                     int width, int height, const cure::CureLaw& law) {
-    int scale = std::max(1, std::min(8, 800 / std::max(width, height)));
-    std::vector<float> big(size_t(width) * scale * height * scale);
-    auto index = [&](int x, int y) { return size_t(y) * width + x; };
-    for (int y = 0; y < height * scale; ++y)
-        for (int x = 0; x < width * scale; ++x)
-            big[size_t(y) * width * scale + x] = values[index(x / scale, y / scale)];
-    // Linear from 0 to the 99th percentile of the exposure shown (hot spots saturate), and at
-    // least twice Ec so the cure level sits inside the scale.
-    std::vector<float> sorted(values);
-    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() * 99 / 100, sorted.end());
-    double top = std::max(2.0 * law.criticalDose(), double(sorted[sorted.size() * 99 / 100]));
-    RgbImage image = heatMap(big, width * scale, height * scale, 0.0, top);
-    auto edge = [&](auto inside, int x, int y) {
-        bool here = inside(x, y);
-        return (x + 1 < width && inside(x + 1, y) != here) ||
-               (y + 1 < height && inside(x, y + 1) != here);
-    };
-    auto cured = [&](int x, int y) { return law.isCured(values[index(x, y)]); };
-    auto ref = [&](int x, int y) { return reference[index(x, y)] != 0; };
+/// An exposure map through the plotting layer: exposure in mJ/cm^2 from 0 to the 99th percentile
+/// of what is shown (at least twice the critical dose), the model's outline (red) and the cured
+/// outline (white, dashed). `values` and `inside` are recorded with rows from the top.
+void exposureFigure(const std::string& stem, const std::string& title, const std::string& yLabel,
+                    const std::vector<float>& values, const std::vector<uint8_t>& inside, int width,
+                    int height, double x0, double x1, double y0, double y1,
+                    const cure::CureLaw& law) {
+    MapFigure f;
+    f.title = title;
+    f.yLabel = yLabel;
+    f.nx = width, f.ny = height;
+    f.x0 = x0, f.x1 = x1, f.y0 = y0, f.y1 = y1;
+    f.values.resize(values.size());
+    std::vector<float> model(values.size()), cured(values.size());
     for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x)
-            for (int d = 0; d < scale; ++d) {
-                if (edge(ref, x, y))
-                    image.set(x * scale + scale - 1, y * scale + d, 230, 30, 30),
-                        image.set(x * scale + d, y * scale + scale - 1, 230, 30, 30);
-                if (edge(cured, x, y))
-                    image.set(x * scale + scale / 2, y * scale + d, 255, 255, 255),
-                        image.set(x * scale + d, y * scale + scale / 2, 255, 255, 255);
-            }
-    return image;
+        for (int x = 0; x < width; ++x) {
+            const size_t from = size_t(height - 1 - y) * width + x, to = size_t(y) * width + x;
+            f.values[to] = float(values[from] * 100.0);  // mJ/mm^2 -> mJ/cm^2
+            model[to] = inside[from];
+            cured[to] = law.isCured(values[from]) ? 1.0f : 0.0f;
+        }
+    std::vector<float> sorted(f.values);
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() * 99 / 100, sorted.end());
+    const double top =
+        std::max(2.0 * law.criticalDose() * 100, double(sorted[sorted.size() * 99 / 100]));
+    size_t above = 0;
+    for (float v : f.values) above += v > top;
+    f.scale = {ColourMap::Sequential, 0.0, top, "exposure (mJ/cm#u2#d)", false, above > 0};
+    f.outlines.push_back({"model", model, 0.5, {230, 30, 30}, false});
+    f.outlines.push_back(
+        {"cured (critical dose " + formatNumber(law.criticalDose() * 100, 3) + " mJ/cm#u2#d)",
+         cured,
+         0.5,
+         {255, 255, 255},
+         true});
+    f.note = formatNumber(100.0 * double(above) / double(f.values.size()), 2) +
+             "% of the cells above the scale (drawn at its top)";
+    writeMapFigure(stem, f);
 }
 
 }  // namespace
@@ -60,6 +68,8 @@ SectionRecorder::SectionRecorder(const geometry::Mesh& part, const exposure::Exp
 
 void SectionRecorder::add(const exposure::ExposureSlice& slice) {
     if (mFilled >= mTotalSlices) return;
+    if (mFilled == 0) mTopZ = slice.z;
+    mBottomZ = slice.z;
     geometry::PolygonSet region = geometry::sliceAt(mPart, slice.z);
     const exposure::SurfaceGrid& values = *slice.values;
     for (int i = 0; i < mGrid.nx; ++i) {
@@ -77,80 +87,49 @@ void SectionRecorder::add(const exposure::ExposureSlice& slice) {
 
 int busiestRow(const geometry::PolygonSet& region, const exposure::ExposureGrid& grid) {
     std::vector<uint8_t> inside = geometry::rasterizeBinary(region, grid.raster());
-    int best = grid.ny / 2, bestCount = -1;
-    for (int j = 0; j < grid.ny; ++j) {
-        int count = 0;
-        for (int i = 0; i < grid.nx; ++i) count += inside[size_t(j) * grid.nx + i];
-        if (count > bestCount) best = j, bestCount = count;
-    }
-    return best;
+    std::vector<int> counts(grid.ny, 0);
+    for (int j = 0; j < grid.ny; ++j)
+        for (int i = 0; i < grid.nx; ++i) counts[j] += inside[size_t(j) * grid.nx + i];
+    // The middle of the rows that cross the most material, not the first of them (which lies at
+    // the part's edge when many rows tie, as in a box or the foot of an L).
+    const int most = grid.ny > 0 ? *std::max_element(counts.begin(), counts.end()) : 0;
+    std::vector<int> busiest;
+    for (int j = 0; j < grid.ny; ++j)
+        if (counts[j] == most) busiest.push_back(j);
+    return busiest.empty() ? grid.ny / 2 : busiest[busiest.size() / 2];
 }
 
 void SectionRecorder::write(const std::string& directory) const {
-    writePng(directory + "/exposure_xz.png",
-             outlinedMap(mSection, mSectionInside, mGrid.nx, mTotalSlices, mLaw));
+    const double x0 = mGrid.originX, x1 = x0 + mGrid.nx * mGrid.pitch;
+    const double dz = mFilled > 1 ? (mTopZ - mBottomZ) / (mFilled - 1) : mGrid.pitch;
+    const double rowY = mGrid.originY + (mRow + 0.5) * mGrid.pitch;
+    std::vector<float> section(mSection.begin(), mSection.begin() + size_t(mFilled) * mGrid.nx);
+    std::vector<uint8_t> inside(mSectionInside.begin(),
+                                mSectionInside.begin() + size_t(mFilled) * mGrid.nx);
+    if (mFilled > 0)
+        exposureFigure(directory + "/exposure_xz",
+                       "x-z section at y = " + formatNumber(rowY, 4) + " mm", "z (mm)", section,
+                       inside, mGrid.nx, mFilled, x0, x1, mBottomZ - dz / 2, mTopZ + dz / 2, mLaw);
     if (!mMap.empty())
-        writePng(directory + "/exposure_xy.png",
-                 outlinedMap(mMap, mMapInside, mGrid.nx, mGrid.ny, mLaw));
+        exposureFigure(directory + "/exposure_xy",
+                       "x-y exposure of layer " + std::to_string(mMapLayer + 1) + ", mid-layer",
+                       "y (mm)", mMap, mMapInside, mGrid.nx, mGrid.ny, x0, x1, mGrid.originY,
+                       mGrid.originY + mGrid.ny * mGrid.pitch, mLaw);
 }
 
-void writeDeviationFigures(const std::string& directory, const geometry::Mesh& cured,
-                           const std::vector<float>& deviations) {
-    if (deviations.empty()) return;
-    float lo = *std::min_element(deviations.begin(), deviations.end());
-    float hi = *std::max_element(deviations.begin(), deviations.end());
-    double limit = std::max(1e-6, double(std::max(std::abs(lo), std::abs(hi))));
-    const int bins = 60;
-    PlotSeries histogram{"cured vertices", {}, {}, "#1f77b4", false};
-    std::vector<double> counts(bins, 0.0);
-    for (float d : deviations)
-        counts[std::min(bins - 1, int((d + limit) / (2 * limit) * bins))] += 1;
-    for (int b = 0; b < bins; ++b) {  // a step outline of the histogram
-        double x0 = -limit + 2 * limit * b / bins, x1 = -limit + 2 * limit * (b + 1) / bins;
-        histogram.x.insert(histogram.x.end(), {x0, x1});
-        histogram.y.insert(histogram.y.end(), {counts[b], counts[b]});
-    }
-    writeSvgLinePlot(directory + "/deviation_histogram.svg",
-                     "Signed deviation of the cured surface from the model",
-                     "deviation (mm), positive = outside the model", "vertices", {histogram});
-
-    // Deviation map: the cured surface seen from above; each pixel shows the vertex below it with
-    // the largest |deviation|, blue (inside the model) - white - red (outside), dark where none.
-    geometry::Bounds b = cured.bounds();
-    const int width = 800;
-    double scale = (width - 1) / std::max(1e-9, std::max(b.hi.x - b.lo.x, b.hi.y - b.lo.y));
-    int w = int((b.hi.x - b.lo.x) * scale) + 1, h = int((b.hi.y - b.lo.y) * scale) + 1;
-    std::vector<float> worst(size_t(w) * h, 0.0f);
-    std::vector<uint8_t> seen(size_t(w) * h, 0);
-    for (size_t v = 0; v < cured.vertices.size(); ++v) {
-        const auto& p = cured.vertices[v];
-        size_t index =
-            size_t(h - 1 - int((p.y - b.lo.y) * scale)) * w + int((p.x - b.lo.x) * scale);
-        if (!seen[index] || std::abs(deviations[v]) > std::abs(worst[index]))
-            worst[index] = deviations[v];
-        seen[index] = 1;
-    }
-    RgbImage image(w, h, 40);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            size_t index = size_t(y) * w + x;
-            if (!seen[index]) continue;
-            double t = std::clamp(double(worst[index]) / limit, -1.0, 1.0);
-            image.set(x, y, uint8_t(t > 0 ? 255 : 255 * (1 + t)), uint8_t(255 * (1 - std::abs(t))),
-                      uint8_t(t < 0 ? 255 : 255 * (1 - t)));
-        }
-    writePng(directory + "/deviation_map_top.png", image);
-}
-
-void writeLayerErrorPlot(const std::string& path, const validate::SliceValidationSummary& summary) {
+void writeLayerErrorPlot(const std::string& stem, const validate::SliceValidationSummary& summary) {
     PlotSeries error{"XY contour error", {}, {}, "", false};
     for (const auto& layer : summary.layers)
         if (layer.referencePerimeter > 0) {
             error.x.push_back(layer.z);
             error.y.push_back(layer.xyContourError() * 1000);
         }
-    writeSvgLinePlot(path, "Cured vs model contour error per layer", "z (mm)", "mean XY error (um)",
-                     {error});
+    LineFigure f;
+    f.title = "Cured against model contour error per layer";
+    f.xLabel = "z (mm)";
+    f.yLabel = "mean XY error (µm)";
+    f.curves.push_back({"", error.x, error.y, {31, 119, 180}, false});
+    writeLineFigure(stem, f);
 }
 
 }  // namespace vpsim::report

@@ -49,6 +49,19 @@ nlohmann::json toJson(const JobResult& r) {
     nlohmann::json stages = nlohmann::json::object();
     for (const auto& [stage, seconds] : r.stageSeconds) stages[stage] = seconds;
     report["stage_seconds"] = stages;
+    report["inputs"] = r.inputs;
+    nlohmann::json pictures{
+        {"deviation_scale",
+         {{"limit_um", r.deviationLimit * 1000}, {"beyond_fraction", r.beyondDeviationLimit}}}};
+    if (r.viewer) {
+        const ViewerSummary& view = *r.viewer;
+        pictures["viewer3d"] = {
+            {"cured_triangles", view.curedTriangles},     {"cured_shown", view.curedShown},
+            {"model_triangles", view.modelTriangles},     {"model_shown", view.modelShown},
+            {"cluster_cell_um", view.clusterCell * 1000}, {"data_bytes", view.dataBytes}};
+        if (!view.missing.empty()) pictures["viewer3d"]["missing"] = view.missing;
+    }
+    report["report"] = pictures;
     return report;
 }
 

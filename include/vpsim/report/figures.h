@@ -13,14 +13,15 @@
 namespace vpsim::report {
 
 /// Records an x-z cross-section along grid row `row` and an x-y map of one layer while the engine
-/// runs (a SliceSink), and draws them with the reference outline (red) and the cured outline at
-/// the cure law's critical dose (white), exposure from 0 (dark) to the largest value (yellow).
+/// runs (a SliceSink), and draws them through the plotting layer (plot.h): mm axes at the true
+/// aspect ratio, exposure in mJ/cm^2 with its colour bar, the model's outline (red) and the cured
+/// outline at the cure law's critical dose (white) in a legend, a scale bar.
 class SectionRecorder {
 public:
     SectionRecorder(const geometry::Mesh& part, const exposure::ExposureGrid& grid, int totalSlices,
                     const cure::CureLaw& law, int mapLayer, int row);
     void add(const exposure::ExposureSlice& slice);
-    /// Writes exposure_xz.png and exposure_xy.png into `directory`.
+    /// Writes exposure_xz and exposure_xy (.svg and .png) into `directory`.
     void write(const std::string& directory) const;
 
 private:
@@ -28,6 +29,7 @@ private:
     exposure::ExposureGrid mGrid;
     const cure::CureLaw& mLaw;
     int mMapLayer, mRow, mTotalSlices, mFilled = 0;
+    double mTopZ = 0, mBottomZ = 0;       ///< mm, centres of the first and last recorded slices
     std::vector<float> mSection;          ///< [slice from the top][x]
     std::vector<uint8_t> mSectionInside;  ///< reference at the same cells
     std::vector<float> mMap;              ///< x-y exposure of mMapLayer's middle slice
@@ -37,11 +39,7 @@ private:
 /// The grid row crossing most of `region` (where an x-z section shows the most of the part).
 int busiestRow(const geometry::PolygonSet& region, const exposure::ExposureGrid& grid);
 
-/// Histogram of signed surface deviations (SVG) and a top view of the cured surface coloured by
-/// deviation (PNG, blue inside the model, red outside).
-void writeDeviationFigures(const std::string& directory, const geometry::Mesh& cured,
-                           const std::vector<float>& deviations);
-/// Per-layer XY contour error against height (SVG).
-void writeLayerErrorPlot(const std::string& path, const validate::SliceValidationSummary& summary);
+/// Per-layer XY contour error against height: `stem`.svg and `stem`.png.
+void writeLayerErrorPlot(const std::string& stem, const validate::SliceValidationSummary& summary);
 
 }  // namespace vpsim::report

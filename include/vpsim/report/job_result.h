@@ -82,8 +82,28 @@ struct ReportSection {
     std::vector<ReportFigure> figures;
 };
 
+/// The 3D view written beside index.html (viewer3d.h): what it shows and how much was cut.
+struct ViewerSummary {
+    size_t curedTriangles = 0, curedShown = 0;  ///< of the cured mesh, and drawn
+    size_t modelTriangles = 0, modelShown = 0;
+    double clusterCell = 0;     ///< mm, vertex-clustering cell of the decimation; 0: none
+    uint64_t dataBytes = 0;     ///< mesh3d.js
+    double limitUm = 0;         ///< the deviation colour scale's ends, ±µm
+    double layerThickness = 0;  ///< mm, the clipping slider's step
+    std::string missing;        ///< why no view was written (three.js not installed), else empty
+};
+
+/// A file of the output directory as written by the run (size in bytes).
+struct WrittenFile {
+    std::string name;
+    uint64_t bytes = 0;
+};
+
 struct JobResult {
     std::string jobFile, name, backend;
+    /// The inputs as given: {"job": the job file's JSON, "material": the material file's JSON}
+    /// (the report's first tables; values keep the units they were written with).
+    nlohmann::json inputs = nlohmann::json::object();
     nlohmann::json cure;  ///< the cure law's parameters (CureLaw::toJson)
     PartSummary part;
     std::optional<KernelSummary> kernel;
@@ -94,6 +114,12 @@ struct JobResult {
     ValidationReport validation;
     std::vector<std::pair<std::string, double>> stageSeconds;  ///< in run order
     std::vector<ReportSection> sections;  ///< components' own parts of index.html
+    std::optional<ViewerSummary> viewer;  ///< the 3D view, when written
+    double deviationLimit = 0;            ///< mm, the deviation maps' scale ends (±)
+    double beyondDeviationLimit = 0;      ///< fraction of the cured surface beyond it
+    /// Files of the run written before index.html (index.html and manifest.json follow), for the
+    /// report's file list; the manifest lists the same files.
+    std::vector<WrittenFile> files;
 };
 
 /// report.json's document.

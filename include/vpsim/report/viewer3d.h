@@ -1,0 +1,39 @@
+#pragma once
+/// @file
+/// The cured part in 3D, offline: writes mesh3d.js (the cured surface with its signed deviation
+/// per vertex and the model, as base64 Float32/Uint32 arrays in a classic script, since Chromium
+/// blocks fetch() and ES modules on file://), viewer3d.js (the viewer) and three.js r111 with
+/// its OrbitControls (Debian's libjs-three, copied from VPSIM_THREE_JS_DIR) next to index.html.
+/// Meshes above the triangle budget are decimated by vertex clustering for the view, so the
+/// report stays under REPORT_SIZE_TARGET on large parts; the summary says by how much.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "vpsim/geometry/mesh.h"
+#include "vpsim/report/job_result.h"
+
+namespace vpsim::report {
+
+/// The size the report's own files (index.html, figures, 3D view) are kept under, bytes.
+constexpr uint64_t REPORT_SIZE_TARGET = 50ull << 20;
+/// Triangles drawn of the cured and of the model mesh together (about 16 MB of mesh3d.js).
+constexpr size_t VIEW_TRIANGLE_BUDGET = 600000;
+
+/// The files the 3D view writes besides the data (in the output directory).
+inline constexpr const char* VIEWER_FILES[] = {"three.min.js", "OrbitControls.js", "viewer3d.js",
+                                               "mesh3d.js"};
+
+/// A mesh decimated by vertex clustering on a grid of `cell` mm: vertices in one cell merge into
+/// their mean (values averaged), triangles that collapse are dropped. cell <= 0 copies.
+geometry::Mesh clusterMesh(const geometry::Mesh& mesh, double cell, std::vector<float>* values);
+
+/// Writes the view's files into `outDir`. `deviations` are mm per cured vertex; `limitMm` the
+/// colour scale's ends. Without three.js installed nothing is written and `missing` says why.
+/// @throw InputError when a file cannot be written
+ViewerSummary writeViewer3d(const std::string& outDir, const geometry::Mesh& cured,
+                            const std::vector<float>& deviations, const geometry::Mesh& part,
+                            double limitMm, double layerThickness);
+
+}  // namespace vpsim::report
