@@ -13,8 +13,10 @@
 //       stores REPORT.json's figures as JOB's, run with RUN_ARGS (tools/update-golden.sh).
 //
 // Figures are every number in report.json except timings (keys ending in "seconds"), the
-// per-layer table validation.layers (its summary validation.xy_contour_error_mm is kept) and
-// values that depend on the run rather than the physics (kernel.from_cache). Features are keyed
+// per-layer table validation.layers (its summary validation.xy_contour_error_mm is kept),
+// values that depend on the run rather than the physics (kernel.from_cache), the job's own
+// inputs echoed back (inputs) and the report's presentation data (report: picture scales, the
+// 3D view's mesh sizes). Features are keyed
 // by name: "features[top hole height].simulated_mm".
 
 #include <fnmatch.h>
@@ -50,7 +52,8 @@ bool skipped(const std::string& path, const std::string& key) {
     auto endsWith = [&](const std::string& s) {
         return key.size() >= s.size() && key.compare(key.size() - s.size(), s.size(), s) == 0;
     };
-    return endsWith("seconds") || path == "validation.layers" || path == "kernel.from_cache";
+    return endsWith("seconds") || path == "validation.layers" || path == "kernel.from_cache" ||
+           path == "inputs" || path == "report";
 }
 
 void flatten(const json& value, const std::string& path, Figures& out) {
