@@ -1,6 +1,6 @@
 // Benchmark: applying the cure model to a 1e8-voxel dose array (cured mask and FPP conversion),
 // compared with a plain memcpy of the dose bytes measured in the same run (the memory-bandwidth
-// floor; DESIGN.md quotes ~30 GB/s for 2 threads on the reference machine). Prints JSON.
+// floor; docs/PLATFORM.md quotes ~30 GB/s for 2 threads on the reference machine). Prints JSON.
 //
 // Usage: bench_cure [voxels] [repetitions]   (defaults 1e8 and 5; best time of the repetitions)
 

@@ -1,8 +1,8 @@
 // Exposure of a 10 x 10 x 5 mm block at 10 um voxels (~5e8 voxels): ACES hatching on every 50 um
 // layer, the separable engine with print-through, and sparse OpenVDB storage of the result.
 // Prints JSON: seconds per stage, voxels per second, peak memory, and the ratio to the
-// memory-bandwidth floor (touching every voxel's 4 bytes once at ~30 GB/s, DESIGN.md), plus the
-// Vulkan (lavapipe) and CPU engine paths measured in the same run on a 10-layer slab.
+// memory-bandwidth floor (touching every voxel's 4 bytes once at ~30 GB/s, docs/PLATFORM.md), plus
+// the Vulkan (lavapipe) and CPU engine paths measured in the same run on a 10-layer slab.
 #include <sys/resource.h>
 
 #include <chrono>

@@ -4,7 +4,7 @@
 //    plain Bohren & Huffman BHMIE-style implementation measured in the same run (complex upward
 //    psi/xi recurrences, D_n from zero at a high start order);
 //  - phase-intensity terms per second and the implied GFLOP/s against the machine's fp32 FMA
-//    floor from DESIGN.md (177 GFLOP/s on 2 cores; this code is fp64, one thread).
+//    floor from docs/PLATFORM.md (177 GFLOP/s on 2 cores; this code is fp64, one thread).
 
 #include <algorithm>
 #include <chrono>
@@ -22,7 +22,7 @@ using namespace vpsim::optics;
 
 namespace {
 
-constexpr double MACHINE_FP32_FMA_GFLOPS = 177.0;  // DESIGN.md, 2 cores AVX2
+constexpr double MACHINE_FP32_FMA_GFLOPS = 177.0;  // docs/PLATFORM.md, 2 cores AVX2
 constexpr double FLOPS_PER_PHASE_TERM = 14.0;      // per angle and term in miePhaseIntensity
 
 template <typename F>

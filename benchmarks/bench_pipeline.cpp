@@ -2,7 +2,7 @@
 // voxels): ACES plan, exposure with print-through, cure, and validation against the model. Prints
 // JSON: seconds per stage, peak memory, voxels per second, and the ratio of the
 // expose+cure+validate time to the memory-bandwidth floor (touching every voxel's 4 bytes once at
-// ~30 GB/s, DESIGN.md). Target: under 60 s and 4 GiB on the 2-core reference machine. Usage:
+// ~30 GB/s, docs/PLATFORM.md). Target: under 60 s and 4 GiB on the 2-core reference machine. Usage:
 // bench_pipeline [--vulkan]
 #include <sys/resource.h>
 

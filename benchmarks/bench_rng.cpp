@@ -1,6 +1,6 @@
 // Random-number throughput: the Vulkan shader vs the CPU path built from the same rng.glsl.
 // Prints JSON. Comparison: GPU vs CPU (single thread) in the same run, and the write bandwidth the
-// GPU run implies against the ~30 GB/s memory floor of DESIGN.md.
+// GPU run implies against the ~30 GB/s memory floor of docs/PLATFORM.md.
 #include <chrono>
 #include <iostream>
 

@@ -1,11 +1,13 @@
 # vpsim_add_module(NAME [DEPENDS module...] [SHADERS shader...] [LIBS target...])
-# Builds src/NAME/**/*.cpp (subfolders group concepts inside a module) into the static library vpsim_NAME. DEPENDS names other vpsim modules,
+# Builds src/NAME/**/*.cpp (subfolders group concepts inside a module; vpsim_module_sources in
+# cmake/VpsimSources.cmake) into the static library vpsim_NAME. DEPENDS names other vpsim modules,
 # SHADERS names shaders/*.comp whose embedded SPIR-V headers the module includes, LIBS names
 # third-party targets used privately (OpenVDB::openvdb, TBB::tbb, ...).
+include(VpsimSources)
 set(VPSIM_MODULE_TARGETS "" CACHE INTERNAL "")
 function(vpsim_add_module name)
   cmake_parse_arguments(ARG "" "" "DEPENDS;SHADERS;LIBS;PUBLIC_LIBS" ${ARGN})
-  file(GLOB_RECURSE sources CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/*.cpp")
+  vpsim_module_sources(sources ${name})
   set(target vpsim_${name})
   add_library(${target} STATIC ${sources})
   target_include_directories(${target}

@@ -29,7 +29,7 @@ layout(std430, set = 0, binding = 2) buffer Grid { uint64_t grid[]; };
 layout(std430, set = 0, binding = 3) buffer Resume { uint resume[]; };
 
 // The table is read at random once per scattering: shared memory is the cheap place for it
-// (DESIGN.md: repeated storage-buffer loads in loops are slow on lavapipe).
+// (docs/PLATFORM.md: repeated storage-buffer loads in loops are slow on lavapipe).
 shared float sPhaseTable[PHASE_TABLE_CAPACITY];
 float photonPhaseTable(int i) { return sPhaseTable[i]; }
 

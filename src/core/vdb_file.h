@@ -1,7 +1,7 @@
 #pragma once
 // Private to the modules that write OpenVDB files (transport, kernel, geometry, exposure): one
 // initialisation and one atomic, error-checked write. Include only from .cpp files that already
-// include OpenVDB (DESIGN.md: OpenVDB headers are expensive).
+// include OpenVDB (docs/PLATFORM.md: OpenVDB headers are expensive).
 
 #include <mutex>
 #include <string>

@@ -12,7 +12,8 @@ __attribute__((target_clones("avx2", "default"))) void fppConversionRange(const 
                                                                           float* out) {
     for (size_t i = 0; i < count; ++i) {
         // Clamp the exponent: glibc's vectorised expf drops to a slow scalar path when a lane
-        // underflows (DESIGN.md); exp(-80) = 1.8e-35 is still a normal float and 1 - it is 1.
+        // underflows (docs/PLATFORM.md); exp(-80) = 1.8e-35 is still a normal float and 1 - it
+        // is 1.
         float exponent = std::fmin(k * std::fmax(dose[i], 0.0f), 80.0f);
         out[i] = 1.0f - std::exp(-exponent);
     }

@@ -66,7 +66,7 @@ double JobEstimate::seconds() const {
     return sum;
 }
 
-nlohmann::json JobEstimate::toJson() const {
+nlohmann::json JobEstimate::toJson(const RunContext& context) const {
     nlohmann::json memory = nlohmann::json::array(), files = nlohmann::json::array();
     for (const EstimateItem& item : items)
         memory.push_back({{"name", item.name},
@@ -81,7 +81,7 @@ nlohmann::json JobEstimate::toJson() const {
             {"plan_only", planOnly},
             {"peak_bytes", peakBytes()},
             {"peak_stage", stageName(peakStage())},
-            {"budget_bytes", double(memoryBudget())},
+            {"budget_bytes", double(memoryBudget(context))},
             {"bytes_by_stage", stages},
             {"memory", memory},
             {"outputs", files},
@@ -91,11 +91,11 @@ nlohmann::json JobEstimate::toJson() const {
             {"figures", figures}};
 }
 
-std::string JobEstimate::table() const {
+std::string JobEstimate::table(const RunContext& context) const {
     std::ostringstream out;
     out << "estimate of " << job << (planOnly ? " (vpsim plan)" : "") << ": peak "
         << formatBytes(peakBytes()) << " in the " << stageName(peakStage()) << " stage (budget "
-        << formatBytes(double(memoryBudget())) << "), " << formatBytes(outputBytes())
+        << formatBytes(double(memoryBudget(context))) << "), " << formatBytes(outputBytes())
         << " of files, about " << formatNumber(seconds(), 2) << " s\n\nmemory\n";
     for (const EstimateItem& item : items)
         out << "  " << padded(item.name, 40) << padded(formatBytes(item.bytes), 10)
@@ -114,8 +114,8 @@ std::string JobEstimate::table() const {
     return out.str();
 }
 
-void checkEstimate(const JobEstimate& e) {
-    const double budget = double(memoryBudget());
+void checkEstimate(const JobEstimate& e, const RunContext& context) {
+    const double budget = double(memoryBudget(context));
     const Stage peak = e.peakStage();
     const double bytes = e.bytesAt(peak);
     if (bytes <= budget) return;
@@ -129,9 +129,8 @@ void checkEstimate(const JobEstimate& e) {
     }
     throw ResourceError("job '" + e.job + "' would need " + formatBytes(bytes) +
                         " at its peak (the " + stageName(peak) + " stage): " + parts +
-                        "; more than the " + formatBytes(budget) +
-                        " allowed (half the memory, at most 16 GiB; VPSIM_MEMORY_LIMIT sets it): "
-                        "use " +
+                        "; more than the " + formatBytes(budget) + " allowed (" +
+                        memoryBudgetOrigin(context) + "): use " +
                         (hint.empty() ? std::string("a smaller job") : hint) +
                         " (--dry-run prints the whole estimate)");
 }

@@ -114,8 +114,8 @@ Front runFront(const Job& job, geometry::Mesh part, const std::string& outDir,
 
 PlanResult planJob(const Job& job, const std::string& outDir, const RunContext& context) {
     geometry::Mesh part = checkedPart(job);
-    checkEstimate(estimateJob(job, part, true, false,
-                              context.gpu != nullptr));  // before the kernel or anything written
+    checkEstimate(estimateJob(job, part, true, false, context.gpu != nullptr),
+                  context);  // before the kernel or anything written
     // Removes the previous manifest and dead runs' temporaries; manifest.json is written last.
     OutputDirectory output(outDir,
                            {{"command", "plan"}, {"job", job.name}, {"job_file", job.file}});
@@ -137,7 +137,8 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     std::optional<plan::ScanPlan> saved;
     if (!options.planFile.empty()) saved = plan::loadScanPlan(options.planFile);
     geometry::Mesh part = checkedPart(job);
-    checkEstimate(estimateJob(job, part, false, saved.has_value(), context.gpu != nullptr));
+    checkEstimate(estimateJob(job, part, false, saved.has_value(), context.gpu != nullptr),
+                  context);
     // From here the directory is untrusted until manifest.json, written last, lists every file
     // of this run with its size and SHA-256 (core/output_directory.h).
     const auto runStart = std::filesystem::file_time_type::clock::now();

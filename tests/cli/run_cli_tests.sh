@@ -224,6 +224,27 @@ check "$work/components.json" '.cure_laws | map(.name) == ["fpp", "threshold"]' 
 expect_error "key 'plan.homogenity': unknown key for planner 'aces'; did you mean 'homogeneity'" \
   run "$data/small_job.json" --out "$work/typo" --set plan.homogenity=0.02
 
+# --- the memory budget: the CLI reads VPSIM_MEMORY_LIMIT into the run context (the library reads no
+# environment); a malformed value is one error line naming it, whatever the command.
+for limit in '5GB?' abc '5 G x' -1G 0 0M 5T; do
+  VPSIM_MEMORY_LIMIT="$limit" expect_no_output "$work/mem_bad" run "$data/small_job.json" \
+    --out "$work/mem_bad"
+  VPSIM_MEMORY_LIMIT="$limit" expect_error "^vpsim: error: VPSIM_MEMORY_LIMIT: .*[(]a number of bytes with an optional K, M or G" \
+    run "$data/small_job.json" --out "$work/mem_bad" --dry-run
+done
+VPSIM_MEMORY_LIMIT='5GB?' expect_error "^vpsim: error: VPSIM_MEMORY_LIMIT: unexpected text after the number .*, got '5GB[?]'" \
+  mie --m 1.5 --x 1 --json
+VPSIM_MEMORY_LIMIT=512M run_ok mem_512m run "$data/small_job.json" --out "$work/mem_dry" --dry-run --json
+check "$work/mem_512m.json" '.budget_bytes == 536870912'
+VPSIM_MEMORY_LIMIT=1073741824 run_ok mem_bytes plan "$data/small_job.json" --out "$work/mem_dry" --dry-run --json
+check "$work/mem_bytes.json" '.budget_bytes == 1073741824'
+run_ok mem_default run "$data/small_job.json" --out "$work/mem_dry" --dry-run --json
+check "$work/mem_default.json" '.budget_bytes >= 268435456 and .budget_bytes <= 17179869184'
+[[ -e "$work/mem_dry" ]] && fail "--dry-run wrote $work/mem_dry"
+VPSIM_MEMORY_LIMIT=1K expect_error "allowed \(set by VPSIM_MEMORY_LIMIT\)" run "$data/small_job.json" \
+  --out "$work/mem_small"
+[[ -e "$work/mem_small" ]] && fail "a refused run wrote $work/mem_small"
+
 if "$vpsim" export --help >/dev/null 2>&1; then
   expect_ok '"vectors": 24' export "$data/plan_two_parts.json" -o "$work/scan.cli" --json
   expect_ok '"proven_optimal": true' export "$data/plan_two_parts.json" -o "$work/scan_bin.cli" \

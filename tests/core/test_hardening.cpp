@@ -10,7 +10,6 @@
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
-#include "vpsim/core/resources.h"
 #include "vpsim/core/text.h"
 #include "vpsim/core/units.h"
 
@@ -138,13 +137,6 @@ TEST_CASE("writing to a directory or a missing directory says so", "[core][io]")
     CHECK_THAT(errorOf([&] { writeFileAtomic(dir, "x"); }), Contains("is a directory"));
     CHECK_THAT(errorOf([] { writeFileAtomic("/nonexistent/vpsim/out.stl", "x"); }),
                Contains("does not exist"));
-}
-
-TEST_CASE("memory checks count bytes and name the fix", "[core][resources]") {
-    CHECK_NOTHROW(checkMemory(1024, "a small grid", "nothing"));
-    CHECK_THROWS_AS(checkMemory(1e30, "a huge grid", "use a coarser voxel"), ResourceError);
-    CHECK_THROWS_WITH(checkMemory(1e30, "a huge grid", "use a coarser voxel"),
-                      Contains("a huge grid would need") && Contains("use a coarser voxel"));
 }
 
 TEST_CASE("HTML escaping leaves no markup and no control bytes", "[core][text]") {

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Golden figures: runs every job in examples/*.json through `vpsim run` and compares the figures of
 # its report.json with tests/golden/figures.json under the tolerances stored there, printing a
-# table per job (stored, now, difference, tolerance, OK/MOVED/MISSING/NEW). Fails when a figure
-# moved, when a job has no stored figures, or when a run fails.
+# table per job (stored, now, difference, tolerance, OK/MOVED/MISSING/NEW), and checks each
+# report.json against docs/report-schema.json (check_report.sh). Fails when a figure moved, when a
+# job has no stored figures, when a report breaks the schema, or when a run fails.
 # Usage: run_golden.sh VPSIM VPSIM_GOLDEN SOURCE_DIR [--update]
 #   --update rewrites figures.json from this run instead (tools/update-golden.sh calls it).
 set -euo pipefail
@@ -37,6 +38,11 @@ for job in "${jobs[@]}"; do
     failed=$((failed + 1)); continue
   fi
   echo "golden: $name ran in $((SECONDS - start)) s (vpsim ${run_args[*]} run examples/$name.json)"
+  if ! bash "$source/tests/golden/check_report.sh" "$source/docs/report-schema.json" \
+      "$work/$name/report.json"; then
+    echo "golden: $name: report.json does not follow docs/report-schema.json"
+    failed=$((failed + 1)); continue
+  fi
   if [[ "$mode" == "--update" ]]; then
     "$golden" store "$work/figures.json" "$name" "$work/$name/report.json" "${run_args[@]}"
   elif ! "$golden" compare "$figures" "$name" "$work/$name/report.json" "${run_args[@]}"; then

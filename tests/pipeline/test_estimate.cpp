@@ -156,8 +156,41 @@ TEST_CASE("a job that does not fit is refused before anything is written", "[pip
     const std::string out = (dir / "out").string();
     CHECK_THROWS_AS(pipeline::runJob(loaded, out, RunContext{nullptr, false, ""}), ResourceError);
     CHECK_FALSE(std::filesystem::exists(out));
-    const nlohmann::json json = estimate.toJson();
+    const nlohmann::json json = estimate.toJson(RunContext{});
     CHECK(json["peak_bytes"].get<double>() == Approx(estimate.peakBytes()));
     CHECK(json["memory"].size() == estimate.items.size());
+    CHECK(json["budget_bytes"].get<double>() == double(defaultMemoryBudget()));
+    std::filesystem::remove_all(dir);
+}
+
+// The budget is the run context's (the CLI sets it from VPSIM_MEMORY_LIMIT); the environment
+// variable itself is never read by the library.
+TEST_CASE("the memory budget comes from the run context", "[pipeline][estimate]") {
+    const auto dir = std::filesystem::temp_directory_path() / "vpsim_estimate_budget";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "job.json") << laserJob().dump(1);
+    const pipeline::Job job =
+        pipeline::loadJob((dir / "job.json").string(), pipeline::makeBuiltins());
+    const pipeline::JobEstimate estimate = pipeline::estimateJob(job);
+    RunContext small;
+    small.memoryLimit = uint64_t(estimate.peakBytes() / 2);
+    CHECK_NOTHROW(pipeline::checkEstimate(estimate, RunContext{}));
+    CHECK_THROWS_WITH(pipeline::checkEstimate(estimate, small),
+                      Catch::Matchers::Contains("allowed (set by VPSIM_MEMORY_LIMIT)"));
+    CHECK(estimate.toJson(small)["budget_bytes"].get<double>() == double(small.memoryLimit));
+    CHECK(estimate.table(small).find(formatBytes(double(small.memoryLimit))) != std::string::npos);
+    const std::string out = (dir / "out").string();
+    CHECK_THROWS_AS(pipeline::runJob(job, out, small), ResourceError);
+    RunContext tiny;
+    tiny.memoryLimit = 1;
+    CHECK_THROWS_AS(pipeline::planJob(job, out, tiny), ResourceError);
+    CHECK_FALSE(std::filesystem::exists(out));
+    // A limit in the environment changes nothing inside the library.
+    ::setenv("VPSIM_MEMORY_LIMIT", "1K", 1);
+    CHECK_NOTHROW(pipeline::checkEstimate(estimate, RunContext{}));
+    CHECK(estimate.toJson(RunContext{})["budget_bytes"].get<double>() ==
+          double(defaultMemoryBudget()));
+    ::unsetenv("VPSIM_MEMORY_LIMIT");
     std::filesystem::remove_all(dir);
 }

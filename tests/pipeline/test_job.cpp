@@ -119,7 +119,7 @@ TEST_CASE("a planner registered from a test plans, sizes and reviews a job", "[p
     REQUIRE(plan.plan.totalEnergy() == Approx(6 * 0.002));
     REQUIRE(plan.summary["spot"]["energy_mJ"] == 0.002);
     // Its size in the job's estimate, its keys in the listing, its review in the report.
-    const nlohmann::json estimate = pipeline::estimateJob(job, true).toJson();
+    const nlohmann::json estimate = pipeline::estimateJob(job, true).toJson(RunContext{});
     bool sized = false;
     for (const auto& item : estimate["memory"])
         sized |= item.value("bytes", 0.0) == 1234.0 * 6 &&

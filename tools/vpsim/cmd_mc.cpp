@@ -74,7 +74,8 @@ McSetup setupFrom(const McOptions& o, const vpsim::cli::Globals& g) {
         // Sized in double and checked in bytes before the uint32 casts could wrap.
         const double nxy = std::ceil(2 * s.bins.rMax / s.grid.voxel);
         const double nz = std::ceil(s.bins.zMax / s.grid.voxel);
-        vpsim::checkMemory(nxy * nxy * nz * 8.0, "the --vdb absorption grid at --voxel " + o.voxel,
+        vpsim::checkMemory(g.hostContext(), nxy * nxy * nz * 8.0,
+                           "the --vdb absorption grid at --voxel " + o.voxel,
                            "use a coarser --voxel or a smaller --r-max/--z-max");
         if (nxy > 65536 || nz > 65536)
             throw vpsim::ResourceError(

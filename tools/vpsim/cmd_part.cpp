@@ -128,7 +128,7 @@ void runCheck(const CheckOptions& o) {
     if (!o.out.empty()) writeStl(o.out, mesh, "repaired");
 }
 
-void runLevelSet(const LevelSetCliOptions& o) {
+void runLevelSet(const LevelSetCliOptions& o, const RunContext& context) {
     const Mesh mesh = readStl(o.file, o.scale);
     LevelSetOptions options;
     options.voxelSize = parseQuantity(o.voxel, dim::LENGTH, "--voxel");
@@ -139,8 +139,8 @@ void runLevelSet(const LevelSetCliOptions& o) {
                              " mm is larger than the part (" + std::to_string(largest) + " mm)",
                          "", "--voxel");
     options.halfWidthVoxels = o.halfWidth;
-    // In bytes against this machine's budget (the library's default is a fixed 8 GiB).
-    checkMemory(LevelSet::estimateBytes(mesh, options),
+    // In bytes against this run's budget (the library's default is a fixed 8 GiB).
+    checkMemory(context, LevelSet::estimateBytes(mesh, options),
                 "level set at --voxel " + o.voxel + " (half-width " +
                     std::to_string(int(o.halfWidth)) + " voxels)",
                 "use a larger --voxel or a smaller --half-width");
@@ -162,7 +162,7 @@ void runLevelSet(const LevelSetCliOptions& o) {
 }
 
 vpsim::cli::CommandRegistration registerPart{
-    "part", [](CLI::App& app, const vpsim::cli::Globals&) {
+    "part", [](CLI::App& app, const vpsim::cli::Globals& g) {
         auto* part = app.add_subcommand("part", "test parts and mesh checks");
         part->require_subcommand(1);
 
@@ -219,7 +219,7 @@ vpsim::cli::CommandRegistration registerPart{
                              "narrow-band half-width in voxels (default 3)");
         levelSet->add_option("--scale", l->scale, "multiply STL coordinates (25.4 for inches)");
         levelSet->add_flag("--json", l->json, "print a JSON summary");
-        levelSet->callback([l] { runLevelSet(*l); });
+        levelSet->callback([l, &g] { runLevelSet(*l, g.hostContext()); });
     }};
 
 }  // namespace

@@ -29,8 +29,8 @@ void planCommand(const PlanOptions& options, const vpsim::cli::Globals& globals)
     if (options.dryRun) {  // the estimate only: nothing computed, nothing written
         const pipeline::JobEstimate estimate =
             pipeline::estimateJob(job, true, false, globals.backend != "cpu");
-        if (options.json) return cli::printJson(estimate.toJson());
-        std::cout << estimate.table();
+        if (options.json) return cli::printJson(estimate.toJson(globals.hostContext()));
+        std::cout << estimate.table(globals.hostContext());
         return;
     }
     const pipeline::PlanResult plan = pipeline::planJob(job, options.out, globals.runContext());

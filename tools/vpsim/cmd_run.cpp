@@ -21,8 +21,8 @@ void runCommand(const RunOptions& options, const vpsim::cli::Globals& globals) {
     if (options.dryRun) {  // the estimate only: nothing computed, nothing written
         const pipeline::JobEstimate estimate =
             pipeline::estimateJob(job, false, !options.plan.empty(), globals.backend != "cpu");
-        if (options.json) return cli::printJson(estimate.toJson());
-        std::cout << estimate.table();
+        if (options.json) return cli::printJson(estimate.toJson(globals.hostContext()));
+        std::cout << estimate.table(globals.hostContext());
         return;
     }
     pipeline::RunOptions run;

@@ -95,13 +95,13 @@ constexpr double MAX_PICTURE_PIXELS = 16384.0 * 16384.0;
 
 /// Refuses, by bytes and before allocating, pictures too large for memory: the raster's own limit
 /// counts pixels (2^31), which at 22 bytes each is 47 GB.
-void checkPictureMemory(const Bounds& b, double pitch) {
+void checkPictureMemory(const RunContext& context, const Bounds& b, double pitch) {
     const double width = std::ceil((b.hi.x - b.lo.x) / pitch) + 5;
     const double height = std::ceil((b.hi.y - b.lo.y) / pitch) + 5;
     const std::string what = "layer pictures of " + formatCount(width) + " x " +
                              formatCount(height) + " pixels at --pitch " +
                              std::to_string(pitch * 1000.0) + " um";
-    checkMemory(width * height * PICTURE_BYTES_PER_PIXEL, what, "use a coarser --pitch");
+    checkMemory(context, width * height * PICTURE_BYTES_PER_PIXEL, what, "use a coarser --pitch");
     // A picture beyond 16384^2 pixels is more than any viewer shows and takes minutes per layer.
     if (width * height > MAX_PICTURE_PIXELS)
         throw ResourceError(what +
@@ -112,12 +112,13 @@ void checkPictureMemory(const Bounds& b, double pitch) {
 /// Refuses, by bytes and before slicing, a layer stack too large for memory: its contours (one
 /// vertex per crossing triangle, 16 B, x3 while slicing and linking), the slicer's buckets and
 /// each layer's PolygonSet and JSON summary (~1 KiB).
-void checkStackMemory(const Mesh& mesh, const SliceOptions& options, int count, int sliced) {
+void checkStackMemory(const RunContext& context, const Mesh& mesh, const SliceOptions& options,
+                      int count, int sliced) {
     const double z0 = options.zStart.value_or(mesh.bounds().lo.z);
     const double vertices = pipeline::contourVertexCount(mesh, count, options.layerThickness, z0,
                                                          options.planePosition);
     const double perLayer = sliced < count ? vertices * sliced / std::max(count, 1) : vertices;
-    checkMemory(perLayer * 48.0 + vertices * 4.0 + double(sliced) * 1024.0,
+    checkMemory(context, perLayer * 48.0 + vertices * 4.0 + double(sliced) * 1024.0,
                 "slicing into " + formatCount(double(sliced)) + " layers of " +
                     std::to_string(options.layerThickness * 1000.0) + " um (" +
                     formatCount(vertices) + " contour vertices)",
@@ -131,7 +132,7 @@ void checkStackMemory(const Mesh& mesh, const SliceOptions& options, int count, 
                             "thicker --layer or fewer --layers");
 }
 
-void runSlice(const SliceCliOptions& o) {
+void runSlice(const SliceCliOptions& o, const RunContext& context) {
     const Mesh mesh = readStl(o.file, o.scale);
     SliceOptions options;
     options.layerThickness = parseQuantity(o.layer, dim::LENGTH, "--layer");
@@ -146,7 +147,7 @@ void runSlice(const SliceCliOptions& o) {
     if (!o.outDir.empty()) {  // pictures refused by size before any slicing
         pitch = parseQuantity(o.pitch, dim::LENGTH, "--pitch");
         if (!(pitch > 0.0)) throw InputError("must be positive", "", "--pitch");
-        checkPictureMemory(bounds, pitch);
+        checkPictureMemory(context, bounds, pitch);
     }
     if (options.layerThickness > bounds.hi.z - bounds.lo.z)
         throw InputError("layer thickness " + std::to_string(options.layerThickness) +
@@ -154,7 +155,8 @@ void runSlice(const SliceCliOptions& o) {
                              std::to_string(bounds.hi.z - bounds.lo.z) + " mm",
                          "", "--layer");
     const int count = layerCount(mesh, options);
-    checkStackMemory(mesh, options, count, o.layers.empty() ? count : int(o.layers.size()));
+    checkStackMemory(context, mesh, options, count,
+                     o.layers.empty() ? count : int(o.layers.size()));
     const LayerStack stack = sliceToStack(mesh, options, o.file, o.layers);
     const std::vector<Layer>& layers = stack.layers;
     if (!o.save.empty()) stack.save(o.save);
@@ -195,7 +197,7 @@ void runSlice(const SliceCliOptions& o) {
 }
 
 vpsim::cli::CommandRegistration registerSlice{
-    "slice", [](CLI::App& app, const vpsim::cli::Globals&) {
+    "slice", [](CLI::App& app, const vpsim::cli::Globals& g) {
         auto* cmd = app.add_subcommand("slice",
                                        "slice an STL part into layers (areas, contours, pictures)");
         auto o = std::make_shared<SliceCliOptions>();
@@ -217,7 +219,7 @@ vpsim::cli::CommandRegistration registerSlice{
         cmd->add_flag("--json", o->json,
                       "print {\"layers\": [{\"z\" (mm), \"area\" (mm^2), \"outer_contours\", "
                       "\"holes\"}, ...]}");
-        cmd->callback([o] { runSlice(*o); });
+        cmd->callback([o, &g] { runSlice(*o, g.hostContext()); });
     }};
 
 }  // namespace

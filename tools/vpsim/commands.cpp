@@ -9,6 +9,7 @@
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/log.h"
+#include "vpsim/core/resources.h"
 #include "vpsim/core/text.h"
 #include "vpsim/kernel/kernel_cache.h"
 
@@ -37,13 +38,21 @@ void Globals::readEnvironment() {
     if (level == "debug") setLogLevel(LogLevel::Debug);
     cacheDirectory = kernel::defaultKernelCacheDirectory(
         std::getenv("VPSIM_CACHE_DIR"), std::getenv("XDG_CACHE_HOME"), std::getenv("HOME"));
+    const std::string limit = env("VPSIM_MEMORY_LIMIT");
+    memoryLimit = limit.empty() ? 0 : parseMemorySize(limit, "VPSIM_MEMORY_LIMIT");
+}
+
+RunContext Globals::hostContext() const {
+    RunContext context;
+    context.shadersOnCpuDevices = backend == "vulkan";
+    context.cacheDirectory = cacheDirectory;
+    context.memoryLimit = memoryLimit;
+    return context;
 }
 
 RunContext Globals::runContext() const {
-    RunContext context;
+    RunContext context = hostContext();
     context.gpu = gpu();
-    context.shadersOnCpuDevices = backend == "vulkan";
-    context.cacheDirectory = cacheDirectory;
     return context;
 }
 

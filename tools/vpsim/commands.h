@@ -35,11 +35,19 @@ struct Globals {
     bool quiet = false;
 
     std::string cacheDirectory;  ///< beam-kernel cache (VPSIM_CACHE_DIR, ~/.cache/vpsim)
+    /// Memory budget in bytes (VPSIM_MEMORY_LIMIT); 0: the library's default (RunContext).
+    uint64_t memoryLimit = 0;
 
     /// Defaults from the environment (the library reads none): VPSIM_BACKEND, VPSIM_DEVICE,
     /// VPSIM_VALIDATION=1, VPSIM_LOG=error|warn|info|debug, VPSIM_CACHE_DIR (else
-    /// $XDG_CACHE_HOME/vpsim, else ~/.cache/vpsim). Options given on the command line win.
+    /// $XDG_CACHE_HOME/vpsim, else ~/.cache/vpsim), VPSIM_MEMORY_LIMIT (5G, 512M, bytes; unset or
+    /// empty: the default). Options given on the command line win.
+    /// @throw InputError naming VPSIM_MEMORY_LIMIT when its value is malformed
     void readEnvironment();
+
+    /// What runContext() holds without opening the Vulkan context: the cache directory and the
+    /// memory limit (for estimates and memory checks).
+    RunContext hostContext() const;
 
     /// The Vulkan context for --backend/--device, or nullptr for the CPU path (see
     /// gpu::contextForBackend). Created once on first use.

@@ -46,7 +46,12 @@ int main(int argc, char** argv) {
     app.fallthrough();
 
     cli::Globals globals;
-    globals.readEnvironment();
+    try {
+        globals.readEnvironment();
+    } catch (const Error& e) {
+        std::cerr << "vpsim: error: " << oneLine(e.what()) << std::endl;
+        return 1;
+    }
     app.add_option("--backend", globals.backend,
                    "where the physics runs: auto (Vulkan if a device exists, "
                    "else CPU), vulkan, cpu [env VPSIM_BACKEND]")

@@ -1,8 +1,8 @@
 #pragma once
 /// @file
-/// Lets C++ compile the physics written once in shaders/include/*.glsl (DESIGN.md: one physics
-/// source for CPU and GPU). GLM mirrors GLSL's types and functions; the few spellings that differ
-/// are macros that shaders/include/glsl_common.glsl defines for GLSL.
+/// Lets C++ compile the physics written once in shaders/include/*.glsl (docs/ARCHITECTURE.md: one
+/// physics source for CPU and GPU). GLM mirrors GLSL's types and functions; the few spellings that
+/// differ are macros that shaders/include/glsl_common.glsl defines for GLSL.
 ///
 /// Use it like this in a .cpp (the library adds shaders/include to the include path):
 ///   #include "vpsim/core/glsl_shim.h"

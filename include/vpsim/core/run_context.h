@@ -1,9 +1,11 @@
 #pragma once
 /// @file
 /// What a run needs from its surroundings, set by the caller (the CLI, a test, a benchmark) and
-/// passed down: where the physics runs and where caches live. The library reads no environment
-/// variables; the CLI turns VPSIM_BACKEND, VPSIM_DEVICE, VPSIM_CACHE_DIR, ... into this.
+/// passed down: where the physics runs, where caches live and how much memory a run may take. The
+/// library reads no environment variables; the CLI turns VPSIM_BACKEND, VPSIM_DEVICE,
+/// VPSIM_CACHE_DIR, VPSIM_MEMORY_LIMIT, ... into this.
 
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -23,6 +25,10 @@ struct RunContext {
     bool shadersOnCpuDevices = false;
     /// Directory of the beam-kernel cache; "" disables caching.
     std::string cacheDirectory;
+    /// Bytes a run may hold in its largest structures (the job estimate's peak, checkMemory);
+    /// 0: the default, half the physical memory, at most 16 GiB (core/resources.h memoryBudget).
+    /// The CLI sets it from VPSIM_MEMORY_LIMIT.
+    uint64_t memoryLimit = 0;
 };
 
 }  // namespace vpsim

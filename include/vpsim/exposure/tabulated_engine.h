@@ -9,7 +9,7 @@
 /// layer k' (P: the kernel's incident power). With n voxel slices per layer of thickness h, slice s
 /// of layer k <= k' lies at depth d = ((k' - k) n + s + 0.5) h / n, so each depth index
 /// m = (k' - k) n + s has one 2D stencil w_m(di, dj) = pitch^2 <I(r, d_m)> / P (cell average of
-/// 4 x 4 sub-samples) and the exposure is a sum of depth-sliced 2D convolutions (DESIGN.md).
+/// 4 x 4 sub-samples) and the exposure is a sum of depth-sliced 2D convolutions (docs/PLATFORM.md).
 ///
 /// Truncation: each stencil stops at the effective radius Reff(d) that holds all but 0.2% of the
 /// power through its depth plane, and the stencils stop at the depth holding all but 0.2% of the

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// LayerStack: the geometry stage's saved output (DESIGN.md "plain data type per stage"): the
+/// LayerStack: the geometry stage's saved output (docs/ARCHITECTURE.md, "typed stages"): the
 /// sliced layers of one part with the slicing parameters, as JSON so a user can stop, inspect
 /// and resume, and a planner test can start from a stored stack.
 ///

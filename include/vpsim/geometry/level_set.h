@@ -2,7 +2,7 @@
 /// @file
 /// The part's reference signed distance field (narrow-band level set) for validation, built
 /// with OpenVDB (tools::meshToLevelSet) and saved as .vdb. OpenVDB stays out of this header
-/// (pimpl): its headers cost 5-20 s per translation unit (DESIGN.md, "Build time").
+/// (pimpl): its headers cost 5-20 s per translation unit (docs/PLATFORM.md, "Build time").
 ///
 /// Sign convention (OpenVDB's): negative inside the part, positive outside, in mm. Values are
 /// exact Euclidean distances to the triangles within the band and +-halfWidth beyond it.

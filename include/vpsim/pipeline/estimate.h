@@ -17,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "vpsim/core/run_context.h"
 #include "vpsim/geometry/mesh.h"
 #include "vpsim/pipeline/job.h"
 
@@ -58,10 +59,12 @@ struct JobEstimate {
     double peakBytes() const { return bytesAt(peakStage()); }
     double outputBytes() const;
     double seconds() const;
-    /// {"job", "peak_bytes", "peak_stage", "memory": [...], "outputs": [...], "seconds", ...}
-    nlohmann::json toJson() const;
-    /// A readable table (memory by item with its span, outputs, time), lines ending in '\n'.
-    std::string table() const;
+    /// {"job", "peak_bytes", "peak_stage", "budget_bytes", "memory": [...], "outputs": [...],
+    /// "seconds", ...}; the budget is memoryBudget(context) (core/resources.h).
+    nlohmann::json toJson(const RunContext& context) const;
+    /// A readable table (memory by item with its span, outputs, time, the budget of `context`),
+    /// lines ending in '\n'.
+    std::string table(const RunContext& context) const;
 };
 
 /// What a run (or `vpsim plan`, planOnly) of `job` on `part` (the loaded part mesh) will hold,
@@ -75,9 +78,9 @@ JobEstimate estimateJob(const Job& job, const geometry::Mesh& part, bool planOnl
 JobEstimate estimateJob(const Job& job, bool planOnly = false, bool savedPlan = false,
                         bool gpuDriver = false);
 
-/// @throw ResourceError when the estimate's peak exceeds memoryBudget(): the message names the
-/// job, the peak and its stage, the largest items with their sizes, the budget and how to fit.
-void checkEstimate(const JobEstimate& estimate);
+/// @throw ResourceError when the estimate's peak exceeds memoryBudget(context): the message names
+/// the job, the peak and its stage, the largest items with their sizes, the budget and how to fit.
+void checkEstimate(const JobEstimate& estimate, const RunContext& context);
 
 /// Contour vertices of `layers` slices of `part` (one per triangle crossing a slicing plane at
 /// zStart + (k + planePosition) x thickness), for sizing a layer stack before slicing (16 B per

@@ -1,8 +1,8 @@
 #pragma once
 /// @file
 /// The stages of a run, each a function from typed inputs to a typed output that can be saved
-/// and loaded (DESIGN.md): part (part.stl) -> beam kernel (kernel/kernel.json) -> layer stack
-/// (LayerStack JSON) -> scan plan (plan.json) -> exposure, streamed to slice consumers
+/// and loaded (docs/ARCHITECTURE.md): part (part.stl) -> beam kernel (kernel/kernel.json) -> layer
+/// stack (LayerStack JSON) -> scan plan (plan.json) -> exposure, streamed to slice consumers
 /// (exposure.vdb) -> cured part (cured.stl) -> validation report (report.json).
 
 #include <memory>
