@@ -48,6 +48,16 @@ expect_error() {
   fi
 }
 
+# expect_ok PATTERN ARGS...: exit 0 and stdout matches PATTERN (extended regex).
+expect_ok() {
+  local pattern="$1"; shift
+  if "$vpsim" -q "$@" >"$work/out" 2>"$work/err" && grep -qE -- "$pattern" "$work/out"; then
+    passed=$((passed + 1))
+  else
+    fail "vpsim $* (expected /$pattern/ on stdout)"; cat "$work/err" "$work/out"
+  fi
+}
+
 # expect_no_output PATH ARGS...: as expect_error with any message, and PATH was not written.
 expect_no_output() {
   local path="$1"; shift
