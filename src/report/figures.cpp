@@ -94,7 +94,7 @@ void SectionRecorder::write(const std::string& directory) const {
                  outlinedMap(mMap, mMapInside, mGrid.nx, mGrid.ny, mLaw));
 }
 
-void writeDeviationFigures(const std::string& directory, const geometry::Mesh& cured,
+void writeDeviationFigures(const std::string& directory, const std::vector<glm::vec3>& cured,
                            const std::vector<float>& deviations) {
     if (deviations.empty()) return;
     float lo = *std::min_element(deviations.begin(), deviations.end());
@@ -116,14 +116,15 @@ void writeDeviationFigures(const std::string& directory, const geometry::Mesh& c
 
     // Deviation map: the cured surface seen from above; each pixel shows the vertex below it with
     // the largest |deviation|, blue (inside the model) - white - red (outside), dark where none.
-    geometry::Bounds b = cured.bounds();
+    geometry::Bounds b;
+    for (const auto& p : cured) b.add(glm::dvec3(p));
     const int width = 800;
     double scale = (width - 1) / std::max(1e-9, std::max(b.hi.x - b.lo.x, b.hi.y - b.lo.y));
     int w = int((b.hi.x - b.lo.x) * scale) + 1, h = int((b.hi.y - b.lo.y) * scale) + 1;
     std::vector<float> worst(size_t(w) * h, 0.0f);
     std::vector<uint8_t> seen(size_t(w) * h, 0);
-    for (size_t v = 0; v < cured.vertices.size(); ++v) {
-        const auto& p = cured.vertices[v];
+    for (size_t v = 0; v < cured.size(); ++v) {
+        const glm::dvec3 p(cured[v]);
         size_t index =
             size_t(h - 1 - int((p.y - b.lo.y) * scale)) * w + int((p.x - b.lo.x) * scale);
         if (!seen[index] || std::abs(deviations[v]) > std::abs(worst[index]))

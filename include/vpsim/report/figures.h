@@ -4,8 +4,10 @@
 #include <string>
 #include <vector>
 
+#include <glm/vec3.hpp>
 #include "vpsim/cure/cure_law.h"
 #include "vpsim/exposure/exposure_model.h"
+
 #include "vpsim/geometry/mesh.h"
 #include "vpsim/geometry/polygons.h"
 #include "vpsim/validate/slice_validator.h"
@@ -39,7 +41,7 @@ int busiestRow(const geometry::PolygonSet& region, const exposure::ExposureGrid&
 
 /// Histogram of signed surface deviations (SVG) and a top view of the cured surface coloured by
 /// deviation (PNG, blue inside the model, red outside).
-void writeDeviationFigures(const std::string& directory, const geometry::Mesh& cured,
+void writeDeviationFigures(const std::string& directory, const std::vector<glm::vec3>& cured,
                            const std::vector<float>& deviations);
 /// Per-layer XY contour error against height (SVG).
 void writeLayerErrorPlot(const std::string& path, const validate::SliceValidationSummary& summary);
