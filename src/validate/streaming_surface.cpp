@@ -6,8 +6,8 @@
 #include <cstring>
 #include <fstream>
 
-#include <glm/geometric.hpp>
 #include <tbb/parallel_for.h>
+#include <glm/geometric.hpp>
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
@@ -124,9 +124,9 @@ struct StreamingCuredSurface::State {
             for (const auto& [ci, p] : rowVertices[cj]) {
                 vertices[v] = p;
                 deviations[v] =
-                    distance ? float(std::clamp(distance->signedDistance(glm::dvec3(p)), -band,
-                                                band))
-                             : 0.0f;
+                    distance
+                        ? float(std::clamp(distance->signedDistance(glm::dvec3(p)), -band, band))
+                        : 0.0f;
                 layerBelow[cube(ci, cj)] = uint32_t(v);
                 ++v;
             }
@@ -209,10 +209,9 @@ struct StreamingCuredSurface::State {
     }
 };
 
-StreamingCuredSurface::StreamingCuredSurface(const exposure::ExposureGrid& grid,
-                                             double voxelHeight, double isoValue,
-                                             const geometry::Mesh* part, double band,
-                                             const std::string& stlPath)
+StreamingCuredSurface::StreamingCuredSurface(const exposure::ExposureGrid& grid, double voxelHeight,
+                                             double isoValue, const geometry::Mesh* part,
+                                             double band, const std::string& stlPath)
     : mState(std::make_unique<State>()) {
     State& s = *mState;
     if (!(voxelHeight > 0)) throw InputError("the cured surface needs a positive voxel height");
@@ -271,15 +270,21 @@ void StreamingCuredSurface::finish() {
     }
 }
 
-uint64_t StreamingCuredSurface::triangles() const { return mState->triangleCount; }
-double StreamingCuredSurface::volume() const { return mState->volume; }
+uint64_t StreamingCuredSurface::triangles() const {
+    return mState->triangleCount;
+}
+double StreamingCuredSurface::volume() const {
+    return mState->volume;
+}
 const std::vector<glm::vec3>& StreamingCuredSurface::vertices() const {
     return mState->vertices;
 }
 const std::vector<float>& StreamingCuredSurface::deviations() const {
     return mState->deviations;
 }
-void StreamingCuredSurface::keepTriangles(bool keep) { mState->keep = keep; }
+void StreamingCuredSurface::keepTriangles(bool keep) {
+    mState->keep = keep;
+}
 
 geometry::Mesh StreamingCuredSurface::mesh() const {
     geometry::Mesh mesh;

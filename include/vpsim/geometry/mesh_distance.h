@@ -32,11 +32,11 @@ private:
     };
     uint32_t build(uint32_t first, uint32_t count);
     std::vector<Node> mNodes;
-    std::vector<std::array<glm::dvec3, 3>> mCorners;  ///< per triangle, in BVH order
-    std::vector<glm::dvec3> mFaceNormal;              ///< unit face normals
+    std::vector<std::array<glm::dvec3, 3>> mCorners;       ///< per triangle, in BVH order
+    std::vector<glm::dvec3> mFaceNormal;                   ///< unit face normals
     std::vector<std::array<glm::dvec3, 3>> mEdgeNormal;    ///< edges ab, bc, ca (sums)
     std::vector<std::array<glm::dvec3, 3>> mVertexNormal;  ///< angle-weighted at a, b, c
-    std::vector<glm::dvec3> mCentroid, mBoxLo, mBoxHi;  ///< per triangle, while building
+    std::vector<glm::dvec3> mCentroid, mBoxLo, mBoxHi;     ///< per triangle, while building
     std::vector<uint32_t> mOrder;
 };
 
