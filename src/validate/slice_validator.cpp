@@ -1,6 +1,7 @@
 #include "vpsim/validate/slice_validator.h"
 
 #include <algorithm>
+#include <cstring>
 #include <mutex>
 
 #include <tbb/blocked_range.h>
@@ -97,23 +98,24 @@ void SliceValidator::add(const exposure::ExposureSlice& slice) {
                 row.cured += cu;
                 row.reference += r;
                 row.unionCount += r || cu;
+                // Most cells neither carry a run nor sit just under the reference's bottom.
+                if (!(s.inRun[c] | (s.referenceAbove[c] & !r))) continue;
                 if (r) {
-                    if (s.inRun[c]) finished.push_back(s.run[c]), s.inRun[c] = 0, s.run[c] = 0;
+                    finished.push_back(s.run[c]), s.inRun[c] = 0, s.run[c] = 0;
                 } else {
                     if (s.referenceAbove[c]) {  // the reference's down-facing surface is above
                         ++row.downFacing;
                         s.inRun[c] = 1;
                         s.run[c] = 0;
                     }
-                    if (s.inRun[c]) {
-                        if (cu)
-                            s.run[c] += dz;
-                        else
-                            finished.push_back(s.run[c]), s.inRun[c] = 0, s.run[c] = 0;
-                    }
+                    if (cu)
+                        s.run[c] += dz;
+                    else
+                        finished.push_back(s.run[c]), s.inRun[c] = 0, s.run[c] = 0;
                 }
-                s.referenceAbove[c] = r;
             }
+            // referenceAbove becomes this slice's reference (copied after the row's cells).
+            std::memcpy(&s.referenceAbove[size_t(j) * nx], &reference[size_t(j) * nx], nx);
         }
         if (!finished.empty()) {
             std::lock_guard<std::mutex> lock(s.runsMutex);

@@ -32,9 +32,9 @@ plan::ScanPlan smallPlan() {
         plan::LayerPlan layer;
         layer.z = (k + 1) * H;
         const double s = sides[k];
-        layer.vectors = plan::hatchRegion(
-            geometry::PolygonSet::rectangle({-s / 2, -s / 2}, {s / 2, s / 2}), 0.03, 0.0, 10.0,
-            500.0);
+        layer.vectors =
+            plan::hatchRegion(geometry::PolygonSet::rectangle({-s / 2, -s / 2}, {s / 2, s / 2}),
+                              0.03, 0.0, 10.0, 500.0);
         plan.layers.push_back(layer);
     }
     return plan;
@@ -45,7 +45,8 @@ std::vector<std::vector<std::vector<double>>> bruteForce(const plan::ScanPlan& p
                                                          const ExposureGrid& grid) {
     const int n = grid.slicesPerLayer, layers = int(plan.layers.size());
     std::vector<std::vector<std::vector<double>>> dose(
-        layers, std::vector<std::vector<double>>(n, std::vector<double>(size_t(grid.nx) * grid.ny)));
+        layers,
+        std::vector<std::vector<double>>(n, std::vector<double>(size_t(grid.nx) * grid.ny)));
     const SurfaceGrid cells = grid.surface();
     for (int j = 0; j < layers; ++j)
         for (const auto& v : plan.layers[j].vectors) {
@@ -78,7 +79,8 @@ double cureBandError(const std::vector<std::vector<SurfaceGrid>>& engine,
                      const std::vector<std::vector<std::vector<double>>>& brute) {
     double peak = 0;
     for (const auto& layer : brute)
-        for (const auto& slice : layer) peak = std::max(peak, *std::max_element(slice.begin(), slice.end()));
+        for (const auto& slice : layer)
+            peak = std::max(peak, *std::max_element(slice.begin(), slice.end()));
     const double ec = 0.5 * peak;
     double worst = 0;
     for (size_t k = 0; k < brute.size(); ++k)
