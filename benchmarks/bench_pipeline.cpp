@@ -1,54 +1,213 @@
-// The main job (benchmarks/jobs/block-10mm.json) on a 10 x 10 x 5 mm block at 10 um voxels (~5e8
-// voxels): ACES plan, exposure with print-through, cure, and validation against the model. Prints
-// JSON: seconds per stage, peak memory, voxels per second, and the ratio of the
-// expose+cure+validate time to the memory-bandwidth floor (touching every voxel's 4 bytes once at
-// ~30 GB/s, docs/PLATFORM.md). Target: under 60 s and 4 GiB on the 2-core reference machine. Usage:
-// bench_pipeline [--vulkan]
+// The main job (benchmarks/jobs/block-10mm.json) on a 10 x 10 x 5 mm block at 10 um voxels
+// (5.4e8 voxels): ACES plan, exposure with print-through, cure, validation against the model, the
+// plan's exposure-error review and the report. Prints JSON with named keys (issue 22 item 7):
+//   voxels, stage_seconds, expose_cure_validate_seconds, after_plan_seconds (export, review,
+//   expose, cure, validate, report), ratio_to_memory_floor (expose+cure+validate against touching
+//   every voxel's 4 bytes once at ~30 GB/s), peak_memory_GiB (this process's peak RSS),
+//   cpu_ns_per_voxel and shader_ns_per_voxel keyed by engine ("fitted", "tabulated": each engine
+//   alone on a slab of the same grid, deposit and sinks excluded; the shaders on the Vulkan device
+//   found, lavapipe on a CPU-only machine, upload, dispatch and readback included; null when none).
+// Targets (issue 22, 2 cores): expose+cure+validate < 1.8 s, every stage after the plan < 4 s,
+// peak < 1 GiB without a .vdb. Usage:
+//   bench_pipeline [--vulkan]            the default run (under 5 minutes)
+//   bench_pipeline --scaling [--max V]   also a series of part sizes from 1e7 voxels up to V
+//                                        (default 4.2e9), each in its own process: ns/voxel and
+//                                        peak bytes/voxel
+//   bench_pipeline --one SIZE_MM HEIGHT_MM   one run of the block at that size (the series' step)
 #include <sys/resource.h>
+#include <unistd.h>
 
+#include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <memory>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/log.h"
+#include "vpsim/exposure/exposure_engine.h"
+#include "vpsim/exposure/tabulated_engine.h"
 #include "vpsim/gpu/context.h"
 #include "vpsim/pipeline/run_job.h"
+#include "vpsim/plan/aces/aces.h"
+
+namespace {
+
+using namespace vpsim;
+
+double peakMemoryGiB() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return usage.ru_maxrss / 1024.0 / 1024.0;
+}
+
+/// One run of the block job; sizes in mm (0: the job's own).
+nlohmann::json runBlock(double size, double height, bool vulkan) {
+    const pipeline::Builtins builtins = pipeline::makeBuiltins();
+    std::vector<std::string> overrides;
+    if (size > 0) overrides.push_back("part.size=" + std::to_string(size) + "mm");
+    if (height > 0) overrides.push_back("part.height=" + std::to_string(height) + "mm");
+    const pipeline::Job job = pipeline::loadJob(
+        std::string(VPSIM_SOURCE_DIR) + "/benchmarks/jobs/block-10mm.json", builtins, overrides);
+    auto dir = std::filesystem::temp_directory_path() /
+               ("vpsim_bench_pipeline_" + std::to_string(::getpid()));
+    RunContext context;
+    if (vulkan) context.gpu = gpu::Context::create();
+    context.shadersOnCpuDevices = vulkan;
+    nlohmann::json report = report::toJson(pipeline::runJob(job, dir.string(), context));
+    std::filesystem::remove_all(dir);
+    const auto& grid = report["exposure"]["grid"];
+    const double voxels = grid[0].get<double>() * grid[1].get<double>() * grid[2].get<double>();
+    const auto& stages = report["stage_seconds"];
+    auto stage = [&](const char* name) {
+        return stages.contains(name) ? stages[name].get<double>() : 0.0;
+    };
+    const double core = stage("expose") + stage("cure") + stage("validate");
+    double afterPlan = 0;
+    for (const char* name : {"export", "expose", "cure", "validate", "review", "report"})
+        afterPlan += stage(name);
+    nlohmann::json out;
+    out["backend"] = report["backend"];
+    out["voxels"] = voxels;
+    out["stage_seconds"] = stages;
+    out["expose_cure_validate_seconds"] = core;
+    out["after_plan_seconds"] = afterPlan;
+    out["voxels_per_second"] = voxels / core;
+    out["ns_per_voxel"] = core / voxels * 1e9;
+    out["memory_floor_seconds"] = voxels * 4 / 30e9;
+    out["ratio_to_memory_floor"] = core / (voxels * 4 / 30e9);
+    out["peak_memory_GiB"] = peakMemoryGiB();
+    out["bytes_per_voxel"] = peakMemoryGiB() * double(1u << 30) / voxels;
+    out["iou"] = report["iou"];
+    out["surface_deviation_mm"] = report["surface_deviation_mm"];
+    return out;
+}
+
+/// The engines alone on `layers` ACES layers of a square of side `side` mm on the bench's grid
+/// (10 um, 5 slices per 50 um layer): ns per voxel, slices handed to a sink that does nothing.
+double engineNsPerVoxel(exposure::ExposureModel& engine, int layers, double side) {
+    const exposure::ExposureGrid& grid = engine.grid();
+    plan::ScanPlan plan;
+    plan.machine.layerThickness = 0.05;
+    const auto square = geometry::PolygonSet::rectangle({0, 0}, {side, side});
+    for (int k = 0; k < layers; ++k) {
+        plan::LayerPlan layer;
+        layer.z = (k + 1) * 0.05;
+        layer.vectors = plan::hatchRegion(square, 0.025, 0.0, 10.0, 400.0);
+        plan.layers.push_back(layer);
+    }
+    const double seconds = engine.run(plan, [](const exposure::ExposureSlice&) {});
+    const double voxels = double(grid.nx) * grid.ny * grid.slicesPerLayer * layers;
+    return seconds / voxels * 1e9;
+}
+
+/// Seed 000 Eq. 12's separable kernel as a table (what a Monte Carlo kernel's fit gives):
+/// I(r, z) = P 2/(pi W^2) exp(-2 r^2 / W^2) exp(-z / De), as the tests tabulate it.
+kernel::BeamKernel tableOf(const kernel::FittedBeam& beam, double power) {
+    kernel::BeamKernel k;
+    k.power = power;
+    k.rBin = 0.002;
+    k.zBin = 0.002;
+    k.rBins = uint32_t(2.0 * beam.radius / k.rBin);
+    k.zBins = uint32_t(3.0 * beam.attenuationLength / k.zBin);
+    k.intensity.resize(size_t(k.rBins) * k.zBins);
+    for (uint32_t iz = 0; iz < k.zBins; ++iz)
+        for (uint32_t ir = 0; ir < k.rBins; ++ir) {
+            const double r = (ir + 0.5) * k.rBin, z = (iz + 0.5) * k.zBin;
+            k.intensity[size_t(iz) * k.rBins + ir] =
+                float(power * 2.0 / (M_PI * beam.radius * beam.radius) *
+                      std::exp(-2.0 * r * r / (beam.radius * beam.radius)) *
+                      std::exp(-z / beam.attenuationLength));
+        }
+    return k;
+}
+
+nlohmann::json engineFigures(std::shared_ptr<gpu::Context> context) {
+    const kernel::FittedBeam beam{0.063, 0.037};
+    // 2 mm squares, 4 layers: a slab of the bench grid's pitch and slices (~1e6 voxels).
+    const auto grid = exposure::ExposureGrid::covering(0, 0, 2, 2, 0.2, 0.01, 5);
+    nlohmann::json out;
+    {
+        exposure::ExposureEngine engine(grid, beam, 0.05, context);
+        out["fitted"] = engineNsPerVoxel(engine, 4, 2.0);
+    }
+    {
+        exposure::TabulatedExposureEngine engine(grid, tableOf(beam, 10.0), 0.05, context);
+        out["tabulated"] = engineNsPerVoxel(engine, 4, 2.0);
+    }
+    return out;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
-    using namespace vpsim;
     setLogLevel(LogLevel::Warn);
-    bool vulkan = argc > 1 && std::strcmp(argv[1], "--vulkan") == 0;
-    nlohmann::json out{{"benchmark", "pipeline"}, {"part_mm", {10, 10, 5}}, {"voxel_um", 10}};
+    bool vulkan = false, scaling = false;
+    double maxVoxels = 4.2e9, size = 0, height = 0;
+    bool one = false;
+    for (int a = 1; a < argc; ++a) {
+        if (std::strcmp(argv[a], "--vulkan") == 0) vulkan = true;
+        if (std::strcmp(argv[a], "--scaling") == 0) scaling = true;
+        if (std::strcmp(argv[a], "--max") == 0 && a + 1 < argc) maxVoxels = std::atof(argv[++a]);
+        if (std::strcmp(argv[a], "--one") == 0 && a + 2 < argc) {
+            one = true;
+            size = std::atof(argv[++a]);
+            height = std::atof(argv[++a]);
+        }
+    }
+    nlohmann::json out{{"benchmark", "pipeline"}};
     try {
-        const pipeline::Builtins builtins = pipeline::makeBuiltins();
-        const pipeline::Job job = pipeline::loadJob(
-            std::string(VPSIM_SOURCE_DIR) + "/benchmarks/jobs/block-10mm.json", builtins);
-        auto dir = std::filesystem::temp_directory_path() / "vpsim_bench_pipeline";
-        RunContext context;
-        if (vulkan) context.gpu = gpu::Context::create();
-        context.shadersOnCpuDevices = vulkan;
-        nlohmann::json report = report::toJson(pipeline::runJob(job, dir.string(), context));
-        const auto& grid = report["exposure"]["grid"];
-        double voxels = grid[0].get<double>() * grid[1].get<double>() * grid[2].get<double>();
-        const auto& stages = report["stage_seconds"];
-        double core = stages["expose"].get<double>() + stages["cure"].get<double>() +
-                      stages["validate"].get<double>();
-        rusage usage{};
-        getrusage(RUSAGE_SELF, &usage);
-        out["backend"] = report["backend"];
-        out["voxels"] = voxels;
-        out["stage_seconds"] = stages;
-        out["expose_cure_validate_seconds"] = core;
-        out["voxels_per_second"] = voxels / core;
-        out["memory_floor_seconds"] = voxels * 4 / 30e9;
-        out["ratio_to_memory_floor"] = core / (voxels * 4 / 30e9);
-        out["peak_memory_GiB"] = usage.ru_maxrss / 1024.0 / 1024.0;
-        out["targets"] = {{"seconds", 60}, {"memory_GiB", 4}};
-        out["iou"] = report["iou"];
-        std::filesystem::remove_all(dir);
+        if (one) {
+            out.update(runBlock(size, height, vulkan));
+            out["part_mm"] = {size, size, height};
+            std::cout << out.dump(2) << std::endl;
+            return 0;
+        }
+        out["part_mm"] = {10, 10, 5};
+        out["voxel_um"] = 10;
+        out.update(runBlock(0, 0, vulkan));
+        out["targets"] = {{"expose_cure_validate_seconds", 1.8},
+                          {"after_plan_seconds", 4.0},
+                          {"peak_memory_GiB", 1.0}};
+        out["cpu_ns_per_voxel"] = engineFigures(nullptr);
+        try {
+            out["shader_ns_per_voxel"] = engineFigures(gpu::Context::create());
+        } catch (const Error& e) {
+            out["shader_ns_per_voxel"] = {{"fitted", nullptr}, {"tabulated", nullptr}};
+            out["shader_error"] = e.what();
+        }
+        if (scaling) {
+            // Cubes of side s and height s/2 at 10 um: voxels ~ (100 s + 2 margin)^2 * 50 s.
+            nlohmann::json series = nlohmann::json::array();
+            for (double s : {2.5, 5.0, 10.0, 15.0, 20.0}) {
+                const double voxels = std::pow(100.0 * s + 40, 2) * 50.0 * s;
+                if (voxels > maxVoxels * 1.05) break;
+                const std::string command = std::string(argv[0]) + " --one " + std::to_string(s) +
+                                            " " + std::to_string(s / 2);
+                std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
+                std::string text;
+                char buffer[4096];
+                while (pipe && fgets(buffer, sizeof buffer, pipe.get())) text += buffer;
+                try {
+                    nlohmann::json step = nlohmann::json::parse(text);
+                    series.push_back({{"part_mm", step["part_mm"]},
+                                      {"voxels", step["voxels"]},
+                                      {"ns_per_voxel", step["ns_per_voxel"]},
+                                      {"after_plan_seconds", step["after_plan_seconds"]},
+                                      {"bytes_per_voxel", step["bytes_per_voxel"]},
+                                      {"peak_memory_GiB", step["peak_memory_GiB"]},
+                                      {"error", step.value("error", "")}});
+                } catch (const std::exception& e) {
+                    series.push_back({{"part_mm", {s, s, s / 2}}, {"error", text.substr(0, 200)}});
+                }
+            }
+            out["scaling"] = series;
+        }
     } catch (const Error& e) {
         out["error"] = e.what();
     }

@@ -97,6 +97,38 @@ void writeFileAtomic(const std::string& path, const std::string& contents) {
                       [&](std::ostream& out) { out.write(contents.data(), contents.size()); });
 }
 
+AtomicFileStream::AtomicFileStream(const std::string& path)
+    : mPath(path), mTemporary(temporaryName(path)) {
+    checkOutputPath(path);
+    errno = 0;
+    mOut = std::make_unique<std::ofstream>(mTemporary, std::ios::binary | std::ios::trunc);
+    if (!*mOut) throw InputError("cannot open for writing: " + errnoText(errno), path);
+}
+
+AtomicFileStream::~AtomicFileStream() {
+    if (mCommitted) return;
+    mOut.reset();
+    std::remove(mTemporary.c_str());
+}
+
+std::ostream& AtomicFileStream::stream() {
+    return *mOut;
+}
+
+void AtomicFileStream::commit() {
+    if (mCommitted) return;
+    mOut->flush();
+    const bool good = bool(*mOut);
+    mOut->close();
+    if (!good || !*mOut) {
+        std::remove(mTemporary.c_str());
+        mCommitted = true;
+        throw InputError("write failed (disk full?)", mPath);
+    }
+    mCommitted = true;
+    renameInto(mTemporary, mPath);
+}
+
 void writePathAtomic(const std::string& path,
                      const std::function<void(const std::string&)>& write) {
     checkOutputPath(path);

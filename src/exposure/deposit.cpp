@@ -3,10 +3,17 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/parallel_for.h>
+
 namespace vpsim::exposure {
 namespace {
 
-void depositPoint(SurfaceGrid& grid, double x, double y, double energy) {
+/// Rows [jLo, jHi) of the grid: a band that one thread owns.
+struct Rows {
+    int lo, hi;
+};
+
+void depositPoint(SurfaceGrid& grid, double x, double y, double energy, Rows rows) {
     double fx = (x - grid.originX) / grid.pitch - 0.5, fy = (y - grid.originY) / grid.pitch - 0.5;
     int i = int(std::floor(fx)), j = int(std::floor(fy));
     double ax = fx - i, ay = fy - j;
@@ -15,7 +22,7 @@ void depositPoint(SurfaceGrid& grid, double x, double y, double energy) {
     const int di[4] = {0, 1, 0, 1}, dj[4] = {0, 0, 1, 1};
     for (int k = 0; k < 4; ++k) {
         int ii = i + di[k], jj = j + dj[k];
-        if (ii >= 0 && jj >= 0 && ii < grid.nx && jj < grid.ny)
+        if (ii >= 0 && jj >= rows.lo && ii < grid.nx && jj < rows.hi)
             grid.at(ii, jj) += float(perArea * weights[k]);
     }
 }
@@ -24,14 +31,19 @@ void depositPoint(SurfaceGrid& grid, double x, double y, double energy) {
 /// quarter cell apart), each splatted bilinearly. Bilinear splatting keeps every sample's centre
 /// of energy exact, so a scan line off the cell centres is not snapped to a row: snapping would
 /// alias hatch spacings against the grid into a ripple of several percent.
-void depositSegment(SurfaceGrid& grid, double x0, double y0, double x1, double y1, double q) {
+void depositSegment(SurfaceGrid& grid, double x0, double y0, double x1, double y1, double q,
+                    Rows rows) {
     double length = std::hypot(x1 - x0, y1 - y0);
     if (length <= 0 || q <= 0) return;
+    // A sample at fy splats rows floor(fy) and floor(fy) + 1: skip a segment outside the band.
+    const double fy0 = (std::min(y0, y1) - grid.originY) / grid.pitch - 0.5,
+                 fy1 = (std::max(y0, y1) - grid.originY) / grid.pitch - 0.5;
+    if (std::floor(fy1) + 1 < rows.lo || std::floor(fy0) >= rows.hi) return;
     long samples = std::max(1L, long(std::ceil(length / (0.25 * grid.pitch))));
     double energy = q * length / double(samples);
     for (long s = 0; s < samples; ++s) {
         double t = (s + 0.5) / double(samples);
-        depositPoint(grid, x0 + t * (x1 - x0), y0 + t * (y1 - y0), energy);
+        depositPoint(grid, x0 + t * (x1 - x0), y0 + t * (y1 - y0), energy, rows);
     }
 }
 
@@ -68,9 +80,17 @@ void depositMask(SurfaceGrid& grid, const plan::MaskImage& mask) {
 }  // namespace
 
 void depositLayer(const plan::LayerPlan& layer, SurfaceGrid& grid) {
-    for (const auto& v : layer.vectors)
-        depositSegment(grid, v.x0, v.y0, v.x1, v.y1, v.power / v.speed);
-    for (const auto& p : layer.points) depositPoint(grid, p.x, p.y, p.energy);
+    // Bands of rows in parallel; each band takes every vector and point in plan order and splats
+    // only its own rows, so every cell receives the same additions in the same order as one
+    // thread would give it (the result does not depend on the threads or the band size).
+    constexpr int BAND = 16;
+    const int bands = (grid.ny + BAND - 1) / BAND;
+    tbb::parallel_for(0, bands, [&](int b) {
+        const Rows rows{b * BAND, std::min(grid.ny, (b + 1) * BAND)};
+        for (const auto& v : layer.vectors)
+            depositSegment(grid, v.x0, v.y0, v.x1, v.y1, v.power / v.speed, rows);
+        for (const auto& p : layer.points) depositPoint(grid, p.x, p.y, p.energy, rows);
+    });
     for (const auto& m : layer.masks) depositMask(grid, m);
 }
 

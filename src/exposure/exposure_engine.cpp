@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "exposure/exposure_glsl.h"
@@ -18,19 +19,36 @@ namespace {
 void blurPassCpu(const SurfaceGrid& source, SurfaceGrid& target, int axis, int halfWidth,
                  float sigmaCells, float norm) {
     const int nx = source.nx, ny = source.ny;
-    const int n = axis == 0 ? nx : ny, stride = axis == 0 ? 1 : nx;
     std::vector<float> taps(2 * halfWidth + 1);
     for (int o = -halfWidth; o <= halfWidth; ++o)
         taps[o + halfWidth] = glsl::gaussianTap(o, sigmaCells);
-    tbb::parallel_for(0, ny, [&](int j) {
-        for (int i = 0; i < nx; ++i) {
-            int centre = axis == 0 ? i : j;
-            int lo = std::max(-halfWidth, -centre), hi = std::min(halfWidth, n - 1 - centre);
-            size_t index = size_t(j) * nx + i;
-            float sum = 0.0f;
-            for (int o = lo; o <= hi; ++o)
-                sum += taps[o + halfWidth] * source.values[index + ptrdiff_t(o) * stride];
-            target.values[index] = sum / norm;
+    // Each cell sums its taps in the order o = lo..hi, as the shader does; the loops run over
+    // a row of cells per tap (contiguous, so the compiler vectorises them) instead of over the
+    // taps per cell, which gives every cell the same sum in the same order.
+    tbb::parallel_for(tbb::blocked_range<int>(0, ny, 4), [&](const tbb::blocked_range<int>& rows) {
+        std::vector<float> sum(nx);
+        for (int j = rows.begin(); j < rows.end(); ++j) {
+            const float* row = &source.values[size_t(j) * nx];
+            float* out = &target.values[size_t(j) * nx];
+            std::fill(sum.begin(), sum.end(), 0.0f);
+            if (axis == 0) {
+                for (int o = -halfWidth; o <= halfWidth; ++o) {
+                    const float tap = taps[o + halfWidth];
+                    const int i0 = std::max(0, -o), i1 = std::min(nx, nx - o);
+                    float* __restrict s = sum.data();
+                    const float* __restrict in = row + o;
+                    for (int i = i0; i < i1; ++i) s[i] += tap * in[i];
+                }
+            } else {
+                const int lo = std::max(-halfWidth, -j), hi = std::min(halfWidth, ny - 1 - j);
+                for (int o = lo; o <= hi; ++o) {
+                    const float tap = taps[o + halfWidth];
+                    float* __restrict s = sum.data();
+                    const float* __restrict in = row + ptrdiff_t(o) * nx;
+                    for (int i = 0; i < nx; ++i) s[i] += tap * in[i];
+                }
+            }
+            for (int i = 0; i < nx; ++i) out[i] = sum[i] / norm;
         }
     });
 }

@@ -174,23 +174,26 @@ void exposureTerms(const Job& job, const Sizes& s, JobEstimate& e) {
         add(e, "exposure engine (2D grids)", s.cells * 4.0 * 5.0, Stage::Expose, Stage::Expose,
             fmt(s.nx) + " x " + fmt(s.ny) + " cells, 5 float grids", COARSER);
     }
-    add(e, "exposure dose volume (OpenVDB)", s.activeVoxels * VDB_BYTES_PER_VOXEL + s.cells * 32.0,
-        Stage::Expose, Stage::Validate,
-        fmt(s.activeVoxels) + " stored voxels of " + fmt(s.voxels) + " (" + gridText(job, s) +
-            "), 4.5 B each, and an 8-slice buffer",
-        COARSER);
+    if (job.simulation.writeVdb)
+        add(e, "exposure dose volume (OpenVDB)",
+            s.activeVoxels * VDB_BYTES_PER_VOXEL + s.cells * 32.0, Stage::Expose, Stage::Expose,
+            fmt(s.activeVoxels) + " stored voxels of " + fmt(s.voxels) + " (" + gridText(job, s) +
+                "), 4.5 B each, and an 8-slice buffer (only for simulation.write_vdb)",
+            COARSER);
     add(e, "slice validation and sections", s.cells * 17.0 + s.nx * s.slices * 5.0, Stage::Expose,
         Stage::Validate,
         "rasters and per-column arrays of " + fmt(s.cells) + " cells, an x-z section of " +
             fmt(s.slices) + " slices",
         COARSER);
-    add(e, "cured mesh", s.surfaceVoxels * 48.0, Stage::Cure, Stage::Validate,
-        fmt(s.surfaceVoxels) + " surface quads", COARSER);
-    add(e, "isosurface extraction (volumeToMesh)", s.surfaceVoxels * 100.0, Stage::Cure,
-        Stage::Cure, "points, quads and edge masks of " + fmt(s.surfaceVoxels) + " voxels",
+    add(e, "streaming cured-surface mesher", s.cells * 22.0, Stage::Expose, Stage::Cure,
+        "two padded slices with cured flags and two layers of vertex indices of " + fmt(s.cells) +
+            " cells",
+        COARSER);
+    add(e, "cured-surface vertices and deviations", s.surfaceVoxels * 16.0, Stage::Expose,
+        Stage::Validate, fmt(s.surfaceVoxels) + " vertices (the triangles stream to cured.stl)",
         COARSER);
     e.stageSeconds.emplace_back("expose", 15e-9 * s.voxels);
-    e.stageSeconds.emplace_back("cure", 5e-9 * s.voxels + 1e-6 * s.surfaceVoxels);
+    e.stageSeconds.emplace_back("cure", 1e-7 * s.surfaceVoxels);  // the mesher runs in expose
 }
 
 void validateTerms(const Job& job, const geometry::Mesh& part, const Sizes& s, JobEstimate& e,
@@ -199,15 +202,29 @@ void validateTerms(const Job& job, const geometry::Mesh& part, const Sizes& s, J
     options.voxelSize = std::max(job.simulation.voxel, 0.02);
     options.halfWidthVoxels =
         std::ceil(std::max(0.25, 4.0 * job.machine.beamRadius) / options.voxelSize);
-    const double bytes = geometry::LevelSet::estimateBytes(part, options);
-    referenceVoxels = bytes / 32.0;
-    add(e, "reference level set", bytes, Stage::Validate, Stage::Validate,
-        "narrow band of " + fmt(referenceVoxels) + " voxels at " + fmt(options.voxelSize * 1e3) +
-            " um",
-        "a smaller part (the reference level set uses max(simulation.voxel, 20 um))");
+    // The deviations are exact distances through a BVH of the part's triangles; the level set
+    // is built only to be written as reference.vdb.
+    add(e, "part BVH (exact distances)", 400.0 * double(part.triangles.size()), Stage::Expose,
+        Stage::Cure, fmt(double(part.triangles.size())) + " triangles");
+    if (job.simulation.writeVdb) {
+        const double bytes = geometry::LevelSet::estimateBytes(part, options);
+        referenceVoxels = bytes / 32.0;
+        add(e, "reference level set", bytes, Stage::Validate, Stage::Validate,
+            "narrow band of " + fmt(referenceVoxels) + " voxels at " +
+                fmt(options.voxelSize * 1e3) + " um (only for simulation.write_vdb)",
+            "a smaller part (the reference level set uses max(simulation.voxel, 20 um))");
+    }
     add(e, "surface deviations", s.surfaceVoxels * 8.0, Stage::Validate, Stage::Validate,
         "one per cured vertex");
-    e.stageSeconds.emplace_back("validate", 5e-9 * s.voxels + 1e-7 * referenceVoxels);
+    // The report draws the top view and the 3D view from the cured triangles, which the mesher
+    // keeps for it (2 per surface voxel, 12 B), then copies into a mesh (vertices 24 B, triangles
+    // 24 B) and encodes for the viewer; the plotting library's images are a few tens of MiB.
+    add(e, "cured triangles kept for the report", s.surfaceVoxels * 24.0, Stage::Expose,
+        Stage::Validate, fmt(2 * s.surfaceVoxels) + " triangles", COARSER);
+    add(e, "report: cured mesh, 3D view data, pictures", s.surfaceVoxels * 120.0 + 32.0 * MIB,
+        Stage::Validate, Stage::Validate,
+        "a mesh copy and its encoded 3D view, and the picture buffers", COARSER);
+    e.stageSeconds.emplace_back("validate", 2e-8 * s.surfaceVoxels + 1e-7 * referenceVoxels);
 }
 
 void outputTerms(const Job& job, const geometry::Mesh& part, const Sizes& s,

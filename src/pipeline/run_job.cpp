@@ -8,6 +8,7 @@
 #include "vpsim/core/log.h"
 #include "vpsim/core/output_directory.h"
 #include "vpsim/core/text.h"
+#include "vpsim/exposure/dose_volume.h"
 #include "vpsim/geometry/stl_io.h"
 #include "vpsim/gpu/context.h"
 #include "vpsim/pipeline/estimate.h"
@@ -17,6 +18,7 @@
 #include "vpsim/report/viewer3d.h"
 #include "vpsim/validate/feature_probe.h"
 #include "vpsim/validate/slice_validator.h"
+#include "vpsim/validate/streaming_surface.h"
 
 namespace vpsim::pipeline {
 namespace {
@@ -177,8 +179,16 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     auto model = exposureModel(job, grid, f.beam, context);
     const double voxelHeight = job.machine.layerThickness / job.simulation.slicesPerLayer;
     const cure::CureLaw& law = *job.cure;
-    exposure::DoseVolume volume(grid, voxelHeight, 0.0, float(0.02 * law.criticalDose()));
+    // The 3D dose grid exists only when a .vdb is asked for; cure and validation take the
+    // slices as they come.
+    std::unique_ptr<exposure::DoseVolume> volume;
+    if (job.simulation.writeVdb)
+        volume = std::make_unique<exposure::DoseVolume>(grid, voxelHeight, 0.0,
+                                                        float(0.02 * law.criticalDose()));
     validate::SliceValidator validator(f.part, grid, law, voxelHeight);
+    std::unique_ptr<validate::StreamingCuredSurface> cured =
+        curedSurfaceSink(job, grid, voxelHeight, f.part, outDir + "/cured.stl");
+    cured->keepTriangles(true);  // for the report's top view and 3D viewer
     const int middle = layers / 2;
     report::SectionRecorder sections(f.part, grid, layers * job.simulation.slicesPerLayer, law,
                                      middle,
@@ -187,22 +197,26 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     auto sink = [](auto& consumer) {
         return [&consumer](const exposure::ExposureSlice& s) { consumer.add(s); };
     };
-    result.exposure = exposeStage(*model, planned.plan,
-                                  {sink(volume), sink(validator), sink(sections), sink(features)},
-                                  f.beam, layers);
+    std::vector<exposure::SliceSink> sinks{sink(validator), sink(*cured), sink(sections),
+                                           sink(features)};
+    if (volume) sinks.push_back(sink(*volume));
+    result.exposure = exposeStage(*model, planned.plan, sinks, f.beam, layers);
     if (model->usesGpu()) result.exposure.backend = deviceName(context);
-    result.exposure.maxDose = volume.maxValue();
-    result.exposure.storedVoxels = volume.activeVoxels();
+    {
+        const validate::SliceValidationSummary seen = validator.summary();
+        result.exposure.maxDose = seen.maxDose;
+        result.exposure.storedVoxels = volume ? volume->activeVoxels() : seen.exposedVoxels;
+    }
     result.exposure.keptEnergyFraction = model->keptEnergyFraction();
-    if (job.simulation.writeVdb) volume.write(outDir + "/exposure.vdb");
+    if (volume) volume->write(outDir + "/exposure.vdb");
+    volume.reset();
     timer.finish("expose");
 
-    geometry::Mesh cured = cureStage(volume, law);
-    geometry::writeStl(outDir + "/cured.stl", cured);
-    result.curedVolume = cured.volume();
+    cureStage(*cured);
+    result.curedVolume = cured->volume();
     timer.finish("cure");
 
-    result.validation = validateStage(job, f.part, cured, validator.summary(), features.result(),
+    result.validation = validateStage(job, f.part, *cured, validator.summary(), features.result(),
                                       job.simulation.writeVdb ? outDir + "/reference.vdb" : "");
     timer.finish("validate");
     // The planner's own work on the exposed plan (the laser exposure error, DLP comparisons).
@@ -215,12 +229,15 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     timer.finish("review");
 
     sections.write(outDir);
-    const report::DeviationScale scale =
-        report::writeDeviationFigures(outDir, cured, result.validation.vertexDeviations, f.part);
+    // The report's pictures and 3D view need the cured triangles, which the mesher kept (memory
+    // grows with the surface, not the volume); cured.stl was written as they were made.
+    const geometry::Mesh curedMesh = cured->mesh();
+    const report::DeviationScale scale = report::writeDeviationFigures(
+        outDir, curedMesh, result.validation.vertexDeviations, f.part);
     result.deviationLimit = scale.limit;
     result.beyondDeviationLimit = scale.beyond;
-    result.viewer = report::writeViewer3d(outDir, cured, result.validation.vertexDeviations, f.part,
-                                          scale.limit, job.machine.layerThickness);
+    result.viewer = report::writeViewer3d(outDir, curedMesh, result.validation.vertexDeviations,
+                                          f.part, scale.limit, job.machine.layerThickness);
     report::writeLayerErrorPlot(outDir + "/xy_error_per_layer", result.validation.slices);
     timer.finish("report");
     result.inputs = jobInputs(job);

@@ -11,7 +11,8 @@
 #include "vpsim/geometry/part_spec.h"
 #include "vpsim/gpu/context.h"
 #include "vpsim/kernel/kernel_cache.h"
-#include "vpsim/validate/cured_surface.h"
+#include "vpsim/validate/streaming_surface.h"
+#include "vpsim/validate/surface_deviation.h"
 
 namespace vpsim::pipeline {
 
@@ -144,28 +145,46 @@ report::ExposureSummary exposeStage(exposure::ExposureModel& model, const plan::
     return summary;
 }
 
-geometry::Mesh cureStage(const exposure::DoseVolume& exposure, const cure::CureLaw& law) {
-    return validate::curedSurface(exposure, law);
-}
+namespace {
 
-report::ValidationReport validateStage(const Job& job, const geometry::Mesh& part,
-                                       const geometry::Mesh& cured,
-                                       validate::SliceValidationSummary slices,
-                                       validate::FeatureMeasurements features,
-                                       const std::string& referenceVdb) {
-    // The reference distance field needs a band as wide as the deviations it measures (up to a
-    // few beam radii, 0.25 mm at least: print-through over-cure), but not the exposure's voxel:
-    // trilinear interpolation of an exact distance field is accurate to a small part of its voxel.
+geometry::LevelSetOptions referenceOptions(const Job& job) {
+    // The reference needs a band as wide as the deviations it measures (up to a few beam radii,
+    // 0.25 mm at least: print-through over-cure), but not the exposure's voxel.
     geometry::LevelSetOptions options;
     options.voxelSize = std::max(job.simulation.voxel, 0.02);
     options.halfWidthVoxels =
         std::ceil(std::max(0.25, 4.0 * job.machine.beamRadius) / options.voxelSize);
-    geometry::LevelSet reference = geometry::LevelSet::fromMesh(part, options);
-    if (!referenceVdb.empty()) reference.save(referenceVdb);
+    return options;
+}
+
+}  // namespace
+
+double deviationBand(const Job& job) {
+    const geometry::LevelSetOptions options = referenceOptions(job);
+    return options.halfWidthVoxels * options.voxelSize;
+}
+
+std::unique_ptr<validate::StreamingCuredSurface> curedSurfaceSink(
+    const Job& job, const exposure::ExposureGrid& grid, double voxelHeight,
+    const geometry::Mesh& part, const std::string& stlPath) {
+    return std::make_unique<validate::StreamingCuredSurface>(
+        grid, voxelHeight, job.cure->criticalDose(), &part, deviationBand(job), stlPath);
+}
+
+void cureStage(validate::StreamingCuredSurface& cured) {
+    cured.finish();
+}
+
+report::ValidationReport validateStage(const Job& job, const geometry::Mesh& part,
+                                       const validate::StreamingCuredSurface& cured,
+                                       validate::SliceValidationSummary slices,
+                                       validate::FeatureMeasurements features,
+                                       const std::string& referenceVdb) {
+    if (!referenceVdb.empty())
+        geometry::LevelSet::fromMesh(part, referenceOptions(job)).save(referenceVdb);
     report::ValidationReport report;
-    report.vertexDeviations = validate::vertexDeviations(cured, reference);
-    report.deviation =
-        validate::summarizeDeviations(report.vertexDeviations, reference.halfWidth());
+    report.vertexDeviations = cured.deviations();
+    report.deviation = validate::summarizeDeviations(report.vertexDeviations, deviationBand(job));
     report.slices = std::move(slices);
     report.features = std::move(features);
     return report;

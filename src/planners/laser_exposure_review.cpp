@@ -49,16 +49,15 @@ PlanReview laserExposureReview(const PlanReviewInputs& in) {
         plan::acesTargetDose(ec, lt, std::min(b.depthOfMaximum, 0.99 * lt), b.attenuationLength);
     exposure::ExposureEngine engine(optimise::planningGrid(regions, b.radius, in.voxel), b, lt);
     optimise::ExposureError all;
-    nlohmann::json error = optimise::planExposureError(engine, plan, regions, etar,
-                                                       plan::effectiveRadius(b.radius), &all);
+    exposure::SurfaceGrid topMap;
+    nlohmann::json error = optimise::planExposureError(
+        engine, plan, regions, etar, plan::effectiveRadius(b.radius), &all, &topMap);
     error["pitch_um"] = in.voxel * 1e3;
     // The seed-style single layer: the top one, which nothing above reaches, cropped to its
     // region plus Reff and two beam radii.
     const size_t k = size_t(regions.rend() - top) - 1;
-    exposure::SurfaceGrid deposit = engine.grid().surface();
-    exposure::depositLayer(plan.layers[k], deposit);
-    const exposure::SurfaceGrid map = cropped(engine.layerMap(deposit, 0.0), regions[k],
-                                              plan::effectiveRadius(b.radius) + 2 * b.radius);
+    const exposure::SurfaceGrid map =
+        cropped(topMap, regions[k], plan::effectiveRadius(b.radius) + 2 * b.radius);
     const optimise::ExposureError single =
         optimise::layerExposureError(map, regions[k], etar, plan::effectiveRadius(b.radius));
     report::writeSortedErrorFigure(

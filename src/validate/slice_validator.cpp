@@ -1,6 +1,11 @@
 #include "vpsim/validate/slice_validator.h"
 
 #include <algorithm>
+#include <cstring>
+#include <mutex>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <nlohmann/json.hpp>
 
@@ -28,6 +33,9 @@ struct SliceValidator::State {
     uint64_t intersection = 0, unionCount = 0, cured = 0, reference = 0;
     std::vector<float> runs;  ///< finished over-cure runs (mm), one per down-facing column event
     long downFacing = 0;
+    uint64_t exposed = 0;
+    double maxDose = 0;
+    std::mutex runsMutex;
     std::vector<LayerComparison> layers;
 
     State(const geometry::Mesh& mesh, const exposure::ExposureGrid& g, const cure::CureLaw& l,
@@ -65,29 +73,64 @@ void SliceValidator::add(const exposure::ExposureSlice& slice) {
         throw ResourceError("exposure slice does not match the validation grid");
     geometry::PolygonSet region = geometry::sliceAt(s.part, slice.z);
     std::vector<uint8_t> reference = geometry::rasterizeBinary(region, s.raster);
-    uint64_t inter = 0, curedHere = 0, referenceHere = 0;
-    for (size_t c = 0; c < dose.size(); ++c) {
-        bool r = reference[c] != 0, cu = s.law.isCured(dose[c]);
-        inter += r && cu;
-        curedHere += cu;
-        referenceHere += r;
-        s.unionCount += r || cu;
-        if (r) {
-            if (s.inRun[c]) s.finishRun(c);
-        } else {
-            if (s.referenceAbove[c]) {  // the reference's down-facing surface lies just above
-                ++s.downFacing;
-                s.inRun[c] = 1;
-                s.run[c] = 0;
+    // Rows in parallel, each with its own counts, added in row order afterwards; the finished
+    // over-cure runs are only sorted and summed in order later, so nothing depends on threads.
+    const int nx = s.grid.nx, ny = s.grid.ny;
+    const double criticalDose = s.law.criticalDose();             // isCured(): dose >= Ec in double
+    const float storeLevel = float(0.02 * s.law.criticalDose());  // as the DoseVolume keeps
+    const float dz = float(s.voxelHeight);
+    struct RowCounts {
+        uint64_t inter = 0, cured = 0, reference = 0, unionCount = 0, exposed = 0;
+        long downFacing = 0;
+        float maxDose = 0;
+    };
+    std::vector<RowCounts> rows(ny);
+    tbb::parallel_for(tbb::blocked_range<int>(0, ny, 8), [&](const tbb::blocked_range<int>& range) {
+        std::vector<float> finished;
+        for (int j = range.begin(); j < range.end(); ++j) {
+            RowCounts& row = rows[j];
+            for (size_t c = size_t(j) * nx, end = c + nx; c < end; ++c) {
+                const float d = dose[c];
+                const bool r = reference[c] != 0, cu = double(d) >= criticalDose;
+                row.maxDose = std::max(row.maxDose, d);
+                row.exposed += d > storeLevel;
+                row.inter += r && cu;
+                row.cured += cu;
+                row.reference += r;
+                row.unionCount += r || cu;
+                // Most cells neither carry a run nor sit just under the reference's bottom.
+                if (!(s.inRun[c] | (s.referenceAbove[c] & !r))) continue;
+                if (r) {
+                    finished.push_back(s.run[c]), s.inRun[c] = 0, s.run[c] = 0;
+                } else {
+                    if (s.referenceAbove[c]) {  // the reference's down-facing surface is above
+                        ++row.downFacing;
+                        s.inRun[c] = 1;
+                        s.run[c] = 0;
+                    }
+                    if (cu)
+                        s.run[c] += dz;
+                    else
+                        finished.push_back(s.run[c]), s.inRun[c] = 0, s.run[c] = 0;
+                }
             }
-            if (s.inRun[c]) {
-                if (cu)
-                    s.run[c] += float(s.voxelHeight);
-                else
-                    s.finishRun(c);
-            }
+            // referenceAbove becomes this slice's reference (copied after the row's cells).
+            std::memcpy(&s.referenceAbove[size_t(j) * nx], &reference[size_t(j) * nx], nx);
         }
-        s.referenceAbove[c] = r;
+        if (!finished.empty()) {
+            std::lock_guard<std::mutex> lock(s.runsMutex);
+            s.runs.insert(s.runs.end(), finished.begin(), finished.end());
+        }
+    });
+    uint64_t inter = 0, curedHere = 0, referenceHere = 0;
+    for (const RowCounts& row : rows) {
+        inter += row.inter;
+        curedHere += row.cured;
+        referenceHere += row.reference;
+        s.unionCount += row.unionCount;
+        s.exposed += row.exposed;
+        s.downFacing += row.downFacing;
+        s.maxDose = std::max(s.maxDose, double(row.maxDose));
     }
     s.intersection += inter;
     s.cured += curedHere;
@@ -115,6 +158,8 @@ SliceValidationSummary SliceValidator::summary() const {
     out.curedVolume = double(s.cured) * voxelVolume;
     out.referenceVolume = double(s.reference) * voxelVolume;
     out.downFacingColumns = s.downFacing;
+    out.maxDose = s.maxDose;
+    out.exposedVoxels = s.exposed;
     if (!s.runs.empty()) {
         std::vector<float> runs = s.runs;
         std::sort(runs.begin(), runs.end());

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
+#include <memory>
 #include <string>
 
 namespace vpsim {
@@ -19,6 +20,26 @@ void writeStreamAtomic(const std::string& path, const std::function<void(std::os
 /// Calls write(tempPath) for libraries that write files themselves (OpenVDB, libpng), then
 /// renames tempPath to `path`.
 void writePathAtomic(const std::string& path, const std::function<void(const std::string&)>& write);
+/// A file written as a stream over a long computation (a mesh as it is produced): opened under a
+/// temporary name beside `path`, renamed to `path` by commit(); removed if never committed.
+class AtomicFileStream {
+public:
+    /// @throw InputError when the temporary cannot be opened (the message says why)
+    explicit AtomicFileStream(const std::string& path);
+    ~AtomicFileStream();
+    AtomicFileStream(const AtomicFileStream&) = delete;
+    AtomicFileStream& operator=(const AtomicFileStream&) = delete;
+    std::ostream& stream();
+    const std::string& path() const { return mPath; }
+    /// Flushes, checks and renames. @throw InputError when a write failed (disk full?)
+    void commit();
+
+private:
+    std::string mPath, mTemporary;
+    std::unique_ptr<std::ofstream> mOut;
+    bool mCommitted = false;
+};
+
 /// Told the final path of every file the atomic writers above complete (after the rename).
 using WriteObserver = std::function<void(const std::string& path)>;
 /// Installs the process-wide observer (an empty function removes it); returns the previous one.

@@ -20,6 +20,7 @@
 #include "vpsim/pipeline/job.h"
 #include "vpsim/plan/machine/scan_report.h"
 #include "vpsim/report/job_result.h"
+#include "vpsim/validate/streaming_surface.h"
 
 namespace vpsim::pipeline {
 
@@ -84,14 +85,25 @@ report::ExposureSummary exposeStage(exposure::ExposureModel& model, const plan::
                                     const std::vector<exposure::SliceSink>& consumers,
                                     const BeamResult& beam, int layers);
 
-/// The cured part's surface. @throw InputError when nothing cures
-geometry::Mesh cureStage(const exposure::DoseVolume& exposure, const cure::CureLaw& law);
+/// Half-width (mm) of the band within which surface deviations are measured (farther ones are
+/// clamped to it and counted as beyond the band): a few beam radii, 0.25 mm at least (print-through
+/// over-cure), in whole reference voxels of max(voxel, 20 um), as the reference level set's.
+double deviationBand(const Job& job);
 
-/// Surface deviation of the cured mesh in the part's signed distance field, with the slice
-/// statistics and features gathered while exposing. Writes the distance field to
-/// `referenceVdb` unless it is "".
+/// The cured part's surface, meshed while the engine emits its slices (a SliceSink), written to
+/// `stlPath` ("" for none) and measured against `part` on the way.
+std::unique_ptr<validate::StreamingCuredSurface> curedSurfaceSink(
+    const Job& job, const exposure::ExposureGrid& grid, double voxelHeight,
+    const geometry::Mesh& part, const std::string& stlPath);
+
+/// Closes the cured surface (its bottom and its STL). @throw InputError when nothing cures
+void cureStage(validate::StreamingCuredSurface& cured);
+
+/// Surface deviation of the cured surface (exact distances taken as it was meshed), with the
+/// slice statistics and features gathered while exposing. Builds and writes the part's signed
+/// distance field to `referenceVdb` only when that is not "".
 report::ValidationReport validateStage(const Job& job, const geometry::Mesh& part,
-                                       const geometry::Mesh& cured,
+                                       const validate::StreamingCuredSurface& cured,
                                        validate::SliceValidationSummary slices,
                                        validate::FeatureMeasurements features,
                                        const std::string& referenceVdb);

@@ -44,8 +44,10 @@ struct SliceValidationSummary {
     double overcureBelowDownFacingMax = 0;
     double overcureBelowDownFacingMean = 0;
     long downFacingColumns = 0;
-    double xyContourErrorMean = 0;        ///< mm, mean over layers with reference area
-    double xyContourErrorMax = 0;         ///< mm
+    double maxDose = 0;             ///< largest exposure of any voxel (mJ/mm^2)
+    uint64_t exposedVoxels = 0;     ///< voxels above 2% of Ec (what a .vdb of the exposure stores)
+    double xyContourErrorMean = 0;  ///< mm, mean over layers with reference area
+    double xyContourErrorMax = 0;   ///< mm
     std::vector<LayerComparison> layers;  ///< bottom layer first
     nlohmann::json toJson() const;
 };

@@ -62,10 +62,14 @@ namespace vpsim::optimise {
 ///  "top_layer": {"sse_mJ2_per_mm4", "rms_over_Etar", "max_over_Etar"},
 ///  "layers": [{"layer", "sse_mJ2_per_mm4", "rms_over_Etar", "max_over_Etar"}]}.
 /// `all` (optional) receives the metric over all cells of all layers, with the sorted |error|/Etar
-/// of all cells of all layers (Fig. 23).
+/// of all cells of all layers (Fig. 23) at 2001 evenly spaced ranks (from a histogram of bins of
+/// Etar/16384, exact beyond 4 Etar). `topOwnMap` (optional) receives the top layer's own map
+/// (no print-through). With the fitted engine each layer is blurred once (the print-through
+/// recursion R_k = B_k + a R_{k+1}); other models sum Eq. 21 through layerMap at each depth.
 /// @throw InputError when the counts differ or Etar <= 0
 nlohmann::json planExposureError(exposure::ExposureModel& model, const plan::ScanPlan& plan,
                                  const std::vector<geometry::PolygonSet>& regions,
-                                 double targetDose, double band, ExposureError* all = nullptr);
+                                 double targetDose, double band, ExposureError* all = nullptr,
+                                 exposure::SurfaceGrid* topOwnMap = nullptr);
 
 }  // namespace vpsim::optimise
