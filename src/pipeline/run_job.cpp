@@ -170,6 +170,11 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     if (!schedule.scanOrder.is_null()) result.plan.planner["scan_order"] = schedule.scanOrder;
     if (!schedule.pointStrategies.is_null())
         result.plan.planner["point_build_time_s"] = schedule.pointStrategies;
+    if (!schedule.laser.is_null()) {  // the planner's fit (if any) and the plan's ranges
+        nlohmann::json& laser = result.plan.planner["laser"];
+        if (!laser.is_object()) laser = nlohmann::json::object();
+        laser.update(schedule.laser);
+    }
     if (saved) result.plan.strategy = "saved plan " + options.planFile;
     timer.finish("plan");
     result.exports = exportStage(job, planned.plan, outDir);

@@ -2,6 +2,8 @@
 // the picture that shows them (scan_path.svg).
 #include "vpsim/pipeline/stages.h"
 
+#include "vpsim/plan/machine/laser_limits.h"
+
 namespace vpsim::pipeline {
 namespace {
 
@@ -21,9 +23,12 @@ bool hasTrajectories(const plan::ScanPlan& plan) {
 plan::ScanSchedule scanStage(const Job& job, const geometry::LayerStack& layers,
                              plan::ScanPlan& plan) {
     const plan::BuildTimeOptions timing = plan::buildTimeOptions(job.machine);
+    const nlohmann::json laser =
+        plan::laserUseJson(plan, job.machine.laserPowerMin, job.machine.scanner.process.speed);
     if (hasTrajectories(plan)) {  // a saved plan keeps its own order
         plan::ScanSchedule schedule;
         schedule.buildTime = plan::estimateBuildTime(plan, timing).toJson();
+        schedule.laser = laser;
         return schedule;
     }
     plan::TrajectoryOptions options;
@@ -32,7 +37,10 @@ plan::ScanSchedule scanStage(const Job& job, const geometry::LayerStack& layers,
     std::vector<geometry::PolygonSet> regions;
     for (const auto& layer : layers.layers) regions.push_back(layer.region);
     const bool sameLayers = regions.size() == plan.layers.size();
-    return plan::scheduleScans(plan, options, timing, sameLayers ? &regions : nullptr);
+    plan::ScanSchedule schedule =
+        plan::scheduleScans(plan, options, timing, sameLayers ? &regions : nullptr);
+    schedule.laser = laser;
+    return schedule;
 }
 
 void writeScanFiles(const plan::ScanSchedule& schedule, const plan::ScanPlan& plan,

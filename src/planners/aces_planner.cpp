@@ -1,5 +1,9 @@
 #include "vpsim/planners/aces_planner.h"
 
+#include <algorithm>
+#include <cmath>
+
+#include "vpsim/plan/machine/laser_limits.h"
 #include "vpsim/planners/laser_plan_options.h"
 #include "vpsim/planners/plan_size.h"
 
@@ -32,6 +36,7 @@ public:
     plan::ScanPlan plan(const PlannerInputs& in) override {
         const plan::AcesParameters aces =
             acesParameters(mOptions, in.beam, in.machine, in.criticalDose);
+        checkLaserDose(aces, in.machine);
         plan::ScanPlan plan = plan::emptyPlan(in.layers, in.machine);
         mSummary = nlohmann::json::object();
         const auto& layers = in.layers.layers;
@@ -45,18 +50,28 @@ public:
             const plan::AcesStack stack = stackAround(layers, offsets, k, aces.attenuationLength);
             plan::AcesDesign design = plan::designAces(layerAces, region, &stack);
             offsets[k] = design.edgeOffset;
-            plan.layers[k] =
-                plan::planAcesLayer(region, design, in.machine.laserPower, plan.layers[k].z);
+            // The power that puts the hatch at the process speed along its direction (or the
+            // laser's full power, slower, where that is not enough).
+            const double lineEnergy = design.targetDose * design.hatchSpacing;  // mJ/mm
+            const double c = std::cos(design.direction), s = std::sin(design.direction);
+            const double power = std::min(
+                in.machine.laserPower,
+                lineEnergy * plan::markSpeedLimit(0, 0, c, s, in.machine.scanner.process.speed));
+            design.speed = power / lineEnergy;
+            plan.layers[k] = plan::planAcesLayer(region, design, power, plan.layers[k].z);
             mSummary = {// ends with the lowest planned layer's (the steadiest wall)
                         {"target_dose_mJ_per_cm2", design.targetDose * in.beam.efficiency * 100},
                         {"hatch_spacing_um", design.hatchSpacing * 1e3},
                         {"speed_mm_per_s", design.speed},
+                        {"power_mW", design.speed * design.targetDose * design.hatchSpacing},
                         {"edge_offset_um", design.edgeOffset * 1e3},
                         {"ripple", design.ripple},
                         {"wall_level", design.wallLevel},
                         {"scallop_um", design.scallop * 1e3},
                         {"border_loops", design.borderCount}};
         }
+        if (!mSummary.empty()) mSummary = {{"aces", mSummary}};
+        mSummary.update(fitLaserPlan(plan, aces, in.machine, 0.0));
         return plan;
     }
 
@@ -65,11 +80,10 @@ public:
     }
     plan::OrderMethod partOrder() const override { return mOptions.order; }
 
-    /// {"aces": {target dose, hatch spacing, speed, edge offset, ripple, wall level, scallop,
-    /// border loops}} of the lowest planned layer.
-    nlohmann::json summary() const override {
-        return mSummary.empty() ? nlohmann::json::object() : nlohmann::json{{"aces", mSummary}};
-    }
+    /// {"aces": {target dose, hatch spacing, speed, power, edge offset, ripple, wall level,
+    /// scallop, border loops}} of the lowest planned layer, and {"laser": the fit to the machine's
+    /// limits}.
+    nlohmann::json summary() const override { return mSummary; }
 
 private:
     LaserPlanOptions mOptions;

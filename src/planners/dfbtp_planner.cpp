@@ -42,6 +42,7 @@ public:
         optimise::DfbtpParameters p = mP;
         p.aces = acesParameters(mOptions, in.beam, in.machine, in.criticalDose);
         p.wallOnContour = mOptions.aces.edge == plan::AcesEdge::CureAtContour;
+        checkLaserDose(p.aces, in.machine);
         plan::ScanPlan empty = plan::emptyPlan(in.layers, in.machine);
         optimise::DfbtpResult r =
             optimise::planDfbtp(layerRegions(in), layerTops(empty), p, in.beam);
@@ -62,6 +63,7 @@ public:
                       {"target_wall_shift_um", shift},
                       {"lifts", {mP.liftOutside, mP.liftEdge, mP.liftInside}},
                       {"transmitted", compensationJson(r.layers)}}}};
+        mSummary.update(fitLaserPlan(r.plan, p.aces, in.machine, p.dotPitch));
         return r.plan;
     }
     nlohmann::json summary() const override { return mSummary; }

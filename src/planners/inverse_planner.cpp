@@ -1,5 +1,8 @@
 #include "vpsim/planners/inverse_planner.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "vpsim/optimise/laser/inverse.h"
 #include "vpsim/planners/laser_layers.h"
 #include "vpsim/planners/laser_plan_options.h"
@@ -41,6 +44,7 @@ public:
         optimise::InverseParameters p = mP;
         p.base.aces = acesParameters(mOptions, in.beam, in.machine, in.criticalDose);
         p.base.wallOnContour = mOptions.aces.edge == plan::AcesEdge::CureAtContour;
+        checkLaserDose(p.base.aces, in.machine);
         plan::ScanPlan empty = plan::emptyPlan(in.layers, in.machine);
         optimise::InverseResult r =
             optimise::planInverse(layerRegions(in), layerTops(empty), p, in.beam);
@@ -58,6 +62,10 @@ public:
                       {"dot_pitch_um", p.dotPitch * 1e3},
                       {"compensation", p.base.compensate},
                       {"transmitted", compensationJson(r.compensation)}}}};
+        // The dots lie on every stride-th cell of the planning grid (optimise/laser/inverse.h).
+        const double dotSpacing =
+            double(std::max(1L, std::lround(p.dotPitch / p.base.gridPitch))) * p.base.gridPitch;
+        mSummary.update(fitLaserPlan(r.plan, p.base.aces, in.machine, dotSpacing));
         return r.plan;
     }
     nlohmann::json summary() const override { return mSummary; }

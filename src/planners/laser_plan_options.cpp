@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vpsim/plan/machine/laser_limits.h"
+
 namespace vpsim::planners {
 namespace {
 
@@ -60,6 +62,20 @@ plan::AcesParameters acesParameters(const LaserPlanOptions& options, const kerne
     aces.layerThickness = machine.layerThickness;
     aces.laserPower = machine.laserPower;
     return aces;
+}
+
+void checkLaserDose(const plan::AcesParameters& aces, const plan::Machine& machine) {
+    const double target = plan::acesTargetDose(aces.criticalDose, aces.layerThickness,
+                                               aces.depthOfMaximum, aces.attenuationLength);
+    plan::checkDoseReachable(machine, target,
+                             plan::acesHatchRatio(aces.homogeneity) * aces.beamRadius);
+}
+
+nlohmann::json fitLaserPlan(plan::ScanPlan& plan, const plan::AcesParameters& aces,
+                            const plan::Machine& machine, double dotPitch) {
+    const plan::LaserLimits limits =
+        plan::laserLimits(machine, aces.beamRadius, NEGLIGIBLE_FRACTION_OF_EC * aces.criticalDose);
+    return {{"laser", plan::fitPlanToLimits(plan, limits, dotPitch).toJson()}};
 }
 
 }  // namespace vpsim::planners

@@ -26,7 +26,20 @@ void addLayer(LayerTime& sum, const LayerTime& t) {
     sum.marksAboveProcessSpeed += t.marksAboveProcessSpeed;
 }
 
-/// Accumulates one layer's moves; jumps between marks that do not chain are implied.
+/// Whether mark b continues mark a along the same line at the same speed: one vector whose
+/// power changes on the way (a dot row modulated along a vector), with no polygon delay.
+bool continues(const ScanMove& a, const ScanMove& b) {
+    if (!(a.speed > 0) || a.dwell > 0 || b.dwell > 0 ||
+        std::abs(a.speed - b.speed) > 1e-9 * a.speed)
+        return false;
+    const glm::dvec2 va = endVelocity(a), vb = startVelocity(b);
+    return std::abs(va.x - vb.x) <= 1e-9 * a.speed && std::abs(va.y - vb.y) <= 1e-9 * a.speed;
+}
+
+/// Accumulates one layer's moves; jumps between marks that do not chain are implied. Every
+/// change of speed happens in a jump (laser off): from the last mark's velocity to the next
+/// mark's, from rest to the first mark's velocity at the start of the layer (a run-up, counted
+/// as jump time), and to rest at its end (a run-out).
 class LayerClock {
 public:
     explicit LayerClock(const BuildTimeOptions& options) : mOptions(options) {}
@@ -37,10 +50,13 @@ public:
             return;
         }
         if (mLast && mLast->laserOn) {
-            if (chained(*mLast, m))
-                ++mTime.polygonDelays;
-            else
+            if (!chained(*mLast, m))
                 jump({mLast->x1, mLast->y1}, {m.x0, m.y0}, &m);
+            else if (!continues(*mLast, m))
+                ++mTime.polygonDelays;
+        } else if (!mStarted) {  // the layer's first move: run up from rest
+            mTime.jump += jumpTime({m.x0, m.y0}, {m.x0, m.y0}, {0, 0}, startVelocity(m),
+                                   mOptions.scanner.machine);
         }
         ++mTime.marks;
         const double length = std::hypot(m.x1 - m.x0, m.y1 - m.y0);
@@ -51,12 +67,15 @@ public:
             mTime.marksAboveProcessSpeed += axis > mOptions.scanner.process.speed * (1 + 1e-9);
         }
         mTime.mark += m.dwell;
+        mStarted = true;
         mLast = &m;
         mVelocity = endVelocity(m);
     }
 
     LayerTime finish() {
-        if (mLast && mLast->laserOn) ++mTime.markDelays;  // laser off at the end
+        if (mLast && mLast->laserOn) ++mTime.markDelays;         // laser off at the end
+        const double a = mOptions.scanner.machine.acceleration;  // run out to rest
+        mTime.jump += std::max(std::abs(mVelocity.x), std::abs(mVelocity.y)) / a;
         const ScannerDelays& d = mOptions.scanner.delays;
         mTime.delays = double(mTime.jumpDelays) * d.jump + double(mTime.markDelays) * d.mark +
                        double(mTime.polygonDelays) * d.polygon;
@@ -66,36 +85,35 @@ public:
 private:
     void jump(const glm::dvec2& from, const glm::dvec2& to, const ScanMove* next) {
         const bool afterMark = mLast && mLast->laserOn;
-        const double stopAndGo = jumpTime(from, to, mVelocity, mOptions.scanner.machine);
+        mStarted = true;
+        const glm::dvec2 v1 = next ? startVelocity(*next) : glm::dvec2{0, 0};
+        const double skywriting = jumpTime(from, to, mVelocity, v1, mOptions.scanner.machine);
         if (afterMark && mOptions.transitionArcs && next) {
-            const glm::dvec2 v1 = next->speed > 0 && next->dwell == 0
-                                      ? glm::dvec2{next->x1 - next->x0, next->y1 - next->y0}
-                                      : glm::dvec2{0, 0};
-            const double l1 = std::hypot(v1.x, v1.y);
-            if (l1 > 0 && (mVelocity.x != 0 || mVelocity.y != 0)) {
-                const ArcTransition arc = fastestArcTransition(
-                    from, mVelocity, to, v1 / l1 * next->speed, mOptions.scanner.machine);
+            if ((v1.x != 0 || v1.y != 0) && (mVelocity.x != 0 || mVelocity.y != 0)) {
+                const ArcTransition arc =
+                    fastestArcTransition(from, mVelocity, to, v1, mOptions.scanner.machine);
                 const ScannerDelays& d = mOptions.scanner.delays;
-                if (arc.feasible && arc.time < stopAndGo + d.jump + d.mark) {
+                if (arc.feasible && arc.time < skywriting + d.jump + d.mark) {
                     mTime.jump += arc.time;
                     ++mTime.arcs;
                     mLast = nullptr;  // no mark delay, no polygon delay into the next mark
-                    mVelocity = {0, 0};
+                    mVelocity = v1;
                     return;
                 }
             }
         }
-        mTime.jump += stopAndGo;
+        mTime.jump += skywriting;
         ++mTime.jumps;
         ++mTime.jumpDelays;
         if (afterMark) ++mTime.markDelays;
         mLast = &mJumpMarker;
-        mVelocity = {0, 0};
+        mVelocity = v1;
     }
 
     const BuildTimeOptions& mOptions;
     LayerTime mTime;
     const ScanMove* mLast = nullptr;
+    bool mStarted = false;
     ScanMove mJumpMarker;  // stands for "the last move was a jump" (laserOn = false)
     glm::dvec2 mVelocity{0, 0};
 };

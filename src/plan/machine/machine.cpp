@@ -23,6 +23,10 @@ Machine machineFromConfig(const ConfigNode& section) {
     machine.layerThickness = positiveQuantity(section, "layer_thickness", dim::LENGTH, 0.05);
     if (machine.process == Process::Laser) {
         machine.laserPower = positiveQuantity(section, "laser_power", dim::POWER, 10.0);
+        machine.laserPowerMin = section.quantity("laser_power_min", dim::POWER, 0.0);
+        if (!(machine.laserPowerMin >= 0) || !(machine.laserPowerMin <= machine.laserPower))
+            throw section.error("laser_power_min", "must lie between 0 and laser_power (" +
+                                                       std::to_string(machine.laserPower) + " mW)");
         machine.beamRadius = positiveQuantity(section, "beam_radius", dim::LENGTH, 0.05);
     } else {
         machine.pixelPitch = positiveQuantity(section, "pixel_pitch", dim::LENGTH, 0.0625);

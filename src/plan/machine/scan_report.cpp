@@ -47,11 +47,6 @@ nlohmann::json pointStrategyJson(const ScanPlan& plan, const TrajectoryOptions& 
         attachTrajectories(copy, layers);
         const bool modulated = strategy == PointStrategy::Modulated;
         out[modulated ? "modulated_s" : "dwell_s"] = estimateBuildTime(copy, timing).total();
-        if (modulated) {
-            long long over = 0;
-            for (const auto& l : layers) over += l.overexposedPoints;
-            out["overexposed_points"] = over;
-        }
     }
     return out;
 }

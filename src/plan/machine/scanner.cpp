@@ -79,6 +79,52 @@ double axisMoveTime(double distance, double v0, const AxisLimits& limits) {
     return t + v0 / a + restToRestTime(distance - stop, limits);
 }
 
+namespace {
+
+/// Accelerate (+a) from v0 to a peak, then brake (-a) to v1; +infinity when no such profile
+/// covers `distance` (the peak would have to lie below v0 or v1).
+double peakProfileTime(double distance, double v0, double v1, double vmax, double a) {
+    // (vp^2 - v0^2)/2a + (vp^2 - v1^2)/2a = d  =>  vp^2 = a d + (v0^2 + v1^2)/2
+    const double square = a * distance + 0.5 * (v0 * v0 + v1 * v1);
+    if (square < 0) return INFINITY;
+    const double root = std::sqrt(square), lowest = std::max(v0, v1) - 1e-9 * (1 + vmax);
+    // Both signs of the peak may qualify (a negative peak: the axis keeps moving backwards,
+    // slower for a while); the lower peak is the faster profile.
+    if (-root >= lowest) return (-2.0 * root - v0 - v1) / a;
+    const double vp = root;
+    if (vp < lowest) return INFINITY;
+    if (vp <= vmax) return std::max(0.0, (2.0 * vp - v0 - v1) / a);
+    const double cruise = distance - (2.0 * vmax * vmax - v0 * v0 - v1 * v1) / (2.0 * a);
+    return (2.0 * vmax - v0 - v1) / a + cruise / vmax;
+}
+
+}  // namespace
+
+double axisMoveTime(double distance, double v0, double v1, const AxisLimits& limits) {
+    const double a = limits.acceleration, vmax = limits.speed;
+    double t = 0.0;
+    if (std::abs(v0) > vmax) {  // brake to the limit first (only for inconsistent inputs)
+        t += (std::abs(v0) - vmax) / a;
+        distance -= std::copysign((v0 * v0 - vmax * vmax) / (2.0 * a), v0);
+        v0 = std::copysign(vmax, v0);
+    }
+    if (std::abs(v1) > vmax) {  // and reach v1 from the limit at the end
+        t += (std::abs(v1) - vmax) / a;
+        distance -= std::copysign((v1 * v1 - vmax * vmax) / (2.0 * a), v1);
+        v1 = std::copysign(vmax, v1);
+    }
+    // Mirroring (d, v0, v1) -> (-d, -v0, -v1) turns the brake-then-accelerate profile into the
+    // peak profile.
+    return t + std::min(peakProfileTime(distance, v0, v1, vmax, a),
+                        peakProfileTime(-distance, -v0, -v1, vmax, a));
+}
+
+double jumpTime(const glm::dvec2& from, const glm::dvec2& to, const glm::dvec2& v0,
+                const glm::dvec2& v1, const AxisLimits& limits) {
+    return std::max(axisMoveTime(to.x - from.x, v0.x, v1.x, limits),
+                    axisMoveTime(to.y - from.y, v0.y, v1.y, limits));
+}
+
 double jumpTime(const glm::dvec2& from, const glm::dvec2& to, const glm::dvec2& v0,
                 const AxisLimits& limits) {
     return std::max(axisMoveTime(to.x - from.x, v0.x, limits),

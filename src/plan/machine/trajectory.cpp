@@ -108,10 +108,11 @@ std::vector<std::vector<const LaserPoint*>> pointRows(const std::vector<LaserPoi
     return rows;
 }
 
-/// Modulated row scan: point k owns the cell between the midpoints to its neighbours and is
-/// crossed at speed cell / (energy / power), capped at the process speed.
+/// Modulated row scan: point k owns the cell between the midpoints to its neighbours; the row
+/// runs at one constant speed (the process speed, or slower where the laser's power cannot give
+/// the hottest point its energy at it), and each cell's power gives its point the energy.
 std::vector<ScanMove> modulatedRow(const std::vector<const LaserPoint*>& row, double power,
-                                   double maxSpeed, int part, int& overexposed) {
+                                   double maxSpeed, int part) {
     std::vector<ScanMove> marks;
     const size_t m = row.size();
     if (m == 1) {
@@ -122,15 +123,22 @@ std::vector<ScanMove> modulatedRow(const std::vector<const LaserPoint*>& row, do
         return {dwell};
     }
     auto x = [&](size_t k) { return row[k]->x; };
-    const double y = row[0]->y;
-    for (size_t k = 0; k < m; ++k) {
+    auto cell = [&](size_t k) {
         double lo = k > 0 ? 0.5 * (x(k - 1) + x(k)) : x(0) - 0.5 * (x(1) - x(0));
         double hi = k + 1 < m ? 0.5 * (x(k) + x(k + 1)) : x(k) + 0.5 * (x(k) - x(k - 1));
-        const double dwell = row[k]->energy / power;
-        double speed = std::abs(hi - lo) / dwell;
-        if (speed > maxSpeed) speed = maxSpeed, ++overexposed;
+        return std::pair<double, double>{lo, hi};
+    };
+    double speed = maxSpeed;
+    for (size_t k = 0; k < m; ++k) {
+        auto [lo, hi] = cell(k);
+        speed = std::min(speed, std::abs(hi - lo) * power / row[k]->energy);
+    }
+    const double y = row[0]->y;
+    for (size_t k = 0; k < m; ++k) {
+        auto [lo, hi] = cell(k);
         ScanMove mark;
-        mark.laserOn = true, mark.part = part, mark.power = power, mark.speed = speed;
+        mark.laserOn = true, mark.part = part, mark.speed = speed;
+        mark.power = row[k]->energy * speed / std::abs(hi - lo);
         mark.x0 = lo, mark.y0 = y, mark.x1 = hi, mark.y1 = y;
         marks.push_back(mark);
     }
@@ -139,12 +147,11 @@ std::vector<ScanMove> modulatedRow(const std::vector<const LaserPoint*>& row, do
 
 std::vector<ScanMove> pointMarks(const std::vector<LaserPoint>& points,
                                  const std::vector<int>& members, double power,
-                                 const TrajectoryOptions& options, int part, int& overexposed) {
+                                 const TrajectoryOptions& options, int part) {
     std::vector<ScanMove> marks;
     for (const auto& row : pointRows(points, members)) {
         if (options.points == PointStrategy::Modulated) {
-            auto rowMarks =
-                modulatedRow(row, power, options.scanner.process.speed, part, overexposed);
+            auto rowMarks = modulatedRow(row, power, options.scanner.process.speed, part);
             marks.insert(marks.end(), rowMarks.begin(), rowMarks.end());
             continue;
         }
@@ -169,7 +176,8 @@ std::vector<ScanMove> reversed(const std::vector<ScanMove>& marks) {
 double jumpBetween(const std::vector<ScanMove>& from, const std::vector<ScanMove>& to,
                    const AxisLimits& machine) {
     const ScanMove &exit = from.back(), &entry = to.front();
-    return jumpTime({exit.x1, exit.y1}, {entry.x0, entry.y0}, endVelocity(exit), machine);
+    return jumpTime({exit.x1, exit.y1}, {entry.x0, entry.y0}, endVelocity(exit),
+                    startVelocity(entry), machine);
 }
 
 /// Jump time inside one part (between its marks that do not chain).
@@ -178,7 +186,7 @@ double internalJumps(const std::vector<ScanMove>& marks, const AxisLimits& machi
     for (size_t k = 1; k < marks.size(); ++k)
         if (!samePoint(marks[k - 1].x1, marks[k - 1].y1, marks[k].x0, marks[k].y0))
             t += jumpTime({marks[k - 1].x1, marks[k - 1].y1}, {marks[k].x0, marks[k].y0},
-                          endVelocity(marks[k - 1]), machine);
+                          endVelocity(marks[k - 1]), startVelocity(marks[k]), machine);
     return t;
 }
 
@@ -238,6 +246,10 @@ glm::dvec2 endVelocity(const ScanMove& move) {
     return {dx / length * move.speed, dy / length * move.speed};
 }
 
+glm::dvec2 startVelocity(const ScanMove& move) {
+    return endVelocity(move);
+}
+
 LayerTrajectory buildLayerTrajectory(const LayerPlan& layer, double laserPower,
                                      const TrajectoryOptions& options,
                                      const geometry::PolygonSet* region) {
@@ -249,8 +261,7 @@ LayerTrajectory buildLayerTrajectory(const LayerPlan& layer, double laserPower,
         if (!groups.vectors[p].empty()) marks = partMarks(layer.vectors, groups.vectors[p], int(p));
         if (!groups.points[p].empty()) {
             if (!(laserPower > 0)) throw InputError("laser points need a positive laser power");
-            auto pm = pointMarks(layer.points, groups.points[p], laserPower, options, int(p),
-                                 out.overexposedPoints);
+            auto pm = pointMarks(layer.points, groups.points[p], laserPower, options, int(p));
             marks.insert(marks.end(), pm.begin(), pm.end());
         }
         if (!marks.empty()) parts.push_back(std::move(marks));
@@ -262,7 +273,7 @@ LayerTrajectory buildLayerTrajectory(const LayerPlan& layer, double laserPower,
             if (i == j) continue;
             const ScanMove &exit = parts[size_t(i)].back(), &entry = parts[size_t(j)].front();
             cost(i, j) = jumpTime({exit.x1, exit.y1}, {entry.x0, entry.y0}, endVelocity(exit),
-                                  options.scanner.machine);
+                                  startVelocity(entry), options.scanner.machine);
         }
     out.order = orderParts(cost, options.order);
     if (options.chooseEntry) {

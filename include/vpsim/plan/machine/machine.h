@@ -26,7 +26,11 @@ Process processFromName(const std::string& name);
 struct Machine {
     Process process = Process::Laser;
     double layerThickness = 0.05;  ///< mm
-    double laserPower = 10.0;      ///< mW (SLA)
+    /// mW (SLA): the laser's full power, the most a plan may use (`laser_power`)
+    double laserPower = 10.0;
+    /// mW: the least power the laser runs at stably when on (`laser_power_min`, default 0: any
+    /// power down to nothing); plans use powers in [laserPowerMin, laserPower]
+    double laserPowerMin = 0.0;
     /// mm: the 1/e^2 intensity radius W0 of the focused laser beam, or the projector's blur
     /// radius at the resin (DLP)
     double beamRadius = 0.05;
@@ -40,7 +44,8 @@ struct Machine {
 };
 
 /// Reads a job's `machine` section: "process" (laser | dlp, default laser), "layer_thickness"
-/// (default 50 um); laser: "laser_power" (10 mW), "beam_radius" (50 um); DLP: "pixel_pitch"
+/// (default 50 um); laser: "laser_power" (10 mW, the full power), "laser_power_min" (0 mW, at
+/// most laser_power), "beam_radius" (50 um); DLP: "pixel_pitch"
 /// (62.5 um), "blur_radius" (20 um), optional "grey_levels" with "exposure_time" (grey_levels.h).
 /// @throw InputError naming the file and key
 Machine machineFromConfig(const ConfigNode& section);

@@ -27,7 +27,7 @@ nlohmann::json scanOrderJson(const std::vector<LayerTrajectory>& trajectories);
 
 /// For plans with laser points, the build time of both point strategies (the modulated row scan
 /// and stop-and-dwell, which decides whether point plans are practical): {"modulated_s",
-/// "dwell_s", "overexposed_points"}; null when the plan has no points.
+/// "dwell_s"}; null when the plan has no points.
 nlohmann::json pointStrategyJson(const ScanPlan& plan, const TrajectoryOptions& trajectory,
                                  const BuildTimeOptions& timing);
 
@@ -37,6 +37,9 @@ struct ScanSchedule {
     nlohmann::json buildTime;             ///< `build_time_s` (BuildTime::toJson)
     nlohmann::json scanOrder;             ///< `scan_order` (null for DLP plans)
     nlohmann::json pointStrategies;       ///< pointStrategyJson (null without points)
+    /// report.json's "laser" (laserUseJson: power and speed ranges against the limits); null for
+    /// DLP plans. The pipeline fills it (it knows the machine's minimum power).
+    nlohmann::json laser;
 };
 
 /// One call for the run: builds the trajectories of a laser plan and stores them in the plan

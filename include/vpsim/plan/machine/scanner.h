@@ -2,9 +2,12 @@
 /// @file
 /// Galvanometer scanner kinematics and delays (seed 002 Section 2 and Section 4, Table 1).
 /// Each mirror axis moves with its own trapezoidal (or triangular) velocity profile under
-/// per-axis limits; a move takes as long as its slower axis. Jumps (laser off) use the machine
-/// limits, marks (laser on) the process limits. A jump starts with the velocity the last mark
-/// vector had and ends at rest (seed 002's start-and-stop motion). Units: mm, s.
+/// per-axis limits; a move takes as long as its slower axis. Marks (laser on) run at constant
+/// speed, at most the process speed, so the dose P/v holds along the whole mark; every change of
+/// speed happens with the laser off, in the jumps, under the machine limits: a jump starts with
+/// the velocity the last mark had (seed 002's jumps) and ends with the velocity the next mark
+/// starts with (the run-up of skywriting), or at rest before a dwell or at the end of a layer.
+/// Units: mm, s.
 
 #include <glm/vec2.hpp>
 
@@ -54,10 +57,22 @@ ScannerConfig scannerFromConfig(const ConfigNode& section);
 /// A |v0| above limits.speed is first braked to limits.speed.
 double axisMoveTime(double distance, double v0, const AxisLimits& limits);
 
+/// Time (s) for one axis to travel the signed displacement `distance` (mm) from the signed
+/// velocity `v0` to the signed velocity `v1` (mm/s), |v| <= limits.speed, |a| <=
+/// limits.acceleration: the faster of the two bang-bang profiles (accelerate then brake, or
+/// brake then accelerate), each with a cruise at the speed limit when it would exceed it. Both
+/// |v0| and |v1| above limits.speed are first brought to it (only for inconsistent inputs).
+/// v1 = 0 is axisMoveTime(distance, v0, limits).
+double axisMoveTime(double distance, double v0, double v1, const AxisLimits& limits);
+
 /// Jump time (s) from `from` to `to` (mm) starting with velocity `v0` (mm/s) and ending at rest:
 /// the slower of the two axes, each with the machine limits.
 double jumpTime(const glm::dvec2& from, const glm::dvec2& to, const glm::dvec2& v0,
                 const AxisLimits& limits);
+/// Jump time (s) from `from` to `to` (mm), starting with velocity `v0` and ending with `v1`
+/// (mm/s): the slower of the two axes, each with the machine limits.
+double jumpTime(const glm::dvec2& from, const glm::dvec2& to, const glm::dvec2& v0,
+                const glm::dvec2& v1, const AxisLimits& limits);
 
 /// Time (s) for one axis to move `distance` mm from rest to rest: 2 sqrt(d/a) (triangular) up to
 /// d = v^2/a, d/v + v/a (trapezoidal) beyond.

@@ -22,8 +22,10 @@ namespace vpsim::plan {
 
 /// How laser points are scanned.
 enum class PointStrategy {
-    Modulated,  ///< rows scanned at a speed that gives each point its energy (dwell = cell/speed)
-    Dwell,      ///< jump to each point, stop, dwell energy/power with the laser on
+    /// rows scanned at one constant speed (process speed, or less where the power runs out),
+    /// each point's cell at the power that gives it its energy
+    Modulated,
+    Dwell,  ///< jump to each point, stop, dwell energy/power with the laser on
 };
 
 struct TrajectoryOptions {
@@ -42,13 +44,15 @@ struct TrajectoryOptions {
 struct LayerTrajectory {
     std::vector<ScanMove> moves;
     int parts = 0;
-    OrderResult order;          ///< over the parts; cost = jump time between parts (s)
-    int overexposedPoints = 0;  ///< modulated points whose speed hit process_speed (more energy)
-    int reversedParts = 0;      ///< parts scanned backwards (TrajectoryOptions::chooseEntry)
+    OrderResult order;      ///< over the parts; cost = jump time between parts (s)
+    int reversedParts = 0;  ///< parts scanned backwards (TrajectoryOptions::chooseEntry)
 };
 
 /// Velocity (mm/s) at the end of a move: a moving mark's direction times its speed, else zero.
 glm::dvec2 endVelocity(const ScanMove& move);
+/// Velocity (mm/s) at the start of a move: the same as at its end, since marks run at constant
+/// speed (the jump before it brings the scanner up to it).
+glm::dvec2 startVelocity(const ScanMove& move);
 
 /// Builds one layer. `region` (may be null) is the sliced layer; each of its outer contours with
 /// holes is one part. `laserPower` (mW) is used for points.
