@@ -105,7 +105,7 @@ PlanResult planJob(const Job& job, const std::string& outDir, const RunContext& 
     report::JobResult result;
     StageTimer timer(result.stageSeconds);
     Front f = runFront(job, std::move(part), outDir, context, result, timer);
-    PlanResult plan = planStage(job, f.layers, f.bounds, f.beam, context);
+    PlanResult plan = planStage(job, f.layers, f.bounds, f.beam, context, &f.part);
     scanStage(job, f.layers, plan.plan);  // the plan is saved with its trajectories
     plan::saveScanPlan(plan.plan, outDir + "/plan.json");
     exportStage(job, plan.plan, outDir);
@@ -138,7 +138,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
         checkPlanFitsJob(*saved, job, f.layers, options.planFile);
         planned.plan = std::move(*saved);
     } else {
-        planned = planStage(job, f.layers, f.bounds, f.beam, context);
+        planned = planStage(job, f.layers, f.bounds, f.beam, context, &f.part);
     }
     const plan::ScanSchedule schedule = scanStage(job, f.layers, planned.plan);
     plan::saveScanPlan(planned.plan, outDir + "/plan.json");

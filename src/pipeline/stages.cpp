@@ -56,12 +56,12 @@ geometry::LayerStack sliceStage(const Job& job, const geometry::Mesh& part) {
 
 PlanResult planStage(const Job& job, const geometry::LayerStack& layers,
                      const geometry::Bounds& partBounds, const BeamResult& beam,
-                     const RunContext& context) {
+                     const RunContext& context, const geometry::Mesh* part) {
     const kernel::BeamKernel* table =
         job.kernel.tabulated && beam.monteCarlo ? &*beam.monteCarlo : nullptr;
     planners::PlannerInputs inputs{layers,    partBounds, job.machine,
                                    beam.beam, table,      job.cure->criticalDose(),
-                                   *job.cure, context};
+                                   *job.cure, context,   part};
     PlanResult result;
     result.plan = job.planner->plan(inputs);
     result.summary = job.planner->summary();

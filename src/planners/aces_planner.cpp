@@ -1,6 +1,5 @@
 #include "vpsim/planners/aces_planner.h"
 
-#include "vpsim/planners/laser_plan_options.h"
 #include "vpsim/planners/plan_size.h"
 
 namespace vpsim::planners {
@@ -77,6 +76,14 @@ private:
 };
 
 }  // namespace
+
+plan::ScanPlan acesStackPlan(const PlannerInputs& inputs, const LaserPlanOptions& options,
+                             nlohmann::json* summary) {
+    AcesPlanner aces(options);
+    plan::ScanPlan plan = aces.plan(inputs);
+    if (summary) *summary = aces.summary();
+    return plan;
+}
 
 void registerAcesPlanner(PlannerRegistry& registry) {
     registry.add({"aces",

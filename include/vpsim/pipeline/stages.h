@@ -43,10 +43,11 @@ struct PlanResult {
     plan::ScanPlan plan;
     nlohmann::json summary = nlohmann::json::object();  ///< the planner's figures
 };
-/// Runs the job's planner. @throw InputError from the planner
+/// Runs the job's planner with the planning beam (BeamResult::planningBeam()); `part` is the
+/// part's mesh when the caller has it. @throw InputError from the planner
 PlanResult planStage(const Job& job, const geometry::LayerStack& layers,
                      const geometry::Bounds& partBounds, const BeamResult& beam,
-                     const RunContext& context);
+                     const RunContext& context, const geometry::Mesh* part = nullptr);
 
 /// The scanner's view of the plan (seed 002, seed 000 III-C): each laser layer's parts ordered
 /// (`plan.order`) into mark and jump trajectories stored in the plan, unless the plan already has
