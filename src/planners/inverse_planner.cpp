@@ -29,7 +29,11 @@ KeyTable inverseKeyTable() {
                   "shape: extra weight outside the part below down-facing surfaces")
             .in(0, 1e3),
         numberKey("uniformity", 0.01, "shape: weight of the exposure's spread inside").in(0, 10),
-        integerKey("shape_iterations", 150, "shape: FISTA iterations over all layers")
+        integerKey("shape_iterations", 60,
+                   "shape: FISTA iterations over all layers on the planning grid")
+            .in(0, 100000),
+        integerKey("shape_coarse_iterations", 300,
+                   "shape: iterations first on a grid at the dot pitch (0: none)")
             .in(0, 100000),
         integerKey("shape_slices_per_layer", 5, "shape: objective voxel slices per layer")
             .in(1, 50),
@@ -54,6 +58,7 @@ optimise::ShapeParameters readShapeParameters(const KeyReader& keys) {
     p.downFacingWeight = keys.number("down_facing_weight");
     p.uniformity = keys.number("uniformity");
     p.iterations = int(keys.integer("shape_iterations"));
+    p.coarseIterations = int(keys.integer("shape_coarse_iterations"));
     p.slicesPerLayer = int(keys.integer("shape_slices_per_layer"));
     return p;
 }

@@ -76,7 +76,7 @@ PlanSize shapePlanSize(const PlanSizeInputs& in, double gridPitch, double dotPit
         std::ceil((size.x + margin) / gridPitch) * std::ceil((size.y + margin) / gridPitch);
     const double voxels = cells * in.layers * parameters.slicesPerLayer;
     p.workingBytes += voxels * (4 * 4.0 + 9.0);
-    p.seconds += voxels * parameters.iterations * 3e-8;
+    p.seconds += voxels * (parameters.iterations + parameters.coarseIterations / 6.0) * 3e-8;
     p.detail += "; shape objective on " + formatNumber(voxels, 3) + " voxels";
     return p;
 }

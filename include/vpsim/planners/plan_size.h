@@ -28,7 +28,7 @@ PlanSize laserOptimiserPlanSize(const PlanSizeInputs& inputs, double gridPitch, 
 
 /// The inverse planner's shape objective: laserOptimiserPlanSize() plus the 3D fields of the
 /// planning grid (`parameters.slicesPerLayer` slices per layer): four exposure fields and the
-/// per-voxel targets (9 B), `parameters.iterations` forward and adjoint passes.
+/// per-voxel targets (9 B), forward and adjoint passes per iteration (coarse ones ~1/6).
 PlanSize shapePlanSize(const PlanSizeInputs& inputs, double gridPitch, double dotPitch,
                        const optimise::ShapeParameters& parameters);
 

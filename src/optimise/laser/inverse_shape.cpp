@@ -71,6 +71,7 @@ ShapeTargets shapeTargets(const exposure::ExposureGrid& grid, double layerThickn
     t.criticalDose = criticalDose;
     t.voxelVolume = grid.pitch * grid.pitch * vh;
     t.uniformity = p.uniformity;
+    t.meanInside = criticalDose;
     const geometry::RasterGrid raster = grid.raster();
     const double reach = std::max(p.wallBand, grid.pitch);
     std::vector<std::vector<float>> planar(sliceRegions.size());
@@ -103,6 +104,25 @@ ShapeTargets shapeTargets(const exposure::ExposureGrid& grid, double layerThickn
         }
     }
     return t;
+}
+
+void levelTargets(ShapeTargets& t, const ExposureField& start) {
+    if (start.size() != t.inside.size())
+        throw InputError("shape objective: the start field differs from the targets in slices");
+    double total = 0, count = 0;
+    for (size_t v = 0; v < start.size(); ++v) {
+        double sum = 0, n = 0;
+        for (size_t c = 0; c < start[v].values.size(); ++c)
+            if (t.inside[v][c]) sum += start[v].values[c], n += 1;
+        total += sum;
+        count += n;
+        const double level = std::max(n > 0 ? sum / n : 0.0, t.criticalDose);
+        const float scale = float(std::pow(t.criticalDose / level, 2));
+        for (float& w : t.weight[v]) w *= scale;
+    }
+    t.meanInside = std::max(count > 0 ? total / count : 0.0, t.criticalDose);
+    // The spread is relative to Ebar, not Ec: mu ((E - Ebar) / Ebar)^2.
+    t.uniformity *= std::pow(t.criticalDose / t.meanInside, 2);
 }
 
 double shapeObjective(const ShapeTargets& t, const ExposureField& field, ExposureField* gradient) {
@@ -190,7 +210,7 @@ double ShapeProblem::valueAndGradient(const std::vector<double>& x,
     return valueAt(field(x), &gradient);
 }
 
-double ShapeProblem::lipschitz() const {
+std::vector<double> ShapeProblem::rowSums() const {
     ExposureField field = mModel.stack(deposits(std::vector<double>(mSize, 1.0)));
     const double scale = mTargets.voxelVolume / (mTargets.criticalDose * mTargets.criticalDose);
     for (size_t v = 0; v < field.size(); ++v)
@@ -198,10 +218,12 @@ double ShapeProblem::lipschitz() const {
             field[v].values[c] *= float(
                 scale * (mTargets.weight[v][c] + (mTargets.inside[v][c] ? mTargets.uniformity : 0)));
     const std::vector<SurfaceGrid> back = mModel.stackAdjoint(field);
-    double largest = 0;
+    std::vector<double> sums(mSize);
     for (size_t k = 0; k < mDots.size(); ++k)
-        for (size_t d : mDots[k]) largest = std::max(largest, double(back[k].values[d]) / mCellArea);
-    return 1.001 * std::max(largest, 1e-300);
+        for (size_t d = 0; d < mDots[k].size(); ++d)
+            sums[mOffset[k] + d] =
+                1.001 * std::max(double(back[k].values[mDots[k][d]]) / mCellArea, 1e-300);
+    return sums;
 }
 
 }  // namespace vpsim::optimise

@@ -1,6 +1,7 @@
 // planInverseShape (inverse_shape.h): dots, the warm start and FISTA over all layers at once.
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "vpsim/core/error.h"
 #include "vpsim/exposure/deposit.h"
@@ -27,20 +28,29 @@ std::vector<size_t> layerDots(const geometry::PolygonSet& region, const exposure
     return dots;
 }
 
-/// The deposit gathered onto the nearest dot (energy outside the dots' area is dropped).
+/// The deposit gathered bilinearly onto the dot lattice (every stride-th cell from stride / 2),
+/// which keeps each cell's centre of energy (a border loop is not snapped by up to half a dot
+/// pitch); the share of a lattice point that is not a dot is dropped.
 void gather(const SurfaceGrid& deposit, const std::vector<size_t>& dots, int stride,
             double cellArea, double* x) {
-    const int nx = deposit.nx, ny = deposit.ny;
+    const int nx = deposit.nx, ny = deposit.ny, first = stride / 2;
     std::vector<long> dotOf(deposit.values.size(), -1);
     for (size_t d = 0; d < dots.size(); ++d) dotOf[dots[d]] = long(d);
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
             const float v = deposit.values[size_t(j) * nx + i];
             if (v == 0) continue;
-            const int di = std::min(i / stride * stride + stride / 2, nx - 1);
-            const int dj = std::min(j / stride * stride + stride / 2, ny - 1);
-            const long d = dotOf[size_t(dj) * nx + di];
-            if (d >= 0) x[d] += v * cellArea;
+            const double fx = double(i - first) / stride, fy = double(j - first) / stride;
+            const int mx = int(std::floor(fx)), my = int(std::floor(fy));
+            const double tx = fx - mx, ty = fy - my;
+            for (int b = 0; b < 2; ++b)
+                for (int a = 0; a < 2; ++a) {
+                    const int di = first + (mx + a) * stride, dj = first + (my + b) * stride;
+                    if (di < 0 || dj < 0 || di >= nx || dj >= ny) continue;
+                    const long d = dotOf[size_t(dj) * nx + di];
+                    const double w = (a ? tx : 1 - tx) * (b ? ty : 1 - ty);
+                    if (d >= 0 && w > 0) x[d] += w * v * cellArea;
+                }
         }
 }
 
@@ -55,7 +65,8 @@ void combine(ExposureField& out, const ExposureField& a, const ExposureField& b,
 /// iterates' fields, the map being linear). Returns the best iterate.
 std::vector<double> solve(const ShapeProblem& problem, std::vector<double> x, int iterations,
                           double& best, int& done) {
-    const double step = 1.0 / problem.lipschitz();
+    std::vector<double> step = problem.rowSums();
+    for (double& s : step) s = 1.0 / s;
     ExposureField ax = problem.field(x);
     double fx = problem.valueAt(ax, nullptr);
     best = fx;
@@ -64,7 +75,7 @@ std::vector<double> solve(const ShapeProblem& problem, std::vector<double> x, in
     double t = 1;
     for (done = 0; done < iterations; ++done) {
         problem.valueAt(ay, &g);
-        for (size_t k = 0; k < x.size(); ++k) xn[k] = std::max(y[k] - step * g[k], 0.0);
+        for (size_t k = 0; k < x.size(); ++k) xn[k] = std::max(y[k] - step[k] * g[k], 0.0);
         ExposureField axn = problem.field(xn);
         const double fn = problem.valueAt(axn, nullptr);
         if (fn > fx) {  // momentum overshot: restart from x with a plain projected step
@@ -85,6 +96,68 @@ std::vector<double> solve(const ShapeProblem& problem, std::vector<double> x, in
     return bestX;
 }
 
+/// One resolution of the problem: the engine, the targets levelled on the start, the dots.
+struct ShapeLevel {
+    exposure::ExposureGrid grid;
+    std::unique_ptr<exposure::ExposureEngine> model;
+    ShapeTargets targets;
+    std::unique_ptr<ShapeProblem> problem;
+    double startObjective = 0;  ///< J of the start plan on this grid
+};
+
+std::unique_ptr<ShapeLevel> makeLevel(const exposure::ExposureGrid& grid,
+                                      std::vector<std::vector<size_t>> dots,
+                                      const std::vector<geometry::PolygonSet>& sliceRegions,
+                                      const plan::ScanPlan& start, const ShapeParameters& p,
+                                      const kernel::FittedBeam& beam, double layerThickness,
+                                      double criticalDose, std::vector<SurfaceGrid>& deposits) {
+    auto level = std::make_unique<ShapeLevel>();
+    level->grid = grid;
+    level->model = std::make_unique<exposure::ExposureEngine>(grid, beam, layerThickness);
+    level->targets = shapeTargets(grid, layerThickness, beam.attenuationLength, sliceRegions,
+                                  criticalDose, p);
+    deposits.assign(start.layers.size(), grid.surface());
+    for (size_t k = 0; k < start.layers.size(); ++k)
+        exposure::depositLayer(start.layers[k], deposits[k]);
+    const ExposureField startField = level->model->stack(deposits);
+    levelTargets(level->targets, startField);
+    level->startObjective = shapeObjective(level->targets, startField);
+    level->problem = std::make_unique<ShapeProblem>(*level->model, level->targets, std::move(dots));
+    return level;
+}
+
+/// The grid whose cell centres are the dot cells of `fine` (every stride-th cell from
+/// stride / 2), with `fine`'s slices.
+exposure::ExposureGrid coarseGrid(const exposure::ExposureGrid& fine, int stride) {
+    exposure::ExposureGrid c = fine;
+    const int first = stride / 2;
+    c.nx = (fine.nx - first + stride - 1) / stride;
+    c.ny = (fine.ny - first + stride - 1) / stride;
+    c.pitch = fine.pitch * stride;
+    const double shift = (first + 0.5 - 0.5 * stride) * fine.pitch;
+    c.originX = fine.originX + shift;
+    c.originY = fine.originY + shift;
+    return c;
+}
+
+/// The plan of the dot energies x: the start's layers (their z) with points only.
+plan::ScanPlan dotPlan(const plan::ScanPlan& start, const ShapeProblem& problem,
+                       const exposure::ExposureGrid& grid, const std::vector<double>& x) {
+    plan::ScanPlan out = start;
+    const auto& dots = problem.dots();
+    for (size_t k = 0, offset = 0; k < dots.size(); offset += dots[k].size(), ++k) {
+        plan::LayerPlan& layer = out.layers[k];
+        layer.vectors.clear();
+        layer.points.clear();
+        for (size_t d = 0; d < dots[k].size(); ++d)
+            if (x[offset + d] > 0)
+                layer.points.push_back({grid.originX + (dots[k][d] % grid.nx + 0.5) * grid.pitch,
+                                        grid.originY + (dots[k][d] / grid.nx + 0.5) * grid.pitch,
+                                        x[offset + d]});
+    }
+    return out;
+}
+
 }  // namespace
 
 ShapeResult planInverseShape(const std::vector<geometry::PolygonSet>& regions,
@@ -94,65 +167,61 @@ ShapeResult planInverseShape(const std::vector<geometry::PolygonSet>& regions,
                              double layerThickness, double criticalDose) {
     if (regions.size() != start.layers.size())
         throw InputError("inverse planner: one start layer per region is needed");
-    if (!(gridPitch > 0) || !(dotPitch > 0) || p.iterations < 0 || p.slicesPerLayer < 1)
+    if (!(gridPitch > 0) || !(dotPitch > 0) || p.iterations < 0 || p.coarseIterations < 0 ||
+        p.slicesPerLayer < 1)
         throw InputError("inverse planner: pitches and slices must be positive, iterations >= 0");
     exposure::ExposureGrid grid = planningGrid(regions, beam.radius, gridPitch);
     grid.slicesPerLayer = p.slicesPerLayer;
-    exposure::ExposureEngine model(grid, beam, layerThickness);
-    ShapeTargets targets = shapeTargets(grid, layerThickness, beam.attenuationLength,
-                                        sliceRegions, criticalDose, p);
     const int stride = std::max(1, int(std::lround(dotPitch / gridPitch)));
     std::vector<std::vector<size_t>> dots;
     for (const auto& r : regions) dots.push_back(layerDots(r, grid, stride, dotPitch));
-    ShapeProblem problem(model, targets, dots);
-
-    std::vector<SurfaceGrid> startDeposits(regions.size(), grid.surface());
-    for (size_t k = 0; k < regions.size(); ++k)
-        exposure::depositLayer(start.layers[k], startDeposits[k]);
-    // Ebar: the start's mean exposure inside the part (the uniformity term's level).
-    const ExposureField startField = model.stack(startDeposits);
-    double sum = 0, count = 0;
-    for (size_t v = 0; v < startField.size(); ++v)
-        for (size_t c = 0; c < startField[v].values.size(); ++c)
-            if (targets.inside[v][c]) sum += startField[v].values[c], count += 1;
-    targets.meanInside = count > 0 ? sum / count : criticalDose;
+    std::vector<SurfaceGrid> deposits;
+    auto fine = makeLevel(grid, dots, sliceRegions, start, p, beam, layerThickness,
+                          criticalDose, deposits);
+    const ShapeProblem& problem = *fine->problem;
 
     ShapeResult result;
-    result.objectiveStart = shapeObjective(targets, startField);
+    result.objectiveStart = fine->startObjective;
     std::vector<double> x(problem.size(), 0.0);
     const double cellArea = grid.pitch * grid.pitch;
     for (size_t k = 0, offset = 0; k < regions.size(); offset += dots[k].size(), ++k)
-        gather(startDeposits[k], dots[k], stride, cellArea, x.data() + offset);
+        gather(deposits[k], dots[k], stride, cellArea, x.data() + offset);
     result.dots = problem.size();
     result.objectiveDots = problem.value(x);
     double best = result.objectiveDots;
-    if (problem.size() > 0) x = solve(problem, x, p.iterations, best, result.iterations);
-    if (!(best < result.objectiveStart)) {
-        result.plan = start;
-        result.keptStart = true;
-        result.objectiveFinal = result.objectiveStart;
-        return result;
+    int done = 0;
+    // First on the grid whose cells are the dots: the same variables, stride^2 fewer cells and
+    // a stride times shorter blur (the engine needs We3D >= its pitch).
+    if (stride > 1 && p.coarseIterations > 0 && beam.radius >= gridPitch * stride &&
+        problem.size() > 0) {
+        const exposure::ExposureGrid cg = coarseGrid(grid, stride);
+        std::vector<std::vector<size_t>> coarseDots(dots.size());
+        for (size_t k = 0; k < dots.size(); ++k)
+            for (size_t c : dots[k])
+                coarseDots[k].push_back(size_t((long(c / grid.nx) - stride / 2) / stride) * cg.nx +
+                                        size_t((long(c % grid.nx) - stride / 2) / stride));
+        std::vector<SurfaceGrid> coarseDeposits;
+        auto coarse = makeLevel(cg, std::move(coarseDots), sliceRegions, start, p, beam,
+                                layerThickness, criticalDose, coarseDeposits);
+        x = solve(*coarse->problem, x, p.coarseIterations, best, done);
+        result.iterations += done;
     }
+    if (problem.size() > 0) x = solve(problem, x, p.iterations, best, done);
+    result.iterations += done;
     result.plan = start;
-    for (size_t k = 0, offset = 0; k < regions.size(); offset += dots[k].size(), ++k) {
-        plan::LayerPlan& layer = result.plan.layers[k];
-        layer.vectors.clear();
-        layer.points.clear();
-        for (size_t d = 0; d < dots[k].size(); ++d)
-            if (x[offset + d] > 0)
-                layer.points.push_back({grid.originX + (dots[k][d] % grid.nx + 0.5) * grid.pitch,
-                                        grid.originY + (dots[k][d] / grid.nx + 0.5) * grid.pitch,
-                                        x[offset + d]});
-    }
+    result.keptStart = true;
+    result.objectiveFinal = result.objectiveStart;
+    if (!(best < result.objectiveStart)) return result;
     // Measured on the returned plan (its points deposited as the simulation deposits them).
+    plan::ScanPlan planned = dotPlan(start, problem, grid, x);
     std::vector<SurfaceGrid> finalDeposits(regions.size(), grid.surface());
     for (size_t k = 0; k < regions.size(); ++k)
-        exposure::depositLayer(result.plan.layers[k], finalDeposits[k]);
-    result.objectiveFinal = problem.valueOfDeposits(finalDeposits);
-    if (!(result.objectiveFinal < result.objectiveStart)) {
-        result.plan = start;
-        result.keptStart = true;
-        result.objectiveFinal = result.objectiveStart;
+        exposure::depositLayer(planned.layers[k], finalDeposits[k]);
+    const double final = problem.valueOfDeposits(finalDeposits);
+    if (final < result.objectiveStart) {
+        result.plan = std::move(planned);
+        result.keptStart = false;
+        result.objectiveFinal = final;
     }
     return result;
 }

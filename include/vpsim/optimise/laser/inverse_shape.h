@@ -15,12 +15,12 @@
 /// slice, and vertically to the state change above or below) up to the grid pitch p, so the
 /// Ec crossing is aimed at the surface itself; w_v = 1, plus `wallWeight` within `wallBand` of
 /// a wall, plus `downFacingWeight` outside the part below a down-facing surface (within 3 De3D:
-/// the over-cure below overhangs); Ebar the start's mean exposure inside (a small uniformity
+/// the over-cure below overhangs), scaled per slice by levelTargets(); Ebar the start's mean exposure inside (a small uniformity
 /// term, weight mu). J is convex (hinge squares of a linear map); its gradient is
 /// A' (dJ/dE) through the model's stackAdjoint, so print-through is compensated inside the model
-/// and not layer by layer. Solved by FISTA with projection onto x >= 0, the step from the
-/// largest row sum of A'(W + mu)A / Ec^2, restarted when J rises; warm-started from a given plan
-/// (the job's ACES) gathered onto the dots. The returned plan is never worse than the start on
+/// and not layer by layer. Solved by FISTA with projection onto x >= 0 in the metric of the
+/// row sums of A'(W + mu)A V / Ec^2 (a step per dot), restarted when J rises; warm-started from a given plan
+/// (the job's ACES) gathered bilinearly onto the dots. The returned plan is never worse than the start on
 /// J, measured on the plans themselves: if the best iterate is not below J(start), the start is
 /// returned. Units: mm, mJ, mJ/mm^2.
 
@@ -41,7 +41,10 @@ struct ShapeParameters {
     double downFacingWeight = 8.0; ///< extra weight below down-facing surfaces (outside)
     double uniformity = 0.01;      ///< mu
     int slicesPerLayer = 5;        ///< objective voxel slices per layer
-    int iterations = 150;          ///< FISTA iterations on all layers at once
+    int iterations = 60;           ///< FISTA iterations on all layers at once, planning grid
+    /// Iterations first on the grid whose cells are the dots (the same variables, each about
+    /// 1/stride^3 of a fine one); 0 skips it.
+    int coarseIterations = 300;
 };
 
 /// Per-voxel targets of J on a grid's voxel slices (index k n + s, as an ExposureField).
@@ -51,7 +54,7 @@ struct ShapeTargets {
     std::vector<std::vector<float>> weight;   ///< w_v
     double criticalDose = 0;                  ///< Ec, mJ/mm^2
     double voxelVolume = 0;                   ///< mm^3
-    double uniformity = 0, meanInside = 0;    ///< mu, Ebar (mJ/mm^2)
+    double uniformity = 0, meanInside = 0;    ///< mu (see levelTargets), Ebar (mJ/mm^2)
 };
 
 /// Targets from the part's cross-section at every voxel slice centre (`sliceRegions`, index
@@ -60,6 +63,14 @@ ShapeTargets shapeTargets(const exposure::ExposureGrid& grid, double layerThickn
                           double attenuationLength,
                           const std::vector<geometry::PolygonSet>& sliceRegions,
                           double criticalDose, const ShapeParameters& parameters);
+
+/// Scales each slice's hinge weights by (Ec / L)^2, L the start's mean exposure inside the part
+/// in that slice (at least Ec): a violation's geometric size is about h / |grad E|, and the
+/// exposure's slope near a wall grows with its level (the top of a layer in a strongly
+/// absorbing slurry receives several Ec), so the residuals count about as distances. Also sets
+/// Ebar, the uniformity term's level, to the start's mean exposure inside (at least Ec), and
+/// mu to mu (Ec / Ebar)^2, so the uniformity term is mu V/2 sum ((E - Ebar) / Ebar)^2.
+void levelTargets(ShapeTargets& targets, const exposure::ExposureField& start);
 
 /// J of a 3D exposure field, and dJ/dE (a field) when `gradient` is not null.
 double shapeObjective(const ShapeTargets& targets, const exposure::ExposureField& field,
@@ -83,8 +94,10 @@ public:
     double valueAndGradient(const std::vector<double>& x, std::vector<double>& gradient) const;
     /// J of per-layer deposits (any plan's, e.g. ACES vectors).
     double valueOfDeposits(const std::vector<exposure::SurfaceGrid>& deposits) const;
-    /// An upper bound of the Hessian's largest eigenvalue (largest row sum).
-    double lipschitz() const;
+    /// The Hessian's row sums, diag(H 1) (times 1.001 for float rounding): H is non-negative, so
+    /// diag(H 1) - H is diagonally dominant and the diagonal majorises H; a step of 1 / row sum
+    /// per variable is a valid (preconditioned) gradient step.
+    std::vector<double> rowSums() const;
     const std::vector<std::vector<size_t>>& dots() const { return mDots; }
 
 private:
