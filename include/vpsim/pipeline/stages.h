@@ -31,9 +31,16 @@ struct BeamResult {
     kernel::FittedBeam beam;                       ///< fitted, given, or the DLP projector blur
     std::optional<kernel::BeamKernel> monteCarlo;  ///< the Monte Carlo kernel, when one was run
     bool fromCache = false;
+    /// The planning kernel's beam when the job names one apart (`kernel.plan`), with its Monte
+    /// Carlo kernel when it has one; the exposure and validation use `beam`.
+    std::optional<kernel::FittedBeam> planBeam;
+    std::optional<kernel::BeamKernel> planMonteCarlo;
+    /// What the planner plans with: planBeam when there is one, else beam.
+    const kernel::FittedBeam& planningBeam() const { return planBeam ? *planBeam : beam; }
 };
-/// Laser jobs: the Monte Carlo kernel of the material (cached) or the given one; DLP jobs: the
-/// projector blur with the resin's penetration depth.
+/// Laser jobs: the Monte Carlo kernel of the material (cached) or the given one, and the same
+/// for the planning kernel (`kernel.plan`) when there is one; DLP jobs: the projector blur with
+/// the resin's penetration depth.
 BeamResult beamStage(const Job& job, const RunContext& context);
 
 /// The part sliced into the machine's layers from z = 0.
