@@ -160,22 +160,21 @@ nlohmann::json runExample(const std::string& job, const Strategy& strategy,
                           const RunContext& context) {
     const pipeline::Builtins builtins = pipeline::makeBuiltins();
     const pipeline::Job loaded = pipeline::loadJob(
-        std::string(VPSIM_SOURCE_DIR) + "/examples/" + job + ".json", builtins,
-        strategy.overrides);
+        std::string(VPSIM_SOURCE_DIR) + "/examples/" + job + ".json", builtins, strategy.overrides);
     auto dir = std::filesystem::temp_directory_path() / ("vpsim_bench_laser_" + job);
     std::clock_t c0 = std::clock();
     const nlohmann::json r = report::toJson(pipeline::runJob(loaded, dir.string(), context));
     const double cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
     const auto& dev = r["surface_deviation_mm"];
-    const auto& over = r["overcure_below_downfacing_mm"];
-    nlohmann::json out = {{"iou", r["iou"]},
-                          {"mean_deviation_um", dev["mean"].get<double>() * 1e3},
-                          {"rms_deviation_um", dev["rms"].get<double>() * 1e3},
-                          {"overcure_below_downfacing_mean_um", over["mean"].get<double>() * 1e3},
-                          {"overcure_below_downfacing_median_um",
-                           over["median"].get<double>() * 1e3},
-                          {"plan_seconds", r["stage_seconds"]["plan"]},
-                          {"run_cpu_seconds_all_threads", cpu}};
+    const auto& over = r["validation"]["overcure_below_downfacing_mm"];
+    nlohmann::json out = {
+        {"iou", r["iou"]},
+        {"mean_deviation_um", dev["mean"].get<double>() * 1e3},
+        {"rms_deviation_um", dev["rms"].get<double>() * 1e3},
+        {"overcure_below_downfacing_mean_um", over["mean"].get<double>() * 1e3},
+        {"overcure_below_downfacing_median_um", over["median"].get<double>() * 1e3},
+        {"plan_seconds", r["stage_seconds"]["plan"]},
+        {"run_cpu_seconds_all_threads", cpu}};
     if (r.contains("build_time_s")) out["build_time_s"] = r["build_time_s"]["total"];
     if (r.contains("inverse") && r["inverse"].contains("objective_start_mm3")) {
         out["shape_objective_start_mm3"] = r["inverse"]["objective_start_mm3"];
@@ -207,8 +206,8 @@ nlohmann::json targets(const nlohmann::json& r) {
             {"inverse_rms_at_most_aces", i["rms_deviation_um"] <= a["rms_deviation_um"]},
             {"inverse_abs_mean_deviation_at_most_5_um",
              std::abs(i["mean_deviation_um"].get<double>()) <= 5.0},
-            {"inverse_overcure_at_most_aces", i["overcure_below_downfacing_mean_um"] <=
-                                                  a["overcure_below_downfacing_mean_um"]},
+            {"inverse_overcure_at_most_aces",
+             i["overcure_below_downfacing_mean_um"] <= a["overcure_below_downfacing_mean_um"]},
             {"inverse_plan_under_60_s", i["plan_seconds"] < 60.0}};
         if (job == "laser-overhang")
             j["inverse_iou_at_least_aces_plus_0.02"] =
@@ -216,8 +215,7 @@ nlohmann::json targets(const nlohmann::json& r) {
         if (a.contains("build_time_s"))
             for (const char* name : {"dfbtp", "inverse_shape", "inverse_exposure_l2"})
                 j[std::string(name) + "_build_time_within_3x_aces"] =
-                    s[name]["build_time_s"].get<double>() <=
-                    3 * a["build_time_s"].get<double>();
+                    s[name]["build_time_s"].get<double>() <= 3 * a["build_time_s"].get<double>();
         t[job] = j;
     }
     return t;

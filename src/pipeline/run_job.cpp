@@ -111,8 +111,7 @@ nlohmann::json kernelMismatch(const Job& job, const Front& f, exposure::Exposure
     BeamResult matched = f.beam;  // the simulated kernel for the planner too
     matched.planBeam.reset();
     matched.planMonteCarlo.reset();
-    const plan::ScanPlan plan =
-        planStage(job, f.layers, f.bounds, matched, context, &f.part).plan;
+    const plan::ScanPlan plan = planStage(job, f.layers, f.bounds, matched, context, &f.part).plan;
     const double voxelHeight = job.machine.layerThickness / job.simulation.slicesPerLayer;
     validate::SliceValidator validator(f.part, model.grid(), *job.cure, voxelHeight);
     model.run(plan, [&](const exposure::ExposureSlice& s) { validator.add(s); });

@@ -71,10 +71,10 @@ PlanResult planStage(const Job& job, const geometry::LayerStack& layers,
     const kernel::BeamKernel* table =
         job.kernel.tabulated && beam.monteCarlo ? &*beam.monteCarlo : nullptr;
     if (job.kernel.plan)  // the planner sees the planning kernel only
-        table = job.kernel.plan->tabulated && beam.planMonteCarlo ? &*beam.planMonteCarlo
-                                                                   : nullptr;
-    planners::PlannerInputs inputs{layers, partBounds, job.machine, beam.planningBeam(), table,
-                                   job.cure->criticalDose(), *job.cure, context, part};
+        table = job.kernel.plan->tabulated && beam.planMonteCarlo ? &*beam.planMonteCarlo : nullptr;
+    planners::PlannerInputs inputs{
+        layers,    partBounds, job.machine, beam.planningBeam(), table, job.cure->criticalDose(),
+        *job.cure, context,    part};
     PlanResult result;
     result.plan = job.planner->plan(inputs);
     result.summary = job.planner->summary();

@@ -22,7 +22,7 @@ KeyTable inverseKeyTable() {
                   "shape: what cures in 3D, the stack's exposure against Ec with margins, all "
                   "layers at once from the shipped ACES plan; exposure-l2: each layer's surface "
                   "exposure against Etar, top down"),
-        numberKey("margin", 0.05, "shape: inside E >= (1 + m) Ec, outside E <= (1 - m) Ec")
+        numberKey("margin", 0.02, "shape: inside E >= (1 + m) Ec, outside E <= (1 - m) Ec")
             .in(0, 0.5),
         numberKey("wall_weight", 4.0, "shape: extra weight of voxels near a wall").in(0, 1e3),
         numberKey("down_facing_weight", 8.0,
@@ -118,19 +118,18 @@ private:
         std::vector<geometry::PolygonSet> slices;
         for (size_t k = 0; k < start.layers.size(); ++k)
             for (int s = 0; s < n; ++s)
-                slices.push_back(in.part ? geometry::sliceAt(*in.part,
-                                                             start.layers[k].z - (s + 0.5) * h / n)
-                                         : in.layers.layers[k].region);
-        optimise::ShapeResult r = optimise::planInverseShape(
-            layerRegions(in), slices, start, mP.base.gridPitch, mP.dotPitch, mShape, in.beam, h,
-            in.criticalDose);
+                slices.push_back(
+                    in.part ? geometry::sliceAt(*in.part, start.layers[k].z - (s + 0.5) * h / n)
+                            : in.layers.layers[k].region);
+        optimise::ShapeResult r =
+            optimise::planInverseShape(layerRegions(in), slices, start, mP.base.gridPitch,
+                                       mP.dotPitch, mShape, in.beam, h, in.criticalDose);
         logInfo("inverse (shape objective): J of the ACES start " +
                 std::to_string(r.objectiveStart) + " mm^3, gathered onto the dots " +
                 std::to_string(r.objectiveDots));
         logInfo("inverse (shape objective): J of the returned plan " +
-                std::to_string(r.objectiveFinal) + " mm^3 after " +
-                std::to_string(r.iterations) + " iterations" +
-                (r.keptStart ? " (no improvement: the ACES start returned)" : ""));
+                std::to_string(r.objectiveFinal) + " mm^3 after " + std::to_string(r.iterations) +
+                " iterations" + (r.keptStart ? " (no improvement: the ACES start returned)" : ""));
         mSummary = {{"inverse",
                      {{"objective", "shape"},
                       {"objective_start_mm3", r.objectiveStart},

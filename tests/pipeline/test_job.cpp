@@ -269,8 +269,10 @@ TEST_CASE("a job may plan with one kernel and simulate with another", "[pipeline
 // equals optimise::planInverse with the same parameters (the ACES start without the stack rule).
 TEST_CASE("inverse with objective exposure-l2 plans as before", "[pipeline]") {
     auto json = givenKernelJob();
-    json["plan"] = {{"strategy", "inverse"}, {"objective", "exposure-l2"},
-                    {"iterations", 5},       {"coarse_iterations", 5}};
+    json["plan"] = {{"strategy", "inverse"},
+                    {"objective", "exposure-l2"},
+                    {"iterations", 5},
+                    {"coarse_iterations", 5}};
     const pipeline::Job job = load("inverse_l2", json);
     const RunContext context = cpuContext();
     const geometry::Mesh part = pipeline::partStage(job);

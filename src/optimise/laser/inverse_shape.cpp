@@ -93,8 +93,8 @@ ShapeTargets shapeTargets(const exposure::ExposureGrid& grid, double layerThickn
         t.weight[v].resize(cells);
         for (size_t c = 0; c < cells; ++c) {
             const bool in = t.inside[v][c];
-            const double d = std::min({double(std::abs(planar[v][c])), double(up[v][c]),
-                                       double(down[v][c])});
+            const double d =
+                std::min({double(std::abs(planar[v][c])), double(up[v][c]), double(down[v][c])});
             const double m = p.margin * std::min(1.0, d / grid.pitch);
             t.bound[v][c] = float(criticalDose * (in ? 1 + m : 1 - m));
             double w = 1;
@@ -215,8 +215,9 @@ std::vector<double> ShapeProblem::rowSums() const {
     const double scale = mTargets.voxelVolume / (mTargets.criticalDose * mTargets.criticalDose);
     for (size_t v = 0; v < field.size(); ++v)
         for (size_t c = 0; c < field[v].values.size(); ++c)
-            field[v].values[c] *= float(
-                scale * (mTargets.weight[v][c] + (mTargets.inside[v][c] ? mTargets.uniformity : 0)));
+            field[v].values[c] *=
+                float(scale *
+                      (mTargets.weight[v][c] + (mTargets.inside[v][c] ? mTargets.uniformity : 0)));
     const std::vector<SurfaceGrid> back = mModel.stackAdjoint(field);
     std::vector<double> sums(mSize);
     for (size_t k = 0; k < mDots.size(); ++k)

@@ -114,8 +114,8 @@ std::unique_ptr<ShapeLevel> makeLevel(const exposure::ExposureGrid& grid,
     auto level = std::make_unique<ShapeLevel>();
     level->grid = grid;
     level->model = std::make_unique<exposure::ExposureEngine>(grid, beam, layerThickness);
-    level->targets = shapeTargets(grid, layerThickness, beam.attenuationLength, sliceRegions,
-                                  criticalDose, p);
+    level->targets =
+        shapeTargets(grid, layerThickness, beam.attenuationLength, sliceRegions, criticalDose, p);
     deposits.assign(start.layers.size(), grid.surface());
     for (size_t k = 0; k < start.layers.size(); ++k)
         exposure::depositLayer(start.layers[k], deposits[k]);
@@ -176,8 +176,8 @@ ShapeResult planInverseShape(const std::vector<geometry::PolygonSet>& regions,
     std::vector<std::vector<size_t>> dots;
     for (const auto& r : regions) dots.push_back(layerDots(r, grid, stride, dotPitch));
     std::vector<SurfaceGrid> deposits;
-    auto fine = makeLevel(grid, dots, sliceRegions, start, p, beam, layerThickness,
-                          criticalDose, deposits);
+    auto fine =
+        makeLevel(grid, dots, sliceRegions, start, p, beam, layerThickness, criticalDose, deposits);
     const ShapeProblem& problem = *fine->problem;
 
     ShapeResult result;

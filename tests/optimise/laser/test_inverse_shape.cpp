@@ -98,8 +98,8 @@ TEST_CASE("the shape planner is never worse than its start", "[optimise][inverse
     p.iterations = 10;
     p.coarseIterations = 20;
     const plan::ScanPlan start = acesStart();
-    auto r = optimise::planInverseShape(regions(), sliceRegions(2), start, 0.01, 0.02, p, BEAM,
-                                        LT, EC);
+    auto r =
+        optimise::planInverseShape(regions(), sliceRegions(2), start, 0.01, 0.02, p, BEAM, LT, EC);
     CHECK(r.objectiveFinal <= r.objectiveStart);
     // Re-measure the returned plan on a fresh grid and engine.
     exposure::ExposureGrid grid = optimise::planningGrid(regions(), BEAM.radius, 0.01);

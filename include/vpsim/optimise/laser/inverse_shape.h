@@ -15,14 +15,14 @@
 /// slice, and vertically to the state change above or below) up to the grid pitch p, so the
 /// Ec crossing is aimed at the surface itself; w_v = 1, plus `wallWeight` within `wallBand` of
 /// a wall, plus `downFacingWeight` outside the part below a down-facing surface (within 3 De3D:
-/// the over-cure below overhangs), scaled per slice by levelTargets(); Ebar the start's mean exposure inside (a small uniformity
-/// term, weight mu). J is convex (hinge squares of a linear map); its gradient is
-/// A' (dJ/dE) through the model's stackAdjoint, so print-through is compensated inside the model
-/// and not layer by layer. Solved by FISTA with projection onto x >= 0 in the metric of the
-/// row sums of A'(W + mu)A V / Ec^2 (a step per dot), restarted when J rises; warm-started from a given plan
-/// (the job's ACES) gathered bilinearly onto the dots. The returned plan is never worse than the start on
-/// J, measured on the plans themselves: if the best iterate is not below J(start), the start is
-/// returned. Units: mm, mJ, mJ/mm^2.
+/// the over-cure below overhangs), scaled per slice by levelTargets(); Ebar the start's mean
+/// exposure inside (a small uniformity term, weight mu). J is convex (hinge squares of a linear
+/// map); its gradient is A' (dJ/dE) through the model's stackAdjoint, so print-through is
+/// compensated inside the model and not layer by layer. Solved by FISTA with projection onto x >= 0
+/// in the metric of the row sums of A'(W + mu)A V / Ec^2 (a step per dot), restarted when J rises;
+/// warm-started from a given plan (the job's ACES) gathered bilinearly onto the dots. The returned
+/// plan is never worse than the start on J, measured on the plans themselves: if the best iterate
+/// is not below J(start), the start is returned. Units: mm, mJ, mJ/mm^2.
 
 #include <memory>
 #include <vector>
@@ -35,13 +35,13 @@
 namespace vpsim::optimise {
 
 struct ShapeParameters {
-    double margin = 0.05;          ///< m: inside E >= (1 + m) Ec, outside E <= (1 - m) Ec
-    double wallWeight = 4.0;       ///< extra weight within wallBand of a wall
-    double wallBand = 0.03;        ///< mm
-    double downFacingWeight = 8.0; ///< extra weight below down-facing surfaces (outside)
-    double uniformity = 0.01;      ///< mu
-    int slicesPerLayer = 5;        ///< objective voxel slices per layer
-    int iterations = 60;           ///< FISTA iterations on all layers at once, planning grid
+    double margin = 0.02;           ///< m: inside E >= (1 + m) Ec, outside E <= (1 - m) Ec
+    double wallWeight = 4.0;        ///< extra weight within wallBand of a wall
+    double wallBand = 0.03;         ///< mm
+    double downFacingWeight = 8.0;  ///< extra weight below down-facing surfaces (outside)
+    double uniformity = 0.01;       ///< mu
+    int slicesPerLayer = 5;         ///< objective voxel slices per layer
+    int iterations = 60;            ///< FISTA iterations on all layers at once, planning grid
     /// Iterations first on the grid whose cells are the dots (the same variables, each about
     /// 1/stride^3 of a fine one); 0 skips it.
     int coarseIterations = 300;
@@ -49,12 +49,12 @@ struct ShapeParameters {
 
 /// Per-voxel targets of J on a grid's voxel slices (index k n + s, as an ExposureField).
 struct ShapeTargets {
-    std::vector<std::vector<char>> inside;    ///< per slice, per cell
-    std::vector<std::vector<float>> bound;    ///< (1 + m_v) Ec inside, (1 - m_v) Ec outside
-    std::vector<std::vector<float>> weight;   ///< w_v
-    double criticalDose = 0;                  ///< Ec, mJ/mm^2
-    double voxelVolume = 0;                   ///< mm^3
-    double uniformity = 0, meanInside = 0;    ///< mu (see levelTargets), Ebar (mJ/mm^2)
+    std::vector<std::vector<char>> inside;   ///< per slice, per cell
+    std::vector<std::vector<float>> bound;   ///< (1 + m_v) Ec inside, (1 - m_v) Ec outside
+    std::vector<std::vector<float>> weight;  ///< w_v
+    double criticalDose = 0;                 ///< Ec, mJ/mm^2
+    double voxelVolume = 0;                  ///< mm^3
+    double uniformity = 0, meanInside = 0;   ///< mu (see levelTargets), Ebar (mJ/mm^2)
 };
 
 /// Targets from the part's cross-section at every voxel slice centre (`sliceRegions`, index
