@@ -22,7 +22,7 @@ KeyTable inverseKeyTable() {
                   "shape: what cures in 3D, the stack's exposure against Ec with margins, all "
                   "layers at once from the shipped ACES plan; exposure-l2: each layer's surface "
                   "exposure against Etar, top down"),
-        numberKey("margin", 0.02, "shape: inside E >= (1 + m) Ec, outside E <= (1 - m) Ec")
+        numberKey("margin", 0.05, "shape: inside E >= (1 + m) Ec, outside E <= (1 - m) Ec")
             .in(0, 0.5),
         numberKey("wall_weight", 4.0, "shape: extra weight of voxels near a wall").in(0, 1e3),
         numberKey("down_facing_weight", 8.0,
@@ -32,7 +32,7 @@ KeyTable inverseKeyTable() {
         integerKey("shape_iterations", 60,
                    "shape: FISTA iterations over all layers on the planning grid")
             .in(0, 100000),
-        integerKey("shape_coarse_iterations", 300,
+        integerKey("shape_coarse_iterations", 800,
                    "shape: iterations first on a grid at the dot pitch (0: none)")
             .in(0, 100000),
         integerKey("shape_slices_per_layer", 5, "shape: objective voxel slices per layer")

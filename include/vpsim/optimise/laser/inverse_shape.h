@@ -35,7 +35,7 @@
 namespace vpsim::optimise {
 
 struct ShapeParameters {
-    double margin = 0.02;           ///< m: inside E >= (1 + m) Ec, outside E <= (1 - m) Ec
+    double margin = 0.05;           ///< m: inside E >= (1 + m) Ec, outside E <= (1 - m) Ec
     double wallWeight = 4.0;        ///< extra weight within wallBand of a wall
     double wallBand = 0.03;         ///< mm
     double downFacingWeight = 8.0;  ///< extra weight below down-facing surfaces (outside)
@@ -44,7 +44,7 @@ struct ShapeParameters {
     int iterations = 60;            ///< FISTA iterations on all layers at once, planning grid
     /// Iterations first on the grid whose cells are the dots (the same variables, each about
     /// 1/stride^3 of a fine one); 0 skips it.
-    int coarseIterations = 300;
+    int coarseIterations = 800;
 };
 
 /// Per-voxel targets of J on a grid's voxel slices (index k n + s, as an ExposureField).
