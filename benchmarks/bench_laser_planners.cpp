@@ -1,15 +1,22 @@
 /// Laser planners on one layer (seed 000 Fig. 22/23 and issue 11 item 9): the squared exposure
-/// error of ACES (seed 5% edge rule and vpsim's cure-at-contour rule) and DFBTP on the default L
-/// part at 10 um, and the planning time of a 10 x 10 mm layer at 10 um with its error ratio to
-/// ACES. Prints one JSON object; the 1-minute load average tells how shared the 2 cores were.
+/// error of ACES (seed 5% edge rule and vpsim's cure-at-contour rule), DFBTP and inverse (its
+/// exposure-l2 objective, the layer's own) on the default L part at 10 um, and the planning time
+/// of a 10 x 10 mm layer at 10 um with its error ratio to ACES; then every strategy on the four
+/// laser example jobs in 3D through the pipeline (issue 23 item 4), and the targets as booleans.
+/// Usage: bench_laser_planners [PICTURE_DIR|-] [JOB,JOB,...|none]. Prints one JSON object; the
+/// 1-minute load average tells how shared the 2 cores were.
 #include <cctype>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <ctime>
+#include <filesystem>
 #include <iostream>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "vpsim/core/log.h"
 #include "vpsim/cure/threshold_law.h"
 #include "vpsim/exposure/deposit.h"
 #include "vpsim/exposure/exposure_engine.h"
@@ -18,8 +25,9 @@
 #include "vpsim/optimise/laser/dfbtp.h"
 #include "vpsim/optimise/laser/exposure_error.h"
 #include "vpsim/optimise/laser/inverse.h"
+#include "vpsim/pipeline/run_job.h"
 #include "vpsim/plan/feature_blocks.h"
-#include "vpsim/validate/slice_validator.h"
+#include "vpsim/report/job_result.h"
 
 using namespace vpsim;
 
@@ -131,88 +139,107 @@ nlohmann::json compare(const geometry::PolygonSet& region, const std::string& na
             {"dfbtp_vectors", dfbtp.plan.layers[0].vectors.size()}};
 }
 
-/// 3D with print-through that matters (kernel given: We3D 50 um, De3D 100 um = 2 layers): a 1 mm
-/// column with a 0.6 mm ledge from z 0.5 to 1 mm (unsupported below). Each plan is exposed through
-/// the engine and compared with the part (IoU, over-cure below down-facing surfaces).
-nlohmann::json overhang() {
-    const kernel::FittedBeam beam{0.05, 0.1, 0.0, 1.0};
-    const double lt = 0.05, ec = 0.1;
-    geometry::Mesh part = geometry::makeCellMesh({-0.5, 0.5, 1.1}, {-0.5, 0.5}, {0, 0.5, 0.75, 1.0},
-                                                 {1, 0, 1, 1, 1, 1});
-    auto layers = geometry::sliceMesh(part, geometry::SliceOptions{});
-    std::vector<geometry::PolygonSet> regions;
-    std::vector<double> tops;
-    for (const auto& l : layers) regions.push_back(l.region), tops.push_back(l.zBottom + lt);
-    optimise::DfbtpParameters p;
-    p.aces.beamRadius = beam.radius;
-    p.aces.attenuationLength = beam.attenuationLength;
-    p.aces.criticalDose = ec;
-    p.aces.layerThickness = lt;
-    p.aces.laserPower = 10.0;
-    auto grid = optimise::planningGrid(regions, beam.radius, 0.01);
-    grid.slicesPerLayer = 5;
-    exposure::ExposureEngine engine(grid, beam, lt);
-    auto evaluate = [&](const plan::ScanPlan& plan) {
-        const cure::ThresholdLaw law(ec);
-        validate::SliceValidator validator(part, grid, law, lt / grid.slicesPerLayer);
-        engine.run(plan, [&](const exposure::ExposureSlice& s) { validator.add(s); });
-        auto v = validator.summary();
-        return nlohmann::json{
-            {"iou", v.iou},
-            {"overcure_below_downfacing_median_um", v.overcureBelowDownFacingMedian * 1e3},
-            {"overcure_below_downfacing_mean_um", v.overcureBelowDownFacingMean * 1e3},
-            {"xy_contour_error_mean_um", v.xyContourErrorMean * 1e3}};
-    };
-    plan::ScanPlan aces;
-    plan::AcesParameters contour = p.aces;
-    contour.edge = plan::AcesEdge::CureAtContour;
-    for (size_t k = 0; k < regions.size(); ++k)
-        aces.layers.push_back(
-            plan::planAcesLayer(regions[k], plan::designAces(contour, regions[k]), 10.0, tops[k]));
-    auto t0 = std::chrono::steady_clock::now();
-    auto dfbtp = optimise::planDfbtp(regions, tops, p, beam);
-    double dfbtpSeconds = seconds(t0);
-    optimise::InverseParameters ip;
-    ip.base = p;
-    ip.base.aces.edge = plan::AcesEdge::CureAtContour;
-    t0 = std::chrono::steady_clock::now();
-    auto inverse = optimise::planInverse(regions, tops, ip, beam);
-    double inverseSeconds = seconds(t0);
-    double uncompensable = 0;
-    for (const auto& c : dfbtp.layers) uncompensable += c.uncompensableArea;
-    return {{"part", "1 mm column, 0.6 mm ledge z 0.5..1 mm, 20 layers of 50 um"},
-            {"kernel", "given: We3D 50 um, De3D 100 um, efficiency 1; Ec 10 mJ/cm^2"},
-            {"aces_cure_at_contour", evaluate(aces)},
-            {"dfbtp", evaluate(dfbtp.plan)},
-            {"inverse", evaluate(inverse.plan)},
-            {"dfbtp_uncompensable_area_mm2_sum_over_layers", uncompensable},
-            {"plan_seconds", {{"dfbtp", dfbtpSeconds}, {"inverse", inverseSeconds}}}};
+/// The cured part in 3D (issue 23 item 4): every strategy on each laser example job, run
+/// through the pipeline exactly as `vpsim --set plan.strategy=S run JOB` runs it (the shipped
+/// `aces` with its stack-aware contour rule, created through the registry), with its IoU,
+/// signed and RMS surface deviation, over-cure below down-facing surfaces, build time and plan
+/// time (wall, and the run's CPU seconds over all threads).
+struct Strategy {
+    std::string name;
+    std::vector<std::string> overrides;
+};
+
+const std::vector<Strategy> STRATEGIES = {
+    {"aces", {"plan.strategy=aces"}},
+    {"dfbtp", {"plan.strategy=dfbtp"}},
+    {"inverse_shape", {"plan.strategy=inverse", "plan.objective=shape"}},
+    {"inverse_exposure_l2", {"plan.strategy=inverse", "plan.objective=exposure-l2"}},
+};
+
+nlohmann::json runExample(const std::string& job, const Strategy& strategy,
+                          const RunContext& context) {
+    const pipeline::Builtins builtins = pipeline::makeBuiltins();
+    const pipeline::Job loaded = pipeline::loadJob(
+        std::string(VPSIM_SOURCE_DIR) + "/examples/" + job + ".json", builtins, strategy.overrides);
+    auto dir = std::filesystem::temp_directory_path() / ("vpsim_bench_laser_" + job);
+    std::clock_t c0 = std::clock();
+    const nlohmann::json r = report::toJson(pipeline::runJob(loaded, dir.string(), context));
+    const double cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
+    const auto& dev = r["surface_deviation_mm"];
+    const auto& over = r["validation"]["overcure_below_downfacing_mm"];
+    nlohmann::json out = {
+        {"iou", r["iou"]},
+        {"mean_deviation_um", dev["mean"].get<double>() * 1e3},
+        {"rms_deviation_um", dev["rms"].get<double>() * 1e3},
+        {"overcure_below_downfacing_mean_um", over["mean"].get<double>() * 1e3},
+        {"overcure_below_downfacing_median_um", over["median"].get<double>() * 1e3},
+        {"plan_seconds", r["stage_seconds"]["plan"]},
+        {"run_cpu_seconds_all_threads", cpu}};
+    if (r.contains("build_time_s")) out["build_time_s"] = r["build_time_s"]["total"];
+    if (r.contains("inverse") && r["inverse"].contains("objective_start_mm3")) {
+        out["shape_objective_start_mm3"] = r["inverse"]["objective_start_mm3"];
+        out["shape_objective_final_mm3"] = r["inverse"]["objective_final_mm3"];
+    }
+    return out;
 }
 
-/// Issue 11's checks, each with the figures it compares (wall seconds on this machine's 2 cores).
+nlohmann::json examples(const std::vector<std::string>& jobs, const RunContext& context) {
+    nlohmann::json out = nlohmann::json::object();
+    for (const std::string& job : jobs)
+        for (const Strategy& s : STRATEGIES) {
+            std::cerr << "bench_laser_planners: " << job << " " << s.name << std::endl;
+            out[job][s.name] = runExample(job, s, context);
+        }
+    return out;
+}
+
+/// Issue 23's targets per example job (inverse = the shape objective against the shipped ACES)
+/// and seed 000's single-layer figure, each a boolean.
 nlohmann::json targets(const nlohmann::json& r) {
-    const auto& l = r["l_part_2mm"];
-    const auto& sq = r["square_10mm"]["plan_seconds"];
-    const auto& o = r["overhang_3d"];
-    const auto& lsse = l["sse_mJ2_per_mm4"];
-    return {
-        {"dfbtp_over_aces_5_percent_at_most_0.65", l["dfbtp_over_aces_5_percent"] <= 0.65},
-        {"inverse_below_dfbtp_and_aces_cure_at_contour",
-         lsse["inverse"] < lsse["dfbtp"] && lsse["inverse"] < lsse["aces_cure_at_contour"]},
-        {"dfbtp_10mm_layer_under_1_s", sq["dfbtp"] < 1.0},
-        {"inverse_10mm_layer_under_5_s", sq["inverse"] < 5.0},
-        {"overhang_overcure_halved_iou_no_worse",
-         o["dfbtp"]["overcure_below_downfacing_mean_um"].get<double>() <=
-                 0.5 *
-                     o["aces_cure_at_contour"]["overcure_below_downfacing_mean_um"].get<double>() &&
-             o["dfbtp"]["iou"] >= o["aces_cure_at_contour"]["iou"] &&
-             o["inverse"]["iou"] >= o["aces_cure_at_contour"]["iou"]}};
+    nlohmann::json t = {{"single_layer_dfbtp_sse_at_most_0.65_aces_5_percent",
+                         r["l_part_2mm"]["dfbtp_over_aces_5_percent"] <= 0.65}};
+    for (const auto& [job, s] : r["examples"].items()) {
+        const auto& a = s["aces"];
+        const auto& i = s["inverse_shape"];
+        nlohmann::json j = {
+            {"inverse_iou_at_least_aces", i["iou"] >= a["iou"]},
+            {"inverse_rms_at_most_aces", i["rms_deviation_um"] <= a["rms_deviation_um"]},
+            {"inverse_abs_mean_deviation_at_most_5_um",
+             std::abs(i["mean_deviation_um"].get<double>()) <= 5.0},
+            {"inverse_overcure_at_most_aces",
+             i["overcure_below_downfacing_mean_um"] <= a["overcure_below_downfacing_mean_um"]},
+            {"inverse_plan_under_60_s", i["plan_seconds"] < 60.0}};
+        if (job == "laser-overhang")
+            j["inverse_iou_at_least_aces_plus_0.02"] =
+                i["iou"].get<double>() >= a["iou"].get<double>() + 0.02;
+        if (a.contains("build_time_s"))
+            for (const char* name : {"dfbtp", "inverse_shape", "inverse_exposure_l2"})
+                j[std::string(name) + "_build_time_within_3x_aces"] =
+                    s[name]["build_time_s"].get<double>() <= 3 * a["build_time_s"].get<double>();
+        t[job] = j;
+    }
+    return t;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc > 1) gPictures = argv[1];
+    // [PICTURE_DIR|-] [JOB,JOB,...|none]: pictures of the single layer; the example jobs.
+    if (argc > 1 && std::string(argv[1]) != "-") gPictures = argv[1];
+    std::vector<std::string> jobs = {"laser-l-shape", "laser-tapered", "laser-bottom-narrow",
+                                     "laser-overhang"};
+    if (argc > 2) {
+        jobs.clear();
+        std::stringstream list(argv[2]);
+        for (std::string j; std::getline(list, j, ',');)
+            if (j != "none") jobs.push_back(j);
+    }
+    setLogLevel(LogLevel::Warn);
+    RunContext context;  // CPU paths; the Monte Carlo kernel from the user's cache
+    if (const char* cache = std::getenv("VPSIM_CACHE_DIR"))
+        context.cacheDirectory = cache;
+    else if (const char* home = std::getenv("HOME"))
+        context.cacheDirectory = std::string(home) + "/.cache/vpsim";
     auto l = geometry::PolygonSet::rectangle({0, 0}, {2, 1})
                  .unite(geometry::PolygonSet::rectangle({0, 1}, {1, 2}))
                  .translated({-1, -1});
@@ -223,7 +250,8 @@ int main(int argc, char** argv) {
                        {"grid_um", 10},
                        {"l_part_2mm", compare(l, "l_part")},
                        {"square_10mm", compare(square, "square_10mm")},
-                       {"overhang_3d", overhang()},
+                       {"single_layer_inverse_objective", "exposure-l2"},
+                       {"examples", examples(jobs, context)},
                        {"load_average_1min", load[0]},
                        {"cores", 2}};
     out["targets"] = targets(out);

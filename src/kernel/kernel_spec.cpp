@@ -6,8 +6,10 @@
 
 namespace vpsim::kernel {
 
-KernelSpec kernelSpecFromConfig(const ConfigNode& kernel) {
+KernelSpec kernelSpecFromConfig(const ConfigNode& kernel, bool allowPlan) {
     KernelSpec spec;
+    if (allowPlan && kernel.has("plan"))
+        spec.plan = std::make_shared<KernelSpec>(kernelSpecFromConfig(kernel.child("plan"), false));
     std::string source =
         kernel.choice("source", {"monte-carlo", "given"}, std::string("monte-carlo"));
     if (source == "monte-carlo") {

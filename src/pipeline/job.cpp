@@ -108,6 +108,13 @@ Job loadJob(const std::string& path, const Builtins& builtins,
     const bool laser = job.machine.process == plan::Process::Laser;
     if (laser && job.kernel.source == kernel::KernelSource::MonteCarlo && job.materialFile.empty())
         throw root.error("material", "a Monte Carlo kernel needs a material file");
+    if (laser && job.kernel.plan && job.kernel.plan->source == kernel::KernelSource::MonteCarlo &&
+        job.materialFile.empty())
+        throw root.error("material",
+                         "a Monte Carlo planning kernel (kernel.plan) needs a "
+                         "material file");
+    if (!laser && job.kernel.plan)
+        throw root.error("kernel", "kernel.plan is for laser jobs (a DLP job has no kernel)");
     if (!laser && !job.cure->hasPenetrationDepth())
         throw root.error("cure",
                          "a DLP job needs the resin's penetration depth "

@@ -112,6 +112,36 @@ Front runFront(const Job& job, geometry::Mesh part, const std::string& outDir,
     return f;
 }
 
+/// What planning with `kernel.plan` instead of the simulated kernel costs: both kernels, the
+/// run's figures and, unless the plan was a saved one, the slice figures of the plan the same
+/// planner makes with the simulated kernel, exposed on the same model.
+nlohmann::json kernelMismatch(const Job& job, const Front& f, exposure::ExposureModel& model,
+                              const report::ValidationReport& run, bool saved,
+                              const RunContext& context) {
+    nlohmann::json out = {
+        {"planning_kernel", f.beam.planBeam->toJson()},
+        {"simulated_kernel", f.beam.beam.toJson()},
+        {"note", "planned with kernel.plan; exposed, cured and validated with the job's kernel"},
+        {"iou", run.slices.iou},
+        {"surface_deviation_mm", {{"mean", run.deviation.mean}, {"rms", run.deviation.rms}}},
+        {"overcure_below_downfacing_mean_mm", run.slices.overcureBelowDownFacingMean},
+        {"xy_contour_error_mean_mm", run.slices.xyContourErrorMean}};
+    if (saved) return out;
+    BeamResult matched = f.beam;  // the simulated kernel for the planner too
+    matched.planBeam.reset();
+    matched.planMonteCarlo.reset();
+    const plan::ScanPlan plan = planStage(job, f.layers, f.bounds, matched, context, &f.part).plan;
+    const double voxelHeight = job.machine.layerThickness / job.simulation.slicesPerLayer;
+    validate::SliceValidator validator(f.part, model.grid(), *job.cure, voxelHeight);
+    model.run(plan, [&](const exposure::ExposureSlice& s) { validator.add(s); });
+    const validate::SliceValidationSummary m = validator.summary();
+    out["matched_plan"] = {{"iou", m.iou},
+                           {"overcure_below_downfacing_mean_mm", m.overcureBelowDownFacingMean},
+                           {"xy_contour_error_mean_mm", m.xyContourErrorMean}};
+    out["iou_cost"] = m.iou - run.slices.iou;
+    return out;
+}
+
 }  // namespace
 
 PlanResult planJob(const Job& job, const std::string& outDir, const RunContext& context) {
@@ -124,7 +154,7 @@ PlanResult planJob(const Job& job, const std::string& outDir, const RunContext& 
     report::JobResult result;
     StageTimer timer(result.stageSeconds);
     Front f = runFront(job, std::move(part), outDir, context, result, timer);
-    PlanResult plan = planStage(job, f.layers, f.bounds, f.beam, context);
+    PlanResult plan = planStage(job, f.layers, f.bounds, f.beam, context, &f.part);
     scanStage(job, f.layers, plan.plan);  // the plan is saved with its trajectories
     plan::saveScanPlan(plan.plan, outDir + "/plan.json");
     exportStage(job, plan.plan, outDir);
@@ -159,7 +189,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
         checkPlanFitsJob(*saved, job, f.layers, options.planFile);
         planned.plan = std::move(*saved);
     } else {
-        planned = planStage(job, f.layers, f.bounds, f.beam, context);
+        planned = planStage(job, f.layers, f.bounds, f.beam, context, &f.part);
     }
     const plan::ScanSchedule schedule = scanStage(job, f.layers, planned.plan);
     plan::saveScanPlan(planned.plan, outDir + "/plan.json");
@@ -224,6 +254,11 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     result.validation = validateStage(job, f.part, *cured, validator.summary(), features.result(),
                                       job.simulation.writeVdb ? outDir + "/reference.vdb" : "");
     timer.finish("validate");
+    if (f.beam.planBeam) {
+        result.plan.planner["kernel_mismatch"] =
+            kernelMismatch(job, f, *model, result.validation, saved.has_value(), context);
+        timer.finish("kernel_mismatch");
+    }
     // The planner's own work on the exposed plan (the laser exposure error, DLP comparisons).
     const planners::PlanReview review =
         job.planner->review({f.part, f.layers, f.bounds, planned.plan, job.machine, f.beam.beam,

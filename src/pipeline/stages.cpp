@@ -20,6 +20,22 @@ geometry::Mesh partStage(const Job& job) {
     return geometry::loadPart(job.part);
 }
 
+namespace {
+
+/// The beam of one kernel spec: given, or the material's Monte Carlo kernel (cached) and its fit.
+kernel::FittedBeam laserBeam(const Job& job, const kernel::KernelSpec& spec,
+                             const RunContext& context, std::optional<kernel::BeamKernel>& table,
+                             bool& fromCache) {
+    if (spec.source == kernel::KernelSource::Given) return spec.given;
+    kernel::KernelRequest request = kernel::kernelRequest(
+        job.materialFile, job.machine.laserPower, job.machine.beamRadius, spec.photons, spec.seed);
+    request.setup.estimator = spec.estimator;
+    table = kernel::cachedKernel(request, context, fromCache);
+    return kernel::fittedBeamOf(*table);
+}
+
+}  // namespace
+
 BeamResult beamStage(const Job& job, const RunContext& context) {
     BeamResult result;
     if (job.machine.process == plan::Process::Dlp) {
@@ -27,16 +43,11 @@ BeamResult beamStage(const Job& job, const RunContext& context) {
         result.beam.attenuationLength = job.cure->penetrationDepth();
         return result;
     }
-    if (job.kernel.source == kernel::KernelSource::Given) {
-        result.beam = job.kernel.given;
-        return result;
+    result.beam = laserBeam(job, job.kernel, context, result.monteCarlo, result.fromCache);
+    if (job.kernel.plan) {
+        bool cached = false;
+        result.planBeam = laserBeam(job, *job.kernel.plan, context, result.planMonteCarlo, cached);
     }
-    kernel::KernelRequest request =
-        kernel::kernelRequest(job.materialFile, job.machine.laserPower, job.machine.beamRadius,
-                              job.kernel.photons, job.kernel.seed);
-    request.setup.estimator = job.kernel.estimator;
-    result.monteCarlo = kernel::cachedKernel(request, context, result.fromCache);
-    result.beam = kernel::fittedBeamOf(*result.monteCarlo);
     return result;
 }
 
@@ -57,12 +68,14 @@ geometry::LayerStack sliceStage(const Job& job, const geometry::Mesh& part) {
 
 PlanResult planStage(const Job& job, const geometry::LayerStack& layers,
                      const geometry::Bounds& partBounds, const BeamResult& beam,
-                     const RunContext& context) {
+                     const RunContext& context, const geometry::Mesh* part) {
     const kernel::BeamKernel* table =
         job.kernel.tabulated && beam.monteCarlo ? &*beam.monteCarlo : nullptr;
-    planners::PlannerInputs inputs{layers,    partBounds, job.machine,
-                                   beam.beam, table,      job.cure->criticalDose(),
-                                   *job.cure, context};
+    if (job.kernel.plan)  // the planner sees the planning kernel only
+        table = job.kernel.plan->tabulated && beam.planMonteCarlo ? &*beam.planMonteCarlo : nullptr;
+    planners::PlannerInputs inputs{
+        layers,    partBounds, job.machine, beam.planningBeam(), table, job.cure->criticalDose(),
+        *job.cure, context,    part};
     PlanResult result;
     result.plan = job.planner->plan(inputs);
     result.summary = job.planner->summary();

@@ -92,6 +92,14 @@ private:
 
 }  // namespace
 
+plan::ScanPlan acesStackPlan(const PlannerInputs& inputs, const LaserPlanOptions& options,
+                             nlohmann::json* summary) {
+    AcesPlanner aces(options);
+    plan::ScanPlan plan = aces.plan(inputs);
+    if (summary) *summary = aces.summary();
+    return plan;
+}
+
 void registerAcesPlanner(PlannerRegistry& registry) {
     registry.add({"aces",
                   "ACES hatching (seed 000 Eq. 14-16, App. A-C): parallel lines at the hatch "

@@ -3,7 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vpsim/core/log.h"
+#include "vpsim/core/text.h"
+#include "vpsim/geometry/slicer.h"
 #include "vpsim/optimise/laser/inverse.h"
+#include "vpsim/optimise/laser/inverse_shape.h"
+#include "vpsim/planners/aces_planner.h"
 #include "vpsim/planners/laser_layers.h"
 #include "vpsim/planners/laser_plan_options.h"
 #include "vpsim/planners/plan_size.h"
@@ -17,6 +22,25 @@ KeyTable inverseKeyTable() {
         integerKey("iterations", 30, "projected-gradient iterations per layer").in(0, 100000),
         integerKey("coarse_iterations", 40, "iterations first on a grid at the dot pitch (0: none)")
             .in(0, 100000),
+        choiceKey("objective", {"shape", "exposure-l2"}, "shape",
+                  "shape: what cures in 3D, the stack's exposure against Ec with margins, all "
+                  "layers at once from the shipped ACES plan; exposure-l2: each layer's surface "
+                  "exposure against Etar, top down"),
+        numberKey("margin", 0.05, "shape: inside E >= (1 + m) Ec, outside E <= (1 - m) Ec")
+            .in(0, 0.5),
+        numberKey("wall_weight", 4.0, "shape: extra weight of voxels near a wall").in(0, 1e3),
+        numberKey("down_facing_weight", 8.0,
+                  "shape: extra weight outside the part below down-facing surfaces")
+            .in(0, 1e3),
+        numberKey("uniformity", 0.01, "shape: weight of the exposure's spread inside").in(0, 10),
+        integerKey("shape_iterations", 60,
+                   "shape: FISTA iterations over all layers on the planning grid")
+            .in(0, 100000),
+        integerKey("shape_coarse_iterations", 800,
+                   "shape: iterations first on a grid at the dot pitch (0: none)")
+            .in(0, 100000),
+        integerKey("shape_slices_per_layer", 5, "shape: objective voxel slices per layer")
+            .in(1, 50),
     }});
     return table;
 }
@@ -31,16 +55,32 @@ optimise::InverseParameters readInverseParameters(const KeyReader& keys) {
     return p;
 }
 
+optimise::ShapeParameters readShapeParameters(const KeyReader& keys) {
+    optimise::ShapeParameters p;
+    p.margin = keys.number("margin");
+    p.wallWeight = keys.number("wall_weight");
+    p.downFacingWeight = keys.number("down_facing_weight");
+    p.uniformity = keys.number("uniformity");
+    p.iterations = int(keys.integer("shape_iterations"));
+    p.coarseIterations = int(keys.integer("shape_coarse_iterations"));
+    p.slicesPerLayer = int(keys.integer("shape_slices_per_layer"));
+    return p;
+}
+
 namespace {
 
 class InversePlanner : public Planner {
 public:
     explicit InversePlanner(const KeyReader& keys)
-        : mOptions(readLaserPlanOptions(keys)), mP(readInverseParameters(keys)) {}
+        : mOptions(readLaserPlanOptions(keys)),
+          mP(readInverseParameters(keys)),
+          mShape(readShapeParameters(keys)),
+          mShapeObjective(keys.choice("objective") == "shape") {}
     plan::Process process() const override { return plan::Process::Laser; }
     plan::OrderMethod partOrder() const override { return mOptions.order; }
 
     plan::ScanPlan plan(const PlannerInputs& in) override {
+        if (mShapeObjective) return planShape(in);
         optimise::InverseParameters p = mP;
         p.base.aces = acesParameters(mOptions, in.beam, in.machine, in.criticalDose);
         p.base.wallOnContour = mOptions.aces.edge == plan::AcesEdge::CureAtContour;
@@ -58,6 +98,7 @@ public:
                       {"objective_aces_mJ2_per_mm4", aces},
                       {"objective_final_mJ2_per_mm4", final},
                       {"layers_kept_aces", kept},
+                      {"objective", "exposure-l2"},
                       {"iterations", p.iterations},
                       {"dot_pitch_um", p.dotPitch * 1e3},
                       {"compensation", p.base.compensate},
@@ -71,13 +112,59 @@ public:
     nlohmann::json summary() const override { return mSummary; }
 
     PlanSize estimateSize(const PlanSizeInputs& inputs) const override {
+        if (mShapeObjective) return shapePlanSize(inputs, mP.base.gridPitch, mP.dotPitch, mShape);
         return laserOptimiserPlanSize(inputs, mP.base.gridPitch, mP.dotPitch,
                                       mP.iterations + mP.coarseIterations / 8.0, true);
     }
 
 private:
+    /// The shape objective: the shipped ACES plan as the start, the part at every objective
+    /// slice (the mesh sliced there, else each layer's region), all layers at once.
+    plan::ScanPlan planShape(const PlannerInputs& in) {
+        const plan::AcesParameters aces =
+            acesParameters(mOptions, in.beam, in.machine, in.criticalDose);
+        checkLaserDose(aces, in.machine);
+        plan::ScanPlan start = acesStackPlan(in, mOptions);
+        const int n = mShape.slicesPerLayer;
+        const double h = in.machine.layerThickness;
+        std::vector<geometry::PolygonSet> slices;
+        for (size_t k = 0; k < start.layers.size(); ++k)
+            for (int s = 0; s < n; ++s)
+                slices.push_back(
+                    in.part ? geometry::sliceAt(*in.part, start.layers[k].z - (s + 0.5) * h / n)
+                            : in.layers.layers[k].region);
+        optimise::ShapeResult r =
+            optimise::planInverseShape(layerRegions(in), slices, start, mP.base.gridPitch,
+                                       mP.dotPitch, mShape, in.beam, h, in.criticalDose);
+        logInfo("inverse (shape objective): J of the ACES start " +
+                formatNumber(r.objectiveStart, 6) + " mm^3, gathered onto the dots " +
+                formatNumber(r.objectiveDots, 6));
+        logInfo("inverse (shape objective): J of the returned plan " +
+                formatNumber(r.objectiveFinal, 6) + " mm^3 after " + std::to_string(r.iterations) +
+                " iterations" + (r.keptStart ? " (no improvement: the ACES start returned)" : ""));
+        mSummary = {{"inverse",
+                     {{"objective", "shape"},
+                      {"objective_start_mm3", r.objectiveStart},
+                      {"objective_start_on_dots_mm3", r.objectiveDots},
+                      {"objective_final_mm3", r.objectiveFinal},
+                      {"kept_start", r.keptStart},
+                      {"iterations", r.iterations},
+                      {"dots", r.dots},
+                      {"dot_pitch_um", mP.dotPitch * 1e3},
+                      {"margin", mShape.margin},
+                      {"slices_per_layer", n},
+                      {"part_sliced_per_voxel_slice", in.part != nullptr}}}};
+        // Run on the machine: the dots become power-modulated marks at the process speed.
+        const double dotSpacing =
+            double(std::max(1L, std::lround(mP.dotPitch / mP.base.gridPitch))) * mP.base.gridPitch;
+        mSummary.update(fitLaserPlan(r.plan, aces, in.machine, dotSpacing));
+        return r.plan;
+    }
+
     LaserPlanOptions mOptions;
     optimise::InverseParameters mP;
+    optimise::ShapeParameters mShape;
+    bool mShapeObjective = true;
     nlohmann::json mSummary = nlohmann::json::object();
 };
 

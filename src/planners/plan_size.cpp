@@ -67,6 +67,20 @@ PlanSize laserOptimiserPlanSize(const PlanSizeInputs& in, double gridPitch, doub
     return p;
 }
 
+PlanSize shapePlanSize(const PlanSizeInputs& in, double gridPitch, double dotPitch,
+                       const optimise::ShapeParameters& parameters) {
+    PlanSize p = laserOptimiserPlanSize(in, gridPitch, dotPitch, 0, true);
+    const double margin = 2 * (1.5 * in.beamRadius + 2 * in.beamRadius);
+    const glm::dvec3 size = in.partBounds.size();
+    const double cells =
+        std::ceil((size.x + margin) / gridPitch) * std::ceil((size.y + margin) / gridPitch);
+    const double voxels = cells * in.layers * parameters.slicesPerLayer;
+    p.workingBytes += voxels * (4 * 4.0 + 9.0);
+    p.seconds += voxels * (parameters.iterations + parameters.coarseIterations / 6.0) * 3e-8;
+    p.detail += "; shape objective on " + formatNumber(voxels, 3) + " voxels";
+    return p;
+}
+
 PlanSize Planner::estimateSize(const PlanSizeInputs& inputs) const {
     return process() == plan::Process::Laser ? laserPlanSize(inputs) : maskPlanSize(inputs);
 }

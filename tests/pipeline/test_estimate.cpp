@@ -65,7 +65,10 @@ nlohmann::json inverseJob() {  // the inverse planner's grids on a small overhan
     nlohmann::json job = laserJob();
     job["name"] = "inverse";
     job["part"] = {{"stl", VPSIM_SOURCE_DIR "/examples/parts/overhangs.stl"}, {"scale", 0.1}};
-    job["plan"] = {{"strategy", "inverse"}, {"iterations", 5}};
+    job["plan"] = {{"strategy", "inverse"},
+                   {"iterations", 5},
+                   {"shape_iterations", 3},
+                   {"shape_coarse_iterations", 5}};
     job["simulation"] = {{"voxel", "5 um"}, {"slices_per_layer", 5}};
     return job;
 }

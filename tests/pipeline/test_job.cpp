@@ -8,6 +8,9 @@
 #include "vpsim/core/error.h"
 #include "vpsim/pipeline/estimate.h"
 #include "vpsim/pipeline/run_job.h"
+#include "vpsim/pipeline/stages.h"
+#include "vpsim/planners/inverse_planner.h"
+#include "vpsim/planners/laser_plan_options.h"
 
 using namespace vpsim;
 using Catch::Matchers::Contains;
@@ -205,4 +208,113 @@ TEST_CASE("a Monte Carlo job can expose with the tabulated kernel", "[pipeline][
         pipeline::runJob(load("tabulated", job), out.string(), cpuContext(cache.string()));
     CHECK(second.kernel->fromCache);
     CHECK(second.validation.slices.iou == first.validation.slices.iou);
+}
+
+namespace {
+
+/// Records the beam it was given.
+class BeamSpy : public planners::Planner {
+public:
+    explicit BeamSpy(kernel::FittedBeam* seen) : mSeen(seen) {}
+    plan::Process process() const override { return plan::Process::Laser; }
+    plan::ScanPlan plan(const planners::PlannerInputs& in) override {
+        *mSeen = in.beam;
+        return plan::emptyPlan(in.layers, in.machine);
+    }
+
+private:
+    kernel::FittedBeam* mSeen;
+};
+
+}  // namespace
+
+// Issue 23 item 3: kernel.plan is parsed with the kernel keys, the planner gets the planning
+// beam and the exposure the simulated one.
+TEST_CASE("a job may plan with one kernel and simulate with another", "[pipeline]") {
+    auto json = givenKernelJob();
+    json["kernel"]["plan"] = {{"source", "given"}, {"We3D", "80 um"}, {"De3D", "120 um"}};
+    pipeline::Job job = load("plan_kernel", json);
+    REQUIRE(job.kernel.plan);
+    CHECK(job.kernel.plan->given.radius == Approx(0.08));
+    CHECK(job.kernel.given.radius == Approx(0.06));
+    const RunContext context = cpuContext();
+    const pipeline::BeamResult beam = pipeline::beamStage(job, context);
+    REQUIRE(beam.planBeam);
+    CHECK(beam.planningBeam().attenuationLength == Approx(0.12));
+    CHECK(beam.beam.attenuationLength == Approx(0.04));
+
+    kernel::FittedBeam seen;
+    pipeline::Builtins builtins = pipeline::makeBuiltins();
+    builtins.planners.add({"spy", "records its beam", {{}}, [&seen](const KeyReader&) {
+                               return std::make_unique<BeamSpy>(&seen);
+                           }});
+    json["plan"] = {{"strategy", "spy"}};
+    job = load("plan_kernel_spy", json, builtins);
+    const geometry::Mesh part = pipeline::partStage(job);
+    const geometry::LayerStack layers = pipeline::sliceStage(job, part);
+    pipeline::planStage(job, layers, part.bounds(), pipeline::beamStage(job, context), context);
+    CHECK(seen.radius == Approx(0.08));
+    CHECK(seen.attenuationLength == Approx(0.12));
+
+    json = givenKernelJob();  // no nesting, and the plan kernel's keys are checked
+    json["kernel"]["plan"] = {{"source", "given"}, {"We3D", "80 um"}, {"plan", {}}};
+    CHECK_THROWS_WITH(load("plan_kernel_nested", json), Contains("kernel.plan.plan"));
+    json["kernel"]["plan"] = {{"source", "given"}, {"We3D", "2 mW"}};
+    CHECK_THROWS_WITH(load("plan_kernel_unit", json), Contains("kernel.plan.We3D"));
+    json["kernel"]["plan"] = {{"source", "monte-carlo"}};
+    CHECK_THROWS_WITH(load("plan_kernel_material", json), Contains("material"));
+}
+
+// Issue 23 item 2: objective exposure-l2 is the inverse planner as it was: the adapter's plan
+// equals optimise::planInverse with the same parameters (the ACES start without the stack rule).
+TEST_CASE("inverse with objective exposure-l2 plans as before", "[pipeline]") {
+    auto json = givenKernelJob();
+    json["plan"] = {{"strategy", "inverse"},
+                    {"objective", "exposure-l2"},
+                    {"iterations", 5},
+                    {"coarse_iterations", 5}};
+    const pipeline::Job job = load("inverse_l2", json);
+    const RunContext context = cpuContext();
+    const geometry::Mesh part = pipeline::partStage(job);
+    const geometry::LayerStack layers = pipeline::sliceStage(job, part);
+    const pipeline::BeamResult beam = pipeline::beamStage(job, context);
+    const pipeline::PlanResult planned =
+        pipeline::planStage(job, layers, part.bounds(), beam, context, &part);
+    CHECK(planned.summary["inverse"]["objective"] == "exposure-l2");
+
+    const ConfigNode section = ConfigNode(json, "job.json").child("plan");
+    const KeyTable table = planners::inverseKeyTable();
+    const KeyReader keys(table, section, "inverse");
+    optimise::InverseParameters p = planners::readInverseParameters(keys);
+    p.base.aces = planners::acesParameters(planners::readLaserPlanOptions(keys), beam.beam,
+                                           job.machine, job.cure->criticalDose());
+    p.base.wallOnContour = true;
+    std::vector<geometry::PolygonSet> regions;
+    std::vector<double> tops;
+    for (const auto& layer : layers.layers) {
+        regions.push_back(layer.region);
+        tops.push_back(layer.zBottom + layers.layerThickness);
+    }
+    optimise::InverseResult direct = optimise::planInverse(regions, tops, p, beam.beam);
+    // The planner then runs the plan on the machine (issue 23 item 1): the same fit here.
+    const double dotSpacing =
+        double(std::max(1L, std::lround(p.dotPitch / p.base.gridPitch))) * p.base.gridPitch;
+    planners::fitLaserPlan(direct.plan, p.base.aces, job.machine, dotSpacing);
+    REQUIRE(direct.plan.layers.size() == planned.plan.layers.size());
+    for (size_t k = 0; k < direct.plan.layers.size(); ++k) {
+        const auto& a = direct.plan.layers[k].points;
+        const auto& b = planned.plan.layers[k].points;
+        REQUIRE(a.size() == b.size());
+        for (size_t i = 0; i < a.size(); ++i) {
+            CHECK(a[i].x == b[i].x);
+            CHECK(a[i].energy == b[i].energy);
+        }
+        const auto& va = direct.plan.layers[k].vectors;
+        const auto& vb = planned.plan.layers[k].vectors;
+        REQUIRE(va.size() == vb.size());
+        for (size_t i = 0; i < va.size(); ++i) {
+            CHECK(va[i].x0 == vb[i].x0);
+            CHECK(va[i].power == vb[i].power);
+        }
+    }
 }

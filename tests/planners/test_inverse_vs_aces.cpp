@@ -86,15 +86,13 @@ double sseOf(const plan::ScanPlan& plan, const geometry::LayerStack& stack, cons
     return e["sse_mJ2_per_mm4"].get<double>();
 }
 
-/// The inverse planner's section: its defaults but for `edge`, with its exposure objective
-/// pinned. Today the planner has one objective, the seed's exposure error (inverse.h), whose
-/// target wall lies on the contour under the cure-at-contour edge (its default) and on the
-/// model's edge under the seed's 5% edge (then it is exactly the metric measured here). When the
-/// `plan.objective` key arrives (the laser-3d issue adds it and changes its default), pin the
-/// exposure objective here, so that this test keeps measuring the objective it is about:
-///     section["objective"] = "exposure";   // <- pin here
+/// The inverse planner's section: its defaults but for `edge`, with the exposure objective
+/// pinned (`plan.objective` defaults to the 3D shape objective since issue 23): the seed's
+/// exposure error (inverse.h), whose target wall lies on the contour under the cure-at-contour
+/// edge (its default) and on the model's edge under the seed's 5% edge (then it is exactly the
+/// metric measured here).
 nlohmann::json inverseSection(const std::string& edge) {
-    nlohmann::json section = nlohmann::json::object();
+    nlohmann::json section = {{"objective", "exposure-l2"}};
     if (!edge.empty()) section["edge"] = edge;
     return section;
 }

@@ -32,9 +32,16 @@ struct BeamResult {
     kernel::FittedBeam beam;                       ///< fitted, given, or the DLP projector blur
     std::optional<kernel::BeamKernel> monteCarlo;  ///< the Monte Carlo kernel, when one was run
     bool fromCache = false;
+    /// The planning kernel's beam when the job names one apart (`kernel.plan`), with its Monte
+    /// Carlo kernel when it has one; the exposure and validation use `beam`.
+    std::optional<kernel::FittedBeam> planBeam;
+    std::optional<kernel::BeamKernel> planMonteCarlo;
+    /// What the planner plans with: planBeam when there is one, else beam.
+    const kernel::FittedBeam& planningBeam() const { return planBeam ? *planBeam : beam; }
 };
-/// Laser jobs: the Monte Carlo kernel of the material (cached) or the given one; DLP jobs: the
-/// projector blur with the resin's penetration depth.
+/// Laser jobs: the Monte Carlo kernel of the material (cached) or the given one, and the same
+/// for the planning kernel (`kernel.plan`) when there is one; DLP jobs: the projector blur with
+/// the resin's penetration depth.
 BeamResult beamStage(const Job& job, const RunContext& context);
 
 /// The part sliced into the machine's layers from z = 0.
@@ -44,10 +51,11 @@ struct PlanResult {
     plan::ScanPlan plan;
     nlohmann::json summary = nlohmann::json::object();  ///< the planner's figures
 };
-/// Runs the job's planner. @throw InputError from the planner
+/// Runs the job's planner with the planning beam (BeamResult::planningBeam()); `part` is the
+/// part's mesh when the caller has it. @throw InputError from the planner
 PlanResult planStage(const Job& job, const geometry::LayerStack& layers,
                      const geometry::Bounds& partBounds, const BeamResult& beam,
-                     const RunContext& context);
+                     const RunContext& context, const geometry::Mesh* part = nullptr);
 
 /// The scanner's view of the plan (seed 002, seed 000 III-C): each laser layer's parts ordered
 /// (`plan.order`) into mark and jump trajectories stored in the plan, unless the plan already has

@@ -11,6 +11,7 @@
 ///          at the plan stage's peak (1 m default job).
 ///  masks   one float mask per layer over the part's box + 2 pixels (plan/dlp_masks.cpp).
 
+#include "vpsim/optimise/laser/inverse_shape.h"
 #include "vpsim/planners/planner.h"
 
 namespace vpsim::planners {
@@ -24,5 +25,11 @@ PlanSize maskPlanSize(const PlanSizeInputs& inputs);
 /// `dotsInPlan`), `iterations` passes over the grid.
 PlanSize laserOptimiserPlanSize(const PlanSizeInputs& inputs, double gridPitch, double dotPitch,
                                 double iterations, bool dotsInPlan);
+
+/// The inverse planner's shape objective: laserOptimiserPlanSize() plus the 3D fields of the
+/// planning grid (`parameters.slicesPerLayer` slices per layer): four exposure fields and the
+/// per-voxel targets (9 B), forward and adjoint passes per iteration (coarse ones ~1/6).
+PlanSize shapePlanSize(const PlanSizeInputs& inputs, double gridPitch, double dotPitch,
+                       const optimise::ShapeParameters& parameters);
 
 }  // namespace vpsim::planners

@@ -45,6 +45,9 @@ struct PlannerInputs {
     /// The cure law itself, for planners in modules that may use it (optimise).
     const cure::CureLaw& cure;
     const RunContext& context;
+    /// The part's mesh when the pipeline has it (planners that judge the plan in 3D slice it at
+    /// their own heights), else nullptr: the layers' regions stand for it.
+    const geometry::Mesh* part = nullptr;
 };
 
 /// What a job's estimate (pipeline/estimate.h) knows before the kernel is computed or the part

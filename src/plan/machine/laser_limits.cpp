@@ -14,7 +14,9 @@ namespace {
 
 constexpr double SAME = 1e-9;  // mm: chained vectors share their end points
 
-double lengthOf(const LaserVector& v) { return std::hypot(v.x1 - v.x0, v.y1 - v.y0); }
+double lengthOf(const LaserVector& v) {
+    return std::hypot(v.x1 - v.x0, v.y1 - v.y0);
+}
 
 /// Whether b continues a: starts where a ends, in the same direction.
 bool continues(const LaserVector& a, const LaserVector& b) {
@@ -131,9 +133,9 @@ void fitRun(const std::vector<LaserVector>& chain, const LaserLimits& limits,
         const double lineEnergy = v.power / v.speed;
         fastest = std::min(fastest, limits.powerMax / lineEnergy);  // full power on the densest
     }
-    // At the process limit, or as fast as full power allows. (Slowing short chains to sqrt(a L / 2), which trades mark
-    // time against the reversals, was measured: ACES 30% faster, but the dot rows of the inverse
-    // planner, cut by dropped dots into runs, 20% slower.)
+    // At the process limit, or as fast as full power allows. (Slowing short chains to sqrt(a L /
+    // 2), which trades mark time against the reversals, was measured: ACES 30% faster, but the dot
+    // rows of the inverse planner, cut by dropped dots into runs, 20% slower.)
     const double speed = fastest;
     const double peakPerLineEnergy = std::sqrt(2.0 / M_PI) / limits.beamRadius;
     for (const LaserVector& v : chain) {
@@ -199,8 +201,7 @@ void fitVectors(std::vector<LaserVector>& vectors, const LaserLimits& limits, Li
     vectors = std::move(out);
 }
 
-void dropNegligibleDots(std::vector<LaserPoint>& points, const LaserLimits& limits,
-                        LimitFit& fit) {
+void dropNegligibleDots(std::vector<LaserPoint>& points, const LaserLimits& limits, LimitFit& fit) {
     const double peakPerEnergy = 2.0 / (M_PI * limits.beamRadius * limits.beamRadius);
     const size_t before = points.size();
     points.erase(std::remove_if(points.begin(), points.end(),
@@ -256,8 +257,10 @@ LimitFit fitPlanToLimits(ScanPlan& plan, const LaserLimits& limits, double dotPi
     fit.rowsMerged = merge;
     for (LayerPlan& layer : plan.layers) {
         dropNegligibleDots(layer.points, limits, fit);
-        if (dotPitch > 0 && !layer.points.empty()) dotsToChains(layer, dotPitch, merge, fit);
-        else fit.dwellPoints += (long long)layer.points.size();
+        if (dotPitch > 0 && !layer.points.empty())
+            dotsToChains(layer, dotPitch, merge, fit);
+        else
+            fit.dwellPoints += (long long)layer.points.size();
         fitVectors(layer.vectors, limits, fit);
     }
     plan.machine.laserPowerMin = limits.powerMin;
@@ -308,8 +311,7 @@ void checkDoseReachable(const Machine& machine, double targetDose, double lineSp
                          " m/s, below the laser's minimum " + number(machine.laserPowerMin) +
                          " mW: lower machine.laser_power_min to at most " + number(power) +
                          " mW or raise machine.scanner.process_speed to at least " +
-                         number(machine.laserPowerMin / (targetDose * lineSpacing) / 1000) +
-                         " m/s",
+                         number(machine.laserPowerMin / (targetDose * lineSpacing) / 1000) + " m/s",
                      "", "machine.laser_power_min");
 }
 

@@ -23,7 +23,9 @@ LaserLimits limits(double powerMin = 0) {
     return l;
 }
 
-double lineEnergy(const LaserVector& v) { return v.power / v.speed; }
+double lineEnergy(const LaserVector& v) {
+    return v.power / v.speed;
+}
 
 double energyOf(const LayerPlan& layer) {
     double sum = 0;
@@ -38,11 +40,10 @@ TEST_CASE("vectors run at the process speed with the power that keeps their dose
     ScanPlan plan;
     plan.machine.laserPower = 10;
     LayerPlan layer;
-    layer.vectors = {
-        {0, 0, 1, 0, 10, 1700},        // ACES today: 10 mW at 1.7 m/s
-        {0, 0.1, 1, 1.1, 10, 1700},    // diagonal: the axes allow sqrt(2) x 300 mm/s
-        {0, 0.2, 1, 0.2, 10, 20},      // dense: full power, slower than the process speed
-        {0, 0.3, 1, 0.3, 10, 3.2e6}};  // DFBTP's near-zero dose: negligible
+    layer.vectors = {{0, 0, 1, 0, 10, 1700},      // ACES today: 10 mW at 1.7 m/s
+                     {0, 0.1, 1, 1.1, 10, 1700},  // diagonal: the axes allow sqrt(2) x 300 mm/s
+                     {0, 0.2, 1, 0.2, 10, 20},  // dense: full power, slower than the process speed
+                     {0, 0.3, 1, 0.3, 10, 3.2e6}};  // DFBTP's near-zero dose: negligible
     plan.layers = {layer};
     const LimitFit fit = fitPlanToLimits(plan, limits());
     const auto& out = plan.layers[0].vectors;
@@ -61,7 +62,6 @@ TEST_CASE("vectors run at the process speed with the power that keeps their dose
     CHECK(use["speed_mm_per_s"][1].get<double>() == Approx(300 * std::sqrt(2.0)));
     // The build-time model agrees: no mark's axis speed above the process speed.
     CHECK(estimateBuildTime(plan, {}).sum.marksAboveProcessSpeed == 0);
-
 }
 
 TEST_CASE("a minimum power raises weak vectors or drops them", "[plan]") {

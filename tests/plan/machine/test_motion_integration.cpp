@@ -21,7 +21,9 @@ namespace {
 
 constexpr double DT = 2e-7;  // s: time step of the integration
 
-double sign(double x) { return x > 0 ? 1.0 : x < 0 ? -1.0 : 0.0; }
+double sign(double x) {
+    return x > 0 ? 1.0 : x < 0 ? -1.0 : 0.0;
+}
 
 /// Time for one axis to go from (0, v0) to (d, v1), integrated in steps of DT.
 double integrateAxis(double d, double v0, double v1, const AxisLimits& limits) {
@@ -72,8 +74,8 @@ double integrateLayer(const std::vector<ScanMove>& moves, const AxisLimits& mach
     for (size_t k = 0; k < marks.size(); ++k) {
         const ScanMove& m = *marks[k];
         const glm::dvec2 start{m.x0, m.y0};
-        const bool joined = std::abs(start.x - position.x) < 1e-9 &&
-                            std::abs(start.y - position.y) < 1e-9;
+        const bool joined =
+            std::abs(start.x - position.x) < 1e-9 && std::abs(start.y - position.y) < 1e-9;
         // A chained mark takes over at the corner (seed 002's polygon delay covers it); the
         // first mark is entered from rest.
         if (!joined || k == 0)
@@ -97,7 +99,7 @@ double integrateLayer(const std::vector<ScanMove>& moves, const AxisLimits& mach
 TEST_CASE("one axis: the closed form against the integrated motion", "[plan]") {
     const AxisLimits machine{2000.0, 20000.0};
     // Rest to rest, overshoot, reversal, cruise, keep-going, a change of speed and direction.
-    const double cases[][3] = {{5, 0, 0},      {500, 0, 0},     {1, 300, 0},    {-10, 300, 0},
+    const double cases[][3] = {{5, 0, 0},      {500, 0, 0},      {1, 300, 0},    {-10, 300, 0},
                                {0, 300, -300}, {0.02, 300, 300}, {3, -300, 300}, {40, 300, 100},
                                {0, 0, 300},    {-2, 1000, -1500}};
     for (const auto& c : cases) {

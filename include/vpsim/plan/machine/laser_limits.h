@@ -32,7 +32,7 @@ struct LaserLimits {
     double powerMin = 0;        ///< mW, `machine.laser_power_min`
     double powerMax = 10;       ///< mW, `machine.laser_power`
     double processSpeed = 300;  ///< mm/s per axis, `machine.scanner.process_speed`
-    double beamRadius = 0.05;  ///< mm (We3D), for the peak dose of one vector or dot
+    double beamRadius = 0.05;   ///< mm (We3D), for the peak dose of one vector or dot
     /// mJ/mm^2 of delivered dose: a vector or dot whose own peak (sqrt(2/pi) (P/v)/W for a line,
     /// 2 E/(pi W^2) for a dot) stays below it is dropped; 0 drops nothing.
     double negligibleDose = 0;
