@@ -38,10 +38,14 @@ struct ExposureRecursionParams {
 
 /// Push constants of exposure_stencil.comp (tabulated kernel: one depth stencil into one slice).
 struct ExposureStencilParams {
-    uint nx;            ///< grid cells in x
-    uint ny;            ///< grid cells in y
-    int halfWidth;      ///< stencil half-width in cells
-    uint weightOffset;  ///< first weight of this stencil in the weights buffer
+    uint nx;           ///< grid cells in x
+    uint ny;           ///< grid cells in y
+    int halfWidth;     ///< stencil half-width in cells (its weights: the bound uniform block)
+    uint paddedWidth;  ///< row length of the zero-padded deposit
+    int padding;       ///< zero cells before the deposit's first row and column
+    uint pad0;
+    uint pad1;
+    uint pad2;
 };
 
 #endif

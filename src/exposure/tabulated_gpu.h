@@ -1,6 +1,7 @@
 #pragma once
 // Private: the shader path of the tabulated-kernel engine. Accumulator slices stay on the device;
-// per source layer the deposit is uploaded once and each (stencil, slice) pair is one dispatch.
+// per source layer the deposit is uploaded once, zero-padded, and each (stencil, slice) pair is
+// one dispatch (shaders/exposure_stencil.comp) in one submission.
 #include <memory>
 #include <vector>
 
@@ -10,6 +11,8 @@
 namespace vpsim::exposure {
 
 struct TabulatedExposureEngine::GpuState {
+    /// @throw ResourceError when a stencil exceeds a uniform block (64 KiB: half-width 63) or the
+    /// padded deposit exceeds the device's texel-buffer limit
     GpuState(std::shared_ptr<gpu::Context> context, int nx, int ny,
              const std::vector<DepthStencil>& stencils, int slots);
     /// Adds the deposit gathered by stencil m to slot t for every (m, t) in `targets`; GPU seconds.
@@ -19,9 +22,12 @@ struct TabulatedExposureEngine::GpuState {
 
     std::shared_ptr<gpu::Context> context;
     uint32_t nx, ny;
+    int padding;                ///< zero cells around the deposit: the largest half-width
+    uint32_t paddedWidth;       ///< row length of the padded deposit
+    std::vector<float> padded;  ///< host copy of the padded deposit (its border stays zero)
     std::vector<int> halfWidths;
-    std::vector<uint32_t> offsets;
-    gpu::Buffer deposit, weights;
+    gpu::Buffer deposit;
+    std::vector<gpu::Buffer> weights;  ///< one uniform block per stencil
     std::vector<gpu::Buffer> slices;
     gpu::Kernel kernel;
 };

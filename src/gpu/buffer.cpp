@@ -78,15 +78,31 @@ Buffer::Buffer(std::shared_ptr<Context> context, uint64_t bytes) : mImpl(std::ma
     // Storage buffers are padded to 4 bytes so fill() and word-sized shader access stay in range.
     uint64_t padded = (bytes + 3) & ~uint64_t(3);
     mImpl->storage.create(mImpl->context->impl(), padded,
-                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-                              VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
+                              VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                              VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                           false);
     mImpl->storage.bytes = bytes;
 }
 
-Buffer::~Buffer() {
-    if (mImpl) mImpl->storage.destroy();
+Buffer::Impl::~Impl() {
+    if (texelView) vkDestroyBufferView(storage.device, texelView, nullptr);
+    storage.destroy();
 }
+
+VkBufferView Buffer::Impl::floatTexelView() {
+    if (texelView) return texelView;
+    VkBufferViewCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO;
+    info.buffer = storage.buffer;
+    info.format = VK_FORMAT_R32_SFLOAT;
+    info.offset = 0;
+    info.range = (storage.bytes / 4) * 4;
+    VK_CHECK(vkCreateBufferView(storage.device, &info, nullptr, &texelView));
+    return texelView;
+}
+
+Buffer::~Buffer() = default;
 Buffer::Buffer(Buffer&&) noexcept = default;
 Buffer& Buffer::operator=(Buffer&&) noexcept = default;
 

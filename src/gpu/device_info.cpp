@@ -73,6 +73,8 @@ DeviceInfo describeDevice(VkPhysicalDevice physical, uint32_t index) {
     info.driver = std::string(driver.driverName) + " " + driver.driverInfo;
     info.apiVersion = versionText(properties.properties.apiVersion);
     info.maxStorageBufferRange = limits.maxStorageBufferRange;
+    info.maxUniformBufferRange = limits.maxUniformBufferRange;
+    info.maxTexelBufferElements = limits.maxTexelBufferElements;
     for (int i = 0; i < 3; ++i) {
         info.maxWorkgroupCount[i] = limits.maxComputeWorkGroupCount[i];
         info.maxWorkgroupSize[i] = limits.maxComputeWorkGroupSize[i];
@@ -111,6 +113,8 @@ nlohmann::json DeviceInfo::toJson() const {
             {"driver", driver},
             {"api_version", apiVersion},
             {"max_storage_buffer_range", maxStorageBufferRange},
+            {"max_uniform_buffer_range", maxUniformBufferRange},
+            {"max_texel_buffer_elements", maxTexelBufferElements},
             {"max_workgroup_count", maxWorkgroupCount},
             {"max_workgroup_size", maxWorkgroupSize},
             {"max_workgroup_invocations", maxWorkgroupInvocations},

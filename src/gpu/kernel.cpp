@@ -8,12 +8,29 @@ namespace {
 constexpr uint32_t SETS_PER_POOL = 64;
 constexpr uint32_t DESCRIPTORS_PER_SET = 16;
 
+VkDescriptorType descriptorType(Binding binding) {
+    switch (binding) {
+        case Binding::Uniform: return VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+        case Binding::UniformTexels: return VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+        default: return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    }
+}
+
 }  // namespace
 
 Kernel::Kernel(std::shared_ptr<Context> context, const uint32_t* spirv, size_t spirvBytes,
                uint32_t bindingCount, uint32_t pushConstantBytes,
                const std::vector<SpecConstant>& specConstants, uint32_t localSizeX)
+    : Kernel(
+          std::move(context), spirv, spirvBytes,
+          std::vector<Binding>(std::min(bindingCount, DESCRIPTORS_PER_SET + 1), Binding::Storage),
+          pushConstantBytes, specConstants, localSizeX) {}
+
+Kernel::Kernel(std::shared_ptr<Context> context, const uint32_t* spirv, size_t spirvBytes,
+               const std::vector<Binding>& bindingKinds, uint32_t pushConstantBytes,
+               const std::vector<SpecConstant>& specConstants, uint32_t localSizeX)
     : mImpl(std::make_unique<Impl>()) {
+    const uint32_t bindingCount = uint32_t(bindingKinds.size());
     if (!context) throw GpuError("kernel created without a Vulkan context");
     const DeviceInfo& info = context->info();
     if (pushConstantBytes > info.maxPushConstantBytes)
@@ -29,6 +46,7 @@ Kernel::Kernel(std::shared_ptr<Context> context, const uint32_t* spirv, size_t s
     Impl& k = *mImpl;
     k.context = std::move(context);
     k.bindingCount = bindingCount;
+    k.bindings = bindingKinds;
     k.pushConstantBytes = pushConstantBytes;
     k.localSizeX = localSizeX;
     VkDevice device = k.context->impl().device;
@@ -42,7 +60,7 @@ Kernel::Kernel(std::shared_ptr<Context> context, const uint32_t* spirv, size_t s
     std::vector<VkDescriptorSetLayoutBinding> bindings(bindingCount);
     for (uint32_t i = 0; i < bindingCount; ++i) {
         bindings[i].binding = i;
-        bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        bindings[i].descriptorType = descriptorType(bindingKinds[i]);
         bindings[i].descriptorCount = 1;
         bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
     }
@@ -103,13 +121,15 @@ uint32_t Kernel::localSizeX() const {
 
 VkDescriptorSet Recorder::Impl::allocateSet(VkDescriptorSetLayout layout) {
     if (setsLeftInPool == 0) {
-        VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                                  SETS_PER_POOL * DESCRIPTORS_PER_SET};
+        VkDescriptorPoolSize sizes[3] = {
+            {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, SETS_PER_POOL * DESCRIPTORS_PER_SET},
+            {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, SETS_PER_POOL * DESCRIPTORS_PER_SET},
+            {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, SETS_PER_POOL * DESCRIPTORS_PER_SET}};
         VkDescriptorPoolCreateInfo poolInfo{};
         poolInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
         poolInfo.maxSets = SETS_PER_POOL;
-        poolInfo.poolSizeCount = 1;
-        poolInfo.pPoolSizes = &size;
+        poolInfo.poolSizeCount = 3;
+        poolInfo.pPoolSizes = sizes;
         VkDescriptorPool pool = VK_NULL_HANDLE;
         VK_CHECK(vkCreateDescriptorPool(context->device, &poolInfo, nullptr, &pool));
         pools.push_back(pool);
@@ -152,16 +172,30 @@ void Recorder::dispatch(const Kernel& kernel, const std::vector<const Buffer*>& 
 
     VkDescriptorSet set = mImpl->allocateSet(k.setLayout);
     std::vector<VkDescriptorBufferInfo> bufferInfos(buffers.size());
+    std::vector<VkBufferView> views(buffers.size());
     std::vector<VkWriteDescriptorSet> writes(buffers.size());
     for (size_t i = 0; i < buffers.size(); ++i) {
         if (!buffers[i]) throw GpuError("null buffer bound to binding " + std::to_string(i));
-        bufferInfos[i] = {buffers[i]->impl().storage.buffer, 0, VK_WHOLE_SIZE};
+        Buffer::Impl& b = buffers[i]->impl();
+        const Binding kind = k.bindings[i];
+        if (kind == Binding::Uniform && b.storage.bytes > info.maxUniformBufferRange)
+            throw ResourceError("uniform buffer of " + formatBytes(double(b.storage.bytes)) +
+                                " exceeds maxUniformBufferRange of " + info.name);
+        if (kind == Binding::UniformTexels && b.storage.bytes / 4 > info.maxTexelBufferElements)
+            throw ResourceError("texel buffer of " + std::to_string(b.storage.bytes / 4) +
+                                " floats exceeds maxTexelBufferElements of " + info.name);
+        bufferInfos[i] = {b.storage.buffer, 0, VK_WHOLE_SIZE};
         writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
         writes[i].dstSet = set;
         writes[i].dstBinding = uint32_t(i);
         writes[i].descriptorCount = 1;
-        writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        writes[i].pBufferInfo = &bufferInfos[i];
+        writes[i].descriptorType = descriptorType(kind);
+        if (kind == Binding::UniformTexels) {
+            views[i] = b.floatTexelView();
+            writes[i].pTexelBufferView = &views[i];
+        } else {
+            writes[i].pBufferInfo = &bufferInfos[i];
+        }
     }
     vkUpdateDescriptorSets(mImpl->context->device, uint32_t(writes.size()), writes.data(), 0,
                            nullptr);

@@ -76,6 +76,9 @@ struct RawBuffer {
 struct Buffer::Impl {
     std::shared_ptr<Context> context;
     RawBuffer storage;
+    VkBufferView texelView = VK_NULL_HANDLE;  ///< R32_SFLOAT view, made on first texel binding
+    VkBufferView floatTexelView();
+    ~Impl();
 };
 
 struct Kernel::Impl {
@@ -85,6 +88,7 @@ struct Kernel::Impl {
     VkPipelineLayout pipelineLayout = VK_NULL_HANDLE;
     VkPipeline pipeline = VK_NULL_HANDLE;
     uint32_t bindingCount = 0;
+    std::vector<Binding> bindings;
     uint32_t pushConstantBytes = 0;
     uint32_t localSizeX = 64;
 };

@@ -17,12 +17,14 @@ namespace vpsim::gpu {
 
 /// What a compute device offers, with the limits vpsim must respect.
 struct DeviceInfo {
-    uint32_t index = 0;                  ///< position in the Vulkan enumeration
-    std::string name;                    ///< e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
-    std::string type;                    ///< "discrete", "integrated", "virtual", "cpu" or "other"
-    std::string driver;                  ///< driver name and info
-    std::string apiVersion;              ///< "1.3.230"
-    uint64_t maxStorageBufferRange = 0;  ///< bytes one storage binding may span
+    uint32_t index = 0;                   ///< position in the Vulkan enumeration
+    std::string name;                     ///< e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
+    std::string type;                     ///< "discrete", "integrated", "virtual", "cpu" or "other"
+    std::string driver;                   ///< driver name and info
+    std::string apiVersion;               ///< "1.3.230"
+    uint64_t maxStorageBufferRange = 0;   ///< bytes one storage binding may span
+    uint64_t maxUniformBufferRange = 0;   ///< bytes one uniform binding may span
+    uint64_t maxTexelBufferElements = 0;  ///< elements one texel-buffer binding may span
     std::array<uint32_t, 3> maxWorkgroupCount{};
     std::array<uint32_t, 3> maxWorkgroupSize{};
     uint32_t maxWorkgroupInvocations = 0;
@@ -143,8 +145,15 @@ struct SpecConstant {
     uint32_t value;
 };
 
-/// A compute pipeline from embedded SPIR-V whose bindings 0..bindingCount-1 are storage buffers in
-/// set 0, with an optional push-constant block.
+/// What a kernel's binding is in the shader. Storage: `buffer` (read-write); Uniform: `uniform`
+/// block (read-only, at most maxUniformBufferRange bytes; on lavapipe a load at an index the same
+/// for every lane is one scalar load even inside loops, where storage loads go lane by lane);
+/// UniformTexels: `samplerBuffer` of R32_SFLOAT read with texelFetch (read-only, at most
+/// maxTexelBufferElements floats; on lavapipe a vector gather instead of a per-lane loop).
+enum class Binding { Storage, Uniform, UniformTexels };
+
+/// A compute pipeline from embedded SPIR-V whose bindings 0..bindingCount-1 are storage buffers
+/// (or the kinds given) in set 0, with an optional push-constant block.
 class Kernel {
 public:
     /// @param spirv,spirvBytes the embedded SPIR-V (e.g. `photon_mc_spv`, `sizeof photon_mc_spv`)
@@ -153,6 +162,10 @@ public:
     ///        the device limit
     Kernel(std::shared_ptr<Context> context, const uint32_t* spirv, size_t spirvBytes,
            uint32_t bindingCount, uint32_t pushConstantBytes = 0,
+           const std::vector<SpecConstant>& specConstants = {}, uint32_t localSizeX = 64);
+    /// The same with the kind of each binding 0..bindings.size()-1.
+    Kernel(std::shared_ptr<Context> context, const uint32_t* spirv, size_t spirvBytes,
+           const std::vector<Binding>& bindings, uint32_t pushConstantBytes = 0,
            const std::vector<SpecConstant>& specConstants = {}, uint32_t localSizeX = 64);
     ~Kernel();
     Kernel(const Kernel&) = delete;
@@ -175,7 +188,8 @@ class Recorder {
 public:
     /// @param buffers one buffer per binding, in binding order
     /// @param push push-constant bytes (must equal the kernel's pushConstantBytes)
-    /// @throw ResourceError when a count exceeds maxWorkgroupCount
+    /// @throw ResourceError when a count exceeds maxWorkgroupCount, or a buffer exceeds its
+    ///        binding's range (maxUniformBufferRange, maxTexelBufferElements)
     void dispatch(const Kernel& kernel, const std::vector<const Buffer*>& buffers, const void* push,
                   uint32_t groupsX, uint32_t groupsY = 1, uint32_t groupsZ = 1);
     /// Dispatches ceil(invocations / localSizeX) groups, folded into Y when X would exceed the
