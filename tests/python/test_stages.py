@@ -64,7 +64,7 @@ def test_kernel(run_cli, tmp_path):
     table = json.loads((tmp_path / "k" / "kernel.json").read_text())
     assert py.intensity.shape == (40, 40)
     # array[ir, iz] is the table's bin (ir, iz), stored z-major in kernel.json
-    stored = np.asarray(table["intensity"], dtype=np.float32).reshape(40, 40)
+    stored = np.asarray(table["intensity_mW_per_mm2"], dtype=np.float32)  # [iz][ir]
     assert np.array_equal(py.intensity, stored.T)
     assert py.r[0] == pytest.approx(0.5 * py.r_bin_mm)
 
@@ -205,6 +205,10 @@ def test_errors(tmp_path):
         vpsim.run(small_job(plan={"strategy": "no-such-planner"}))
     with pytest.raises(vpsim.InputError):
         vpsim.read_vdb(tmp_path / "missing.vdb")
-    with pytest.raises(vpsim.ResourceError):
-        vpsim.slice(os.path.join(SOURCE, "examples", "parts", "holes.stl"), "1 nm")
+    cube = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
+                     [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]], dtype=float)
+    faces = np.array([[0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4],
+                      [1, 2, 6], [1, 6, 5], [2, 3, 7], [2, 7, 6], [3, 0, 4], [3, 4, 7]])
+    with pytest.raises(vpsim.ResourceError):  # 5 million layers of a 1 mm cube
+        vpsim.slice((cube, faces), "0.2 nm")
     assert issubclass(vpsim.GpuError, vpsim.Error)
