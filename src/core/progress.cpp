@@ -18,7 +18,31 @@ bool displayEnabled() {
     return isatty(STDERR_FILENO) == 1;
 }
 
+std::mutex& observerMutex() {
+    static std::mutex mutex;
+    return mutex;
+}
+
+std::shared_ptr<const Progress::Observer>& observerSlot() {
+    static std::shared_ptr<const Progress::Observer> observer;
+    return observer;
+}
+
+std::shared_ptr<const Progress::Observer> currentObserver() {
+    std::lock_guard<std::mutex> lock(observerMutex());
+    return observerSlot();
+}
+
 }  // namespace
+
+void Progress::setObserver(Observer observer) {
+    std::lock_guard<std::mutex> lock(observerMutex());
+    observerSlot() = observer ? std::make_shared<const Observer>(std::move(observer)) : nullptr;
+}
+
+void Progress::notify() {
+    if (mObserver) (*mObserver)(mLabel, mDone.load(), mTotal);
+}
 
 void Progress::setEnabled(bool enabled) {
     enabledOverride() = enabled ? 1 : 0;
@@ -29,7 +53,8 @@ Progress::Progress(std::string label, uint64_t total)
       mTotal(total),
       mStart(std::chrono::steady_clock::now()),
       mLastDraw(mStart),
-      mActive(displayEnabled()) {}
+      mActive(displayEnabled()),
+      mObserver(currentObserver()) {}
 
 Progress::~Progress() {
     finish();
@@ -37,12 +62,13 @@ Progress::~Progress() {
 
 void Progress::advance(uint64_t amount) {
     mDone += amount;
-    if (!mActive) return;
+    if (!mActive && !mObserver) return;
     auto now = std::chrono::steady_clock::now();
     std::unique_lock<std::mutex> lock(mMutex, std::try_to_lock);
     if (!lock.owns_lock() || now - mLastDraw < std::chrono::milliseconds(100)) return;
     mLastDraw = now;
-    draw(false);
+    if (mActive) draw(false);
+    notify();
 }
 
 void Progress::finish() {
@@ -50,6 +76,7 @@ void Progress::finish() {
     if (mFinished) return;
     mFinished = true;
     if (mActive) draw(true);
+    notify();
 }
 
 void Progress::draw(bool final) {

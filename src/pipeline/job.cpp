@@ -95,7 +95,11 @@ void checkScales(const ConfigNode& root, const Job& job) {
 
 Job loadJob(const std::string& path, const Builtins& builtins,
             const std::vector<std::string>& overrides) {
-    ConfigNode root = ConfigNode::load(path, overrides);
+    return loadJob(ConfigNode::load(path, overrides), builtins);
+}
+
+Job loadJob(const ConfigNode& root, const Builtins& builtins) {
+    const std::string& path = root.file();
     Job job;
     job.file = path;
     job.name = root.string("name", std::filesystem::path(path).stem().string());

@@ -18,6 +18,7 @@
 #include "vpsim/core/log.h"
 #include "vpsim/cure/calibration.h"
 #include "vpsim/pipeline/builtins.h"
+#include "vpsim/pipeline/calibration_report.h"
 
 namespace {
 
@@ -26,7 +27,6 @@ using namespace vpsim::cure;
 namespace pipeline = vpsim::pipeline;
 
 constexpr double PER_MM2_TO_PER_CM2 = 100.0;  // mJ/mm^2 -> mJ/cm^2
-constexpr double MM2_TO_CM2 = 0.01;           // mm^2/mJ -> cm^2/mJ
 
 struct CalibrateOptions {
     std::string workingCurve;
@@ -35,44 +35,6 @@ struct CalibrateOptions {
     std::string plot;
     bool json = false;
 };
-
-nlohmann::json calibrationJson(const CalibrateOptions& o, const WorkingCurveData& data,
-                               const WorkingCurveFit& fit) {
-    nlohmann::json out;
-    out["working_curve"] = o.workingCurve;
-    out["dose_column"] = data.doseColumn;
-    out["depth_column"] = data.depthColumn;
-    out["n_points"] = fit.count;
-    out["penetration_depth_mm"] = fit.penetrationDepth;
-    out["penetration_depth_mm_stderr"] = fit.penetrationDepthStderr;
-    out["critical_dose_mJ_per_cm2"] = fit.criticalDose * PER_MM2_TO_PER_CM2;
-    out["critical_dose_mJ_per_cm2_stderr"] = fit.criticalDoseStderr * PER_MM2_TO_PER_CM2;
-    out["r_squared"] = fit.rSquared;
-    out["residual_std_mm"] = fit.residualStd;
-    out["residuals_mm"] = fit.residuals;  // measured - fitted, in file order
-    const pipeline::Builtins builtins = pipeline::makeBuiltins();
-    const std::unique_ptr<CureLaw> law = calibratedLaw(
-        builtins.cureLaws, fit, o.hasGelPoint ? std::optional<double>(o.gelPoint) : std::nullopt);
-    if (law->conversionKinetics()) {  // the rate constant's and attenuation's standard errors
-        FppCalibration kinetics = fppFromWorkingCurve(fit, o.gelPoint);
-        out["gel_point"] = o.gelPoint;
-        out["K_cm2_per_mJ"] = kinetics.rateConstant * MM2_TO_CM2;
-        out["K_cm2_per_mJ_stderr"] = kinetics.rateConstantStderr * MM2_TO_CM2;
-        out["attenuation_per_mm"] = kinetics.attenuation;
-        out["attenuation_per_mm_stderr"] = kinetics.attenuationStderr;
-    }
-    const nlohmann::json model = law->toJson();  // base units, read back by the cure section
-    out["cure_model"] = model;                   // ready to paste into a material's cure section
-    nlohmann::json points = nlohmann::json::array();
-    for (size_t i = 0; i < fit.count; ++i)
-        points.push_back({{"line", data.line[i]},
-                          {"dose_mJ_per_cm2", data.dose[i] * PER_MM2_TO_PER_CM2},
-                          {"depth_mm", data.cureDepth[i]},
-                          {"fitted_mm", fit.predictDepth(data.dose[i])},
-                          {"residual_mm", fit.residuals[i]}});
-    out["points"] = points;
-    return out;
-}
 
 void printHuman(const nlohmann::json& out) {
     std::printf("Working curve %s: %d points (columns '%s', '%s')\n",
@@ -146,7 +108,10 @@ void runCalibrate(const CalibrateOptions& o) {
     } catch (const InputError& e) {
         throw InputError(e.reason(), o.workingCurve);  // name the file for degenerate data too
     }
-    nlohmann::json out = calibrationJson(o, data, fit);
+    nlohmann::json out =
+        pipeline::calibrationJson(pipeline::makeBuiltins(), data, fit,
+                                  o.hasGelPoint ? std::optional<double>(o.gelPoint) : std::nullopt);
+    out["working_curve"] = o.workingCurve;
     if (!o.plot.empty()) {
         writePlot(o.plot, data, fit);
         out["plot"] = o.plot;

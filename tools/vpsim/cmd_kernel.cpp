@@ -17,6 +17,7 @@
 #include "vpsim/core/units.h"
 #include "vpsim/kernel/beam_kernel.h"
 #include "vpsim/kernel/kernel_cache.h"
+#include "vpsim/kernel/kernel_summary.h"
 #include "vpsim/transport/photon_mc.h"
 
 namespace {
@@ -25,7 +26,7 @@ using vpsim::InputError;
 using namespace vpsim::transport;
 using namespace vpsim::kernel;
 
-struct KernelOptions {
+struct KernelCliOptions {
     std::string material, power = "10 mW", w0 = "50 um", out;
     std::string photons = "1000000";
     uint32_t seed = 1;
@@ -43,7 +44,7 @@ double quantity(const std::string& text, vpsim::Dimension dimension, const std::
     return v;
 }
 
-void runKernel(const KernelOptions& o, const vpsim::cli::Globals& g) {
+void runKernel(const KernelCliOptions& o, const vpsim::cli::Globals& g) {
     const double power = quantity(o.power, vpsim::dim::POWER, "--power");
     const double thickness =
         o.thickness.empty() ? 0.0 : quantity(o.thickness, vpsim::dim::LENGTH, "--thickness");
@@ -51,21 +52,21 @@ void runKernel(const KernelOptions& o, const vpsim::cli::Globals& g) {
     if (!(w0 > 0.0 && w0 <= 100.0))
         throw vpsim::InputError("must be in (0, 100] mm, got " + vpsim::quoteUser(o.w0), "",
                                 "--w0");
-    KernelRequest request = kernelRequest(
-        o.material, power, w0, vpsim::cli::parseCount(o.photons, MAX_PHOTONS, "--photons"), o.seed,
-        g.overrides);
-    McSetup& s = request.setup;
-    if (thickness > 0) {  // a slab, as kernelSetup(optics, w0, thickness) bins it
-        s.thickness = thickness;
-        s.bins.zMax = std::min(s.bins.zMax, thickness);
-    }
-    s.estimator = parseEstimator(o.estimator, "--estimator");
-    s.nAbove = s.nBelow = o.nOutside;
-    if (!o.rMax.empty()) s.bins.rMax = quantity(o.rMax, vpsim::dim::LENGTH, "--r-max");
-    if (!o.zMax.empty()) s.bins.zMax = quantity(o.zMax, vpsim::dim::LENGTH, "--z-max");
     if (o.bins < 4 || o.bins > 1000)
         throw InputError("--bins: expected 4..1000, got " + std::to_string(o.bins));
-    s.bins.rBins = s.bins.zBins = o.bins;
+    KernelOptions options;
+    options.power = power;
+    options.w0 = w0;
+    options.photons = vpsim::cli::parseCount(o.photons, MAX_PHOTONS, "--photons");
+    options.seed = o.seed;
+    options.thickness = thickness;
+    options.nOutside = o.nOutside;
+    if (!o.rMax.empty()) options.rMax = quantity(o.rMax, vpsim::dim::LENGTH, "--r-max");
+    if (!o.zMax.empty()) options.zMax = quantity(o.zMax, vpsim::dim::LENGTH, "--z-max");
+    options.bins = o.bins;
+    options.estimator = parseEstimator(o.estimator, "--estimator");
+    KernelRequest request = kernelRequest(o.material, options, g.overrides);
+    const McSetup& s = request.setup;
 
     // The same cache as `vpsim run`: a kernel already computed for these inputs is reused.
     bool fromCache = false;
@@ -76,21 +77,8 @@ void runKernel(const KernelOptions& o, const vpsim::cli::Globals& g) {
     writeKernelVdb(o.out + "/kernel.vdb", k);
     writeKernelFigures(o.out, k);
 
-    nlohmann::json out{{"kernel", o.out + "/kernel.json"},
-                       {"We3D_um", k.fit.we3d * 1000},
-                       {"De3D_um", k.fit.de3d * 1000},
-                       {"zmax_um", k.zmax * 1000},
-                       {"amplitude_mW_per_mm2", k.fit.amplitude},
-                       {"residual", k.fit.residual},
-                       {"fit_energy_fraction", k.fit.energyFraction},
-                       {"energy_conserving_amplitude_mW_per_mm2", k.energyFit.amplitude},
-                       {"energy_conserving_residual", k.energyFit.residual},
-                       {"engine_fit", "least-squares"},
-                       {"estimator", estimatorName(s.estimator)},
-                       {"W0_um", s.w0 * 1000},
-                       {"Dp_no_scattering_um", 1000 / s.optics.mua},
-                       {"no_scattering_peak_mW_per_mm2", k.beerLambert(0, 0)},
-                       {"from_cache", fromCache}};
+    nlohmann::json out = kernelSummaryJson(k, s, fromCache);
+    out["kernel"] = o.out + "/kernel.json";
     if (!fromCache) out["monte_carlo"] = mc.summaryJson();
     if (o.json) {
         vpsim::cli::printJson(out);
@@ -115,7 +103,7 @@ vpsim::cli::CommandRegistration registerKernel{
     "kernel", [](CLI::App& app, const vpsim::cli::Globals& g) {
         auto* cmd = app.add_subcommand(
             "kernel", "Beam kernel I(r,z) of a material by photon Monte Carlo (Eq. 11-12)");
-        auto o = std::make_shared<KernelOptions>();
+        auto o = std::make_shared<KernelCliOptions>();
         cmd->add_option("--material", o->material, "material JSON file")->required();
         cmd->add_option("--power", o->power, "laser power, e.g. 10mW");
         cmd->add_option("--w0", o->w0, "Gaussian beam 1/e^2 intensity radius W0, e.g. 50um");

@@ -12,6 +12,7 @@
 #include "vpsim/core/image.h"
 #include "vpsim/optics/material_file.h"
 #include "vpsim/optics/mie.h"
+#include "vpsim/optics/mie_summary.h"
 #include "vpsim/optics/phase_table.h"
 
 namespace {
@@ -20,7 +21,6 @@ using vpsim::InputError;
 using namespace vpsim::optics;
 
 constexpr double PI = 3.14159265358979323846;
-constexpr double MM_TO_UM = 1000.0;
 
 struct MieOptions {
     std::string m;
@@ -49,40 +49,6 @@ void writePhasePlot(const std::string& path, const PhaseTable& t, const std::str
                             {series});
 }
 
-nlohmann::json complexJson(Complex z) {
-    return nlohmann::json::array({z.real(), z.imag()});
-}
-
-void checkAngles(const std::vector<double>& angles, const std::string& option) {
-    for (double a : angles)
-        if (!(a >= 0.0 && a <= 180.0)) {
-            char text[32];
-            std::snprintf(text, sizeof text, "%g", a);
-            throw InputError(option + ": angles must be in [0, 180] degrees, got " + text);
-        }
-}
-
-/// Adds qext/qsca/qback/g and, for the requested angles, s1/s2 lists of [re, im].
-void addSphere(nlohmann::json& out, const MieCoefficients& c, const MieEfficiencies& e,
-               const std::vector<double>& angles) {
-    out["qext"] = e.qext;
-    out["qsca"] = e.qsca;
-    out["qabs"] = e.qabs;
-    out["qback"] = e.qback;
-    out["g"] = e.g;
-    out["terms"] = c.terms();
-    if (angles.empty()) return;
-    out["angles_deg"] = angles;
-    nlohmann::json s1 = nlohmann::json::array(), s2 = nlohmann::json::array();
-    for (double a : angles) {
-        MieAmplitudes s = mieAmplitudes(c, std::cos(a * PI / 180.0));
-        s1.push_back(complexJson(s.s1));
-        s2.push_back(complexJson(s.s2));
-    }
-    out["s1"] = s1;
-    out["s2"] = s2;
-}
-
 void printSphereTable(const nlohmann::json& out) {
     std::printf(
         "  Qext  %.7g\n  Qsca  %.7g\n  Qabs  %.7g\n  Qback %.7g  (Bohren & Huffman, "
@@ -103,15 +69,10 @@ void runSphere(const MieOptions& o) {
         throw InputError("mie: give both --m and --x, or --material FILE");
     if (!o.cdfAngles.empty()) throw InputError("mie: --cdf-angles needs --material");
     Complex m = parseRefractiveIndex(o.m, "--m");
-    checkMieInput(m, o.x);
-    MieCoefficients c = mieCoefficients(m, o.x);
-    nlohmann::json out;
-    out["x"] = o.x;
-    out["m"] = complexJson(m);
-    addSphere(out, c, mieEfficiencies(c), o.angles);
+    nlohmann::json out = mieSphereJson(m, o.x, o.angles);
     if (!o.plot.empty()) {
         writePhasePlot(
-            o.plot, miePhaseTable(c),
+            o.plot, miePhaseTable(mieCoefficients(m, o.x)),
             "Mie phase function, x = " + std::to_string(o.x) + ", m = " + formatRefractiveIndex(m));
         out["plot"] = o.plot;
     }
@@ -129,26 +90,8 @@ void runMaterial(const MieOptions& o, const vpsim::cli::Globals& g) {
         throw InputError("mie: --material cannot be combined with --m/--x");
     MaterialDefinition material = loadMaterialDefinition(o.material, g.overrides);
     SlurryOptics s = computeSlurryOptics(material);
-    nlohmann::json out;
+    nlohmann::json out = slurryOpticsJson(s, o.angles, o.cdfAngles);
     out["material"] = o.material;
-    out["x"] = s.x;
-    out["m"] = complexJson(s.m);
-    // S1/S2 are those of a sphere of the nominal radius; efficiencies are ensemble averages.
-    MieCoefficients nominal = mieCoefficients(s.m, s.x);
-    addSphere(out, nominal, s.efficiencies, o.angles);
-    out["terms"] = nominal.terms();
-    out["scattering_mean_free_path_um"] = s.scatteringMeanFreePath * MM_TO_UM;
-    out["transport_mean_free_path_um"] = s.transportMeanFreePath * MM_TO_UM;
-    out["mus_per_mm"] = s.medium.mus;
-    out["mua_per_mm"] = s.medium.mua;
-    out["phase_table_size"] = s.phase.inverseCdf.size();
-    out["phase_table_mean_cosine"] = s.phase.tableMeanCosine();
-    if (!o.cdfAngles.empty()) {
-        nlohmann::json cdf = nlohmann::json::array();
-        for (double a : o.cdfAngles) cdf.push_back(s.phase.cdfAt(a * PI / 180.0));
-        out["cdf_angles_deg"] = o.cdfAngles;
-        out["cdf"] = cdf;
-    }
     if (!o.plot.empty()) {
         writePhasePlot(o.plot, s.phase, "Phase function of " + o.material);
         out["plot"] = o.plot;

@@ -6,6 +6,8 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <mutex>
 #include <string>
 
@@ -29,6 +31,14 @@ public:
     /// Forces the display on or off for the whole program (CLI --quiet / tests).
     static void setEnabled(bool enabled);
 
+    /// Called with (label, done, total) as work advances, at most ~10 times a second per
+    /// Progress and once when it finishes, from whichever thread advances it (TBB workers too);
+    /// independent of the display. The Python module's progress callback.
+    using Observer = std::function<void(const std::string& label, uint64_t done, uint64_t total)>;
+    /// Sets the one process-wide observer (nullptr removes it); Progress objects alive at the
+    /// time keep the observer they started with.
+    static void setObserver(Observer observer);
+
 private:
     void draw(bool final);
     std::string mLabel;
@@ -38,6 +48,8 @@ private:
     std::mutex mMutex;
     bool mActive;
     bool mFinished = false;
+    std::shared_ptr<const Observer> mObserver;
+    void notify();
 };
 
 }  // namespace vpsim

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "vpsim/core/config.h"
 #include "vpsim/cure/cure_law.h"
 #include "vpsim/exporters/exporter.h"
 #include "vpsim/geometry/part_spec.h"
@@ -59,5 +60,9 @@ struct Job {
 /// @throw InputError naming the file and key
 Job loadJob(const std::string& path, const Builtins& builtins,
             const std::vector<std::string>& overrides = {});
+/// The same from a document already read (the Python module's job dicts): `root.file()` names
+/// it in messages and its directory resolves the relative paths inside ("" = the working
+/// directory). @throw InputError naming root.file() and the key
+Job loadJob(const ConfigNode& root, const Builtins& builtins);
 
 }  // namespace vpsim::pipeline
