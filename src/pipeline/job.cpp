@@ -102,6 +102,7 @@ Job loadJob(const ConfigNode& root, const Builtins& builtins) {
     const std::string& path = root.file();
     Job job;
     job.file = path;
+    job.document = root.json();
     job.name = root.string("name", std::filesystem::path(path).stem().string());
     root.string("description", std::string());
     job.cure = cure::cureLawFromConfig(builtins.cureLaws, root, "cure");

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <filesystem>
 
+#include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
 #include "vpsim/core/log.h"
@@ -43,14 +44,13 @@ private:
 /// The job file and its material as written, for the report's inputs (both were read and
 /// checked by loadJob, under its limits).
 nlohmann::json jobInputs(const Job& job) {
-    auto parsed = [](const std::string& path) {
-        return path.empty() ? nlohmann::json()
-                            : nlohmann::json::parse(readFile(path), nullptr, false);
-    };
-    nlohmann::json inputs{{"job", parsed(job.file)}, {"material", parsed(job.materialFile)}};
-    for (auto& [key, value] : inputs.items())
-        if (value.is_discarded()) value = nullptr;
-    return inputs;
+    nlohmann::json material;  // read and checked when the kernel was computed
+    if (!job.materialFile.empty()) {
+        try {
+            material = loadJsonFile(job.materialFile);
+        } catch (const InputError&) {}
+    }
+    return {{"job", job.document}, {"material", material}};
 }
 
 std::string deviceName(const RunContext& context) {

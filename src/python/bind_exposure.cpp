@@ -203,7 +203,8 @@ py::dict expose(const py::handle& job, const std::string& baseDir,
         out["slices"] = py::cast(std::make_unique<SliceStream>(p));
         return out;
     }
-    checkMemory(bytes, "the exposure array", "give max_bytes below it to stream slices");
+    checkMemory(RunContext{}, bytes, "the exposure array",
+                "give max_bytes below it to stream slices");
     py::array_t<float> array({py::ssize_t(nx), py::ssize_t(ny), py::ssize_t(nz)});
     float* data = array.mutable_data();
     const double h = p->voxelHeight;

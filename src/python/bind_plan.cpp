@@ -14,7 +14,7 @@ JobFront jobFront(const pipeline::Job& job, const RunContext& context, bool plan
     JobFront f;
     f.part = pipeline::partStage(job);
     pipeline::checkEstimate(
-        pipeline::estimateJob(job, f.part, planOnly, savedPlan, context.gpu != nullptr));
+        pipeline::estimateJob(job, f.part, planOnly, savedPlan, context.gpu != nullptr), context);
     f.bounds = f.part.bounds();
     f.beam = pipeline::beamStage(job, context);
     f.layers = pipeline::sliceStage(job, f.part);

@@ -16,9 +16,9 @@ py::dict run(const py::handle& jobArg, const std::string& baseDir, const std::st
              const py::dict& settings, const py::object& progress) {
     const pipeline::Job job = loadJob(jobArg, baseDir, overrides);
     const Settings s = settingsFrom(settings);
-    if (dryRun)
-        return fromJson(
-            pipeline::estimateJob(job, false, !planFile.empty(), s.backend != "cpu").toJson());
+    if (dryRun)  // the default memory budget: the library reads no environment
+        return fromJson(pipeline::estimateJob(job, false, !planFile.empty(), s.backend != "cpu")
+                            .toJson(RunContext{}));
     const RunContext context = runContext(s);
     pipeline::RunOptions options;
     options.planFile = planFile;

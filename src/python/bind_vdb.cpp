@@ -47,8 +47,8 @@ py::dict readVdb(const std::string& path, const std::string& name, const py::obj
         box = openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(n[0] - 1, n[1] - 1, n[2] - 1));
     }
     const openvdb::Coord dim = box.dim();
-    checkMemory(double(dim.x()) * dim.y() * dim.z() * 4.0, "the dense copy of " + path,
-                "give a smaller shape");
+    checkMemory(RunContext{}, double(dim.x()) * dim.y() * dim.z() * 4.0,
+                "the dense copy of " + path, "give a smaller shape");
     py::array_t<float> array({py::ssize_t(dim.x()), py::ssize_t(dim.y()), py::ssize_t(dim.z())});
     float* data = array.mutable_data();
     {

@@ -74,6 +74,8 @@ public:
     std::vector<ConfigNode> children(const std::string& key) const;
     /// The raw JSON value (marks the whole subtree as known). @throw InputError when missing.
     const nlohmann::json& raw(const std::string& key) const;
+    /// This node's JSON value as read (overrides applied), without marking anything read.
+    const nlohmann::json& json() const { return *mNode; }
     /// The keys of this object node (none for other kinds), without marking them read.
     std::vector<std::string> keys() const;
 

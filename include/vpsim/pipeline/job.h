@@ -35,7 +35,8 @@ struct SimulationSpec {
 };
 
 struct Job {
-    std::string file;  ///< the job file itself
+    std::string file;         ///< the job file itself
+    nlohmann::json document;  ///< the job as read, --set overrides applied (report.json's inputs)
     std::string name;
     std::string materialFile;  ///< optics material (resolved path); "" when the kernel is given
     std::unique_ptr<cure::CureLaw> cure;
