@@ -44,8 +44,9 @@ std::string formatBytes(double bytes) {
         bytes /= 1024.0;
         ++unit;
     }
+    if (unit > 0) return formatQuantity(bytes, units[unit], 3);
     char text[64];
-    std::snprintf(text, sizeof text, unit == 0 ? "%.0f %s" : "%.2f %s", bytes, units[unit]);
+    std::snprintf(text, sizeof text, "%.0f %s", bytes, units[unit]);
     return text;
 }
 

@@ -18,6 +18,20 @@ bool displayEnabled() {
     return isatty(STDERR_FILENO) == 1;
 }
 
+/// Whether a Progress draws the terminal line now. Work nested in work that already draws (the
+/// blur operator's exposures inside an optimiser's iterations) stays off the terminal, so the
+/// line shows the outer work instead of flickering through short inner bars; observers see both.
+std::atomic<bool>& lineTaken() {
+    static std::atomic<bool> taken{false};
+    return taken;
+}
+
+/// Whether a new Progress may draw: the display is on and no other Progress is drawing.
+bool claimLine() {
+    bool expected = false;
+    return displayEnabled() && lineTaken().compare_exchange_strong(expected, true);
+}
+
 std::mutex& observerMutex() {
     static std::mutex mutex;
     return mutex;
@@ -53,8 +67,10 @@ Progress::Progress(std::string label, uint64_t total)
       mTotal(total),
       mStart(std::chrono::steady_clock::now()),
       mLastDraw(mStart),
-      mActive(displayEnabled()),
-      mObserver(currentObserver()) {}
+      mActive(claimLine()),
+      mObserver(currentObserver()) {
+    if (mActive) draw(false);  // the label at once, before a long first unit
+}
 
 Progress::~Progress() {
     finish();
@@ -75,7 +91,10 @@ void Progress::finish() {
     std::lock_guard<std::mutex> lock(mMutex);
     if (mFinished) return;
     mFinished = true;
-    if (mActive) draw(true);
+    if (mActive) {
+        draw(true);
+        lineTaken() = false;
+    }
     notify();
 }
 
@@ -85,10 +104,13 @@ void Progress::draw(bool final) {
     uint64_t done = mDone.load();
     if (mTotal > 0) {
         double fraction = std::min(1.0, double(done) / double(mTotal));
-        double eta = fraction > 0 ? seconds * (1.0 - fraction) / fraction : 0.0;
-        std::fprintf(stderr, "\r%s: %5.1f%% (%llu/%llu) %.1fs elapsed, %.1fs left   ",
-                     mLabel.c_str(), 100.0 * fraction, (unsigned long long)done,
-                     (unsigned long long)mTotal, seconds, final ? 0.0 : eta);
+        char left[32] = "";  // unknown before the first unit is done
+        if (final || fraction > 0)
+            std::snprintf(left, sizeof left, ", %.1fs left",
+                          final ? 0.0 : seconds * (1.0 - fraction) / fraction);
+        std::fprintf(stderr, "\r%s: %5.1f%% (%llu/%llu) %.1fs elapsed%s   ", mLabel.c_str(),
+                     100.0 * fraction, (unsigned long long)done, (unsigned long long)mTotal,
+                     seconds, left);
     } else {
         std::fprintf(stderr, "\r%s: %llu done, %.1fs elapsed   ", mLabel.c_str(),
                      (unsigned long long)done, seconds);

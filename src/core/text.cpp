@@ -1,6 +1,8 @@
 #include "vpsim/core/text.h"
 
+#include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
@@ -157,6 +159,26 @@ std::string formatNumber(double value, int significantDigits) {
     char buffer[64];
     std::snprintf(buffer, sizeof buffer, "%.*g", significantDigits, value);
     return buffer;
+}
+
+std::string formatQuantity(double value, std::string_view unit, int significantDigits) {
+    const double magnitude = std::fabs(value);
+    std::string number;
+    if (!(magnitude >= 1e-4 && magnitude < 1e15)) {  // 0, tiny, huge, inf, nan: "%g" form
+        number = formatNumber(value == 0.0 ? 0.0 : value, significantDigits);
+    } else {
+        const int decimals =
+            std::max(0, significantDigits - 1 - int(std::floor(std::log10(magnitude))));
+        char buffer[64];
+        std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
+        number = buffer;
+        if (number.find('.') != std::string::npos) {
+            number.erase(number.find_last_not_of('0') + 1);
+            if (number.back() == '.') number.pop_back();
+        }
+        if (number == "-0") number = "0";
+    }
+    return unit.empty() ? number : number + " " + std::string(unit);
 }
 
 }  // namespace vpsim

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "vpsim/core/error.h"
+#include "vpsim/core/text.h"
 
 namespace vpsim::cure {
 namespace {
@@ -12,10 +13,10 @@ namespace {
 void checkStack(const std::vector<double>& layerDoses, double layerThickness,
                 double penetrationDepth) {
     if (!(layerThickness > 0.0) || !std::isfinite(layerThickness))
-        throw InputError("layer thickness must be positive, got " + std::to_string(layerThickness));
+        throw InputError("layer thickness must be positive, got " + formatQuantity(layerThickness));
     if (!(penetrationDepth > 0.0) || !std::isfinite(penetrationDepth))
         throw InputError("penetration depth must be positive, got " +
-                         std::to_string(penetrationDepth));
+                         formatQuantity(penetrationDepth));
     for (size_t i = 0; i < layerDoses.size(); ++i)
         if (!(layerDoses[i] >= 0.0) || !std::isfinite(layerDoses[i])) {
             std::ostringstream reason;

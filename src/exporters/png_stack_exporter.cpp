@@ -6,6 +6,7 @@
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
+#include "vpsim/core/progress.h"
 #include "vpsim/core/text.h"
 #include "vpsim/exporters/grey_masks.h"
 
@@ -25,11 +26,13 @@ void PngStackExporter::write(const plan::ScanPlan& plan, const std::string& path
     std::filesystem::create_directories(path, ec);
     if (ec) throw InputError("PNG stack: cannot create the directory", path);
     char name[64];
+    Progress progress("PNG stack export: layer images written", plan.layers.size());
     for (size_t k = 0; k < plan.layers.size(); ++k) {
         const plan::MaskImage& m = plan.layers[k].masks[0];
         std::vector<uint8_t> png = encodePngGrey(m.width, m.height, maskToGrey(m, mLevels));
         std::snprintf(name, sizeof name, "/layer%05zu.png", k);
         writeFileAtomic(path + name, std::string(png.begin(), png.end()));
+        progress.advance();
     }
     std::ostringstream index;
     index << "{\"layers\": " << plan.layers.size()

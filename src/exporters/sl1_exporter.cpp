@@ -11,6 +11,7 @@
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
+#include "vpsim/core/progress.h"
 #include "vpsim/core/text.h"
 #include "vpsim/exporters/grey_masks.h"
 
@@ -88,8 +89,12 @@ void Sl1Exporter::write(const plan::ScanPlan& plan, const std::string& path) con
             << "\nprinter_model = " << mSettings.printerModel << "\n";
     std::vector<std::string> texts{config.str(), profile.str()};
     std::vector<std::vector<uint8_t>> images(n);
-    for (size_t k = 0; k < n; ++k)
+    Progress progress("SL1 export: layer images encoded", n);
+    for (size_t k = 0; k < n; ++k) {
         images[k] = encodePngGrey(px, py, displayImage(plan.layers[k].masks[0], mLevels, px, py));
+        progress.advance();
+    }
+    progress.finish();
 
     const std::string temporary = path + ".tmp";
     std::remove(temporary.c_str());

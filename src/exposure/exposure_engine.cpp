@@ -10,6 +10,7 @@
 #include "exposure/exposure_gpu.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/progress.h"
+#include "vpsim/core/text.h"
 #include "vpsim/exposure/deposit.h"
 
 namespace vpsim::exposure {
@@ -71,9 +72,9 @@ ExposureEngine::ExposureEngine(const ExposureGrid& grid, const kernel::FittedBea
     if (!(beam.efficiency > 0)) throw InputError("beam efficiency must be positive");
     if (!(layerThickness > 0)) throw InputError("layer thickness must be positive");
     if (beam.radius < grid.pitch)
-        throw InputError("grid pitch " + std::to_string(grid.pitch * 1e3) +
+        throw InputError("grid pitch " + formatQuantity(grid.pitch * 1e3) +
                          " um is coarser than the beam radius " +
-                         std::to_string(beam.radius * 1e3) +
+                         formatQuantity(beam.radius * 1e3) +
                          " um: the blur would be meaningless; refine the grid");
     const double cells = double(grid.nx) * grid.ny;
     const double bytes = cells * sizeof(float) * 4;  // deposit, two blur buffers, running sum

@@ -13,6 +13,7 @@
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/progress.h"
+#include "vpsim/core/text.h"
 #include "vpsim/exposure/deposit.h"
 
 namespace vpsim::exposure {
@@ -42,7 +43,7 @@ private:
 
 void validateKernel(const kernel::BeamKernel& k) {
     if (!(k.power > 0))
-        throw InputError("beam kernel power must be positive (got " + std::to_string(k.power) +
+        throw InputError("beam kernel power must be positive (got " + formatQuantity(k.power) +
                          " mW)");
     if (k.rBins == 0 || k.zBins == 0 || k.intensity.empty())
         throw InputError(
@@ -177,7 +178,7 @@ void TabulatedExposureEngine::buildStencils(const kernel::BeamKernel& kernel) {
     if (mWorkingBytes > TABULATED_ENGINE_MAX_BYTES)
         throw ResourceError(
             "tabulated exposure of a " + std::to_string(mGrid.nx) + " x " +
-            std::to_string(mGrid.ny) + " grid (pitch " + std::to_string(pitch * 1e3) +
+            std::to_string(mGrid.ny) + " grid (pitch " + formatQuantity(pitch * 1e3) +
             " um) with " + std::to_string(depthCount) + " depth stencils over " +
             std::to_string(mLayersInFlight) + " layers needs " + formatBytes(mWorkingBytes) +
             " (limit " + formatBytes(TABULATED_ENGINE_MAX_BYTES) +

@@ -16,6 +16,7 @@
 #include "vpsim/core/io.h"
 #include "vpsim/core/log.h"
 #include "vpsim/core/progress.h"
+#include "vpsim/core/text.h"
 
 namespace vpsim::geometry {
 
@@ -60,17 +61,17 @@ double LevelSet::estimateBytes(const Mesh& mesh, const LevelSetOptions& options)
 LevelSet LevelSet::fromMesh(const Mesh& mesh, const LevelSetOptions& options) {
     if (!(options.voxelSize > 0.0) || !std::isfinite(options.voxelSize)) {
         throw InputError("level-set voxel size must be positive, got " +
-                         std::to_string(options.voxelSize) + " mm");
+                         formatQuantity(options.voxelSize) + " mm");
     }
     if (!(options.halfWidthVoxels >= 1.0)) {
         throw InputError("level-set half-width must be at least 1 voxel, got " +
-                         std::to_string(options.halfWidthVoxels));
+                         formatQuantity(options.halfWidthVoxels));
     }
     if (mesh.triangles.empty()) throw InputError("cannot build a level set of an empty mesh");
     const double bytes = estimateBytes(mesh, options);
     if (bytes > options.maxBytes) {
         throw ResourceError("level set at voxel size " +
-                            std::to_string(options.voxelSize * 1000.0) + " um would need about " +
+                            formatQuantity(options.voxelSize * 1000.0) + " um would need about " +
                             formatBytes(bytes) + " (limit " + formatBytes(options.maxBytes) +
                             "): use a larger voxel size");
     }
@@ -83,11 +84,12 @@ LevelSet LevelSet::fromMesh(const Mesh& mesh, const LevelSetOptions& options) {
     for (const auto& t : mesh.triangles) triangles.emplace_back(t[0], t[1], t[2]);
     const auto xform = openvdb::math::Transform::createLinearTransform(options.voxelSize);
     auto impl = std::make_unique<Impl>();
-    Progress progress("level set", 100);
+    Progress progress("level set of the part (percent)", 100);
     ProgressInterrupter interrupter(progress);
     // Passing the NullInterrupter base uses OpenVDB's explicit instantiation (no template bloat).
     impl->grid = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(
         interrupter.interrupter(), *xform, points, triangles, float(options.halfWidthVoxels));
+    if (progress.done() < 100) progress.advance(100 - progress.done());  // OpenVDB stops at 99
     impl->grid->setName("part");
     logDebug("level set: " + std::to_string(impl->grid->activeVoxelCount()) + " active voxels, " +
              formatBytes(double(impl->grid->memUsage())));

@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "vpsim/core/error.h"
+#include "vpsim/core/text.h"
 
 namespace vpsim::geometry {
 
@@ -23,8 +24,8 @@ RasterGrid RasterGrid::covering(const glm::dvec2& lo, const glm::dvec2& hi, doub
     const glm::dvec2 last = glm::ceil(hi / pitch) + double(marginPixels);
     const double pixels = (last.x - first.x) * (last.y - first.y);
     if (pixels > double(1u << 31)) {
-        throw ResourceError("a raster of " + std::to_string(pixels) + " pixels at pitch " +
-                            std::to_string(pitch) +
+        throw ResourceError("a raster of " + formatQuantity(pixels) + " pixels at pitch " +
+                            formatQuantity(pitch) +
                             " mm is too large (limit 2^31): use a coarser pitch");
     }
     grid.origin = first * pitch;

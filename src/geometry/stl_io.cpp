@@ -212,14 +212,14 @@ bool looksLikeAscii(const std::string& data) {
 
 Mesh readStlSoup(const std::string& path, double scale) {
     if (!(scale > 0.0) || !std::isfinite(scale)) {
-        throw InputError("STL scale must be a positive number, got " + std::to_string(scale), path);
+        throw InputError("STL scale must be a positive number, got " + formatQuantity(scale), path);
     }
     return parseStlSoup(readFile(path), path, scale);
 }
 
 Mesh parseStlSoup(const std::string& data, const std::string& path, double scale) {
     if (!(scale > 0.0) || !std::isfinite(scale)) {
-        throw InputError("STL scale must be a positive number, got " + std::to_string(scale), path);
+        throw InputError("STL scale must be a positive number, got " + formatQuantity(scale), path);
     }
     Mesh soup;
     uint32_t count = 0;

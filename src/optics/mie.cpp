@@ -68,7 +68,7 @@ T besselRatioLentz(int order, T z) {
         if (magnitude(delta - 1.0) < EPS) return f;
     }
     throw Error("Mie: Lentz continued fraction did not converge for |z| = " +
-                std::to_string(magnitude(z)));
+                formatQuantity(magnitude(z)));
 }
 
 /// D_n(z) = psi_n'(z)/psi_n(z) for n = 0..terms by downward recurrence from a start order above

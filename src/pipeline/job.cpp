@@ -6,6 +6,7 @@
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/log.h"
+#include "vpsim/core/text.h"
 
 namespace vpsim::pipeline {
 namespace {
@@ -77,18 +78,18 @@ void checkScales(const ConfigNode& root, const Job& job) {
     const double depth = job.cure->penetrationDepth();
     if (depth > 0.0 && depth < voxelHeight)
         throw root.error("cure.penetration_depth",
-                         "penetration depth " + std::to_string(depth * 1000.0) +
+                         "penetration depth " + formatQuantity(depth * 1000.0) +
                              " um is shorter than a voxel slice (" +
-                             std::to_string(voxelHeight * 1000.0) +
+                             formatQuantity(voxelHeight * 1000.0) +
                              " um = layer thickness / slices_per_layer): raise slices_per_layer "
                              "or check the unit");
     if (job.simulation.voxel > 10.0)
         throw root.error("simulation.voxel", "must be at most 10 mm, got " +
-                                                 std::to_string(job.simulation.voxel) + " mm");
+                                                 formatQuantity(job.simulation.voxel) + " mm");
     if (job.machine.layerThickness > 10.0)
         throw root.error(
             "machine.layer_thickness",
-            "must be at most 10 mm, got " + std::to_string(job.machine.layerThickness) + " mm");
+            "must be at most 10 mm, got " + formatQuantity(job.machine.layerThickness) + " mm");
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include "vpsim/core/io.h"
 #include "vpsim/core/log.h"
 #include "vpsim/core/output_directory.h"
+#include "vpsim/core/progress.h"
 #include "vpsim/core/text.h"
 #include "vpsim/exposure/dose_volume.h"
 #include "vpsim/geometry/stl_io.h"
@@ -70,9 +71,9 @@ struct Front {
 geometry::Mesh checkedPart(const Job& job) {
     geometry::Mesh part = partStage(job);
     if (!(job.machine.layerThickness <= part.bounds().hi.z))
-        throw InputError("layer thickness " + std::to_string(job.machine.layerThickness) +
+        throw InputError("layer thickness " + formatQuantity(job.machine.layerThickness) +
                              " mm is more than the part's height " +
-                             std::to_string(part.bounds().hi.z) + " mm: no layer to print",
+                             formatQuantity(part.bounds().hi.z) + " mm: no layer to print",
                          job.file, "machine.layer_thickness");
     return part;
 }
@@ -268,7 +269,9 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     result.sections = review.sections;
     timer.finish("review");
 
+    Progress progress("report: section, deviation, 3D view and layer error figures", 4);
     sections.write(outDir);
+    progress.advance();
     // The report's pictures and 3D view need the cured triangles, which the mesher kept (memory
     // grows with the surface, not the volume); cured.stl was written as they were made.
     const geometry::Mesh curedMesh = cured->mesh();
@@ -276,9 +279,13 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
         outDir, curedMesh, result.validation.vertexDeviations, f.part);
     result.deviationLimit = scale.limit;
     result.beyondDeviationLimit = scale.beyond;
+    progress.advance();
     result.viewer = report::writeViewer3d(outDir, curedMesh, result.validation.vertexDeviations,
                                           f.part, scale.limit, job.machine.layerThickness);
+    progress.advance();
     report::writeLayerErrorPlot(outDir + "/xy_error_per_layer", result.validation.slices);
+    progress.advance();
+    progress.finish();
     timer.finish("report");
     result.inputs = jobInputs(job);
     writeFileAtomic(outDir + "/report.json", report::toJson(result).dump(2));

@@ -5,6 +5,7 @@
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/log.h"
+#include "vpsim/core/text.h"
 #include "vpsim/exposure/exposure_engine.h"
 #include "vpsim/exposure/tabulated_engine.h"
 #include "vpsim/geometry/level_set.h"
@@ -56,8 +57,8 @@ geometry::LayerStack sliceStage(const Job& job, const geometry::Mesh& part) {
     // later stage would index an empty stack.
     const double height = part.bounds().hi.z;
     if (!(job.machine.layerThickness <= height))
-        throw InputError("layer thickness " + std::to_string(job.machine.layerThickness) +
-                             " mm is more than the part's height " + std::to_string(height) +
+        throw InputError("layer thickness " + formatQuantity(job.machine.layerThickness) +
+                             " mm is more than the part's height " + formatQuantity(height) +
                              " mm: no layer to print",
                          job.file, "machine.layer_thickness");
     geometry::SliceOptions options;
@@ -91,7 +92,7 @@ void checkPlanFitsJob(const plan::ScanPlan& plan, const Job& job,
     if (std::abs(plan.machine.layerThickness - job.machine.layerThickness) >
         1e-9 * job.machine.layerThickness)
         throw InputError("the plan's layer thickness differs from the job's (" +
-                             std::to_string(job.machine.layerThickness) + " mm)",
+                             formatQuantity(job.machine.layerThickness) + " mm)",
                          file, "machine.layer_thickness");
     if (plan.layers.size() != layers.layers.size())
         throw InputError("the plan has " + std::to_string(plan.layers.size()) +

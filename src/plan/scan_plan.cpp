@@ -9,6 +9,7 @@
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
+#include "vpsim/core/text.h"
 
 namespace vpsim::plan {
 namespace {
@@ -20,7 +21,7 @@ constexpr long long MAX_MASK_SIDE = 1 << 16;  // pixels; a DLP chip has a few th
 double machineLength(const ConfigNode& node, const std::string& key) {
     const double value = positiveQuantity(node, key, dim::LENGTH);
     if (value > 10.0)
-        throw node.error(key, "must be at most 10 mm, got " + std::to_string(value) + " mm");
+        throw node.error(key, "must be at most 10 mm, got " + formatQuantity(value) + " mm");
     return value;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vpsim/core/progress.h"
 #include "vpsim/plan/machine/laser_limits.h"
 #include "vpsim/planners/laser_plan_options.h"
 #include "vpsim/planners/plan_size.h"
@@ -42,9 +43,13 @@ public:
         const auto& layers = in.layers.layers;
         std::vector<double> offsets(layers.size(), 0.0);
         // Top down, so the contour rule sees what the layers above (designed already) send in.
+        Progress progress("ACES: layers hatched, top down", layers.size());
         for (size_t k = layers.size(); k-- > 0;) {
             const geometry::PolygonSet& region = layers[k].region;
-            if (region.empty()) continue;
+            if (region.empty()) {
+                progress.advance();
+                continue;
+            }
             plan::AcesParameters layerAces = aces;
             layerAces.direction = plan::scanDirection(region, mOptions.direction);
             const plan::AcesStack stack = stackAround(layers, offsets, k, aces.attenuationLength);
@@ -69,6 +74,7 @@ public:
                         {"wall_level", design.wallLevel},
                         {"scallop_um", design.scallop * 1e3},
                         {"border_loops", design.borderCount}};
+            progress.advance();
         }
         if (!mSummary.empty()) mSummary = {{"aces", mSummary}};
         mSummary.update(fitLaserPlan(plan, aces, in.machine, 0.0));

@@ -1,5 +1,6 @@
 #include "vpsim/planners/uniform_mask_planner.h"
 
+#include "vpsim/core/progress.h"
 #include "vpsim/plan/dlp_masks.h"
 #include "vpsim/planners/plan_size.h"
 
@@ -16,11 +17,14 @@ public:
         const geometry::RasterGrid projector = geometry::RasterGrid::covering(
             {b.lo.x, b.lo.y}, {b.hi.x, b.hi.y}, in.machine.pixelPitch, 2);
         plan::ScanPlan plan = plan::emptyPlan(in.layers, in.machine);
-        for (size_t k = 0; k < in.layers.layers.size(); ++k)
+        Progress progress("uniform masks: layers rasterised", in.layers.layers.size());
+        for (size_t k = 0; k < in.layers.layers.size(); ++k) {
             if (!in.layers.layers[k].region.empty())
                 plan.layers[k].masks.push_back(plan::uniformMask(
                     in.layers.layers[k].region, projector, mDose,
                     mGreyscale ? plan::MaskRasterMode::Greyscale : plan::MaskRasterMode::Binary));
+            progress.advance();
+        }
         return plan;
     }
 

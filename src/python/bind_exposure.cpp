@@ -13,6 +13,7 @@
 #include "bind_plan.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/resources.h"
+#include "vpsim/core/text.h"
 #include "vpsim/cure/cure_field.h"
 #include "vpsim/gpu/context.h"
 #include "vpsim/validate/slice_validator.h"
@@ -213,7 +214,7 @@ py::dict expose(const py::handle& job, const std::string& baseDir,
         return p->model->run(p->plan, [&](const exposure::ExposureSlice& s) {
             const int k = sliceIndex(s, h);
             if (k < 0 || size_t(k) >= nz)
-                throw ResourceError("exposure slice at z = " + std::to_string(s.z) +
+                throw ResourceError("exposure slice at z = " + formatQuantity(s.z) +
                                     " mm lies outside the array");
             const exposure::SurfaceGrid& g = *s.values;
             for (size_t i = 0; i < nx; ++i) {

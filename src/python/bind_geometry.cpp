@@ -3,6 +3,7 @@
 // layer's mask (uint8) and coverage (float32) on one raster grid, array[ix, iy].
 #include "bind_common.h"
 #include "vpsim/core/error.h"
+#include "vpsim/core/text.h"
 #include "vpsim/geometry/layer_stack.h"
 #include "vpsim/geometry/mesh_check.h"
 #include "vpsim/geometry/raster.h"
@@ -83,9 +84,9 @@ py::dict slice(const py::handle& part, const py::handle& layerThickness, const p
     if (!a["z_start"].is_none()) options.zStart = quantity(a["z_start"], dim::LENGTH, "z_start");
     const Bounds bounds = mesh.bounds();
     if (options.layerThickness > bounds.hi.z - bounds.lo.z)
-        throw InputError("layer thickness " + std::to_string(options.layerThickness) +
+        throw InputError("layer thickness " + formatQuantity(options.layerThickness) +
                              " mm is more than the part's height " +
-                             std::to_string(bounds.hi.z - bounds.lo.z) + " mm",
+                             formatQuantity(bounds.hi.z - bounds.lo.z) + " mm",
                          "", "layer_thickness");
     const int count = layerCount(mesh, options);
     if (count > 1000000)

@@ -4,6 +4,7 @@
 #include "bind_plan.h"
 
 #include "vpsim/core/error.h"
+#include "vpsim/core/text.h"
 #include "vpsim/pipeline/estimate.h"
 #include "vpsim/plan/machine/build_time.h"
 
@@ -195,7 +196,7 @@ void bindPlan(py::module_& m) {
              "replaces a DLP mask's doses (mJ/mm^2, array[ix, iy] of the mask's shape)")
         .def("__repr__", [](const PlanObject& p) {
             return "<vpsim.Plan " + p.strategy + ": " + std::to_string(p.plan.layers.size()) +
-                   " layers, " + std::to_string(p.plan.totalEnergy()) + " mJ>";
+                   " layers, " + formatQuantity(p.plan.totalEnergy()) + " mJ>";
         });
     m.def("_plan", &planJob, py::arg("job"), py::arg("base_dir"), py::arg("overrides"),
           py::arg("settings"), py::arg("progress"));

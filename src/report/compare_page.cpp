@@ -7,6 +7,7 @@
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
 #include "vpsim/core/output_directory.h"
+#include "vpsim/core/progress.h"
 #include "vpsim/core/text.h"
 #include "vpsim/report/html_report.h"
 #include "vpsim/report/plot.h"
@@ -59,7 +60,12 @@ Run loadRun(const std::string& dir) {
 std::string writeComparePage(const std::vector<std::string>& runDirs, const std::string& outDir) {
     if (runDirs.empty()) throw InputError("vpsim compare: no run directory given");
     std::vector<Run> runs;
-    for (const std::string& dir : runDirs) runs.push_back(loadRun(dir));
+    Progress progress("compare: run directories checked against their manifests", runDirs.size());
+    for (const std::string& dir : runDirs) {
+        runs.push_back(loadRun(dir));
+        progress.advance();
+    }
+    progress.finish();
     std::vector<std::string> labels;
     for (size_t i = 0; i < runs.size(); ++i) {
         const nlohmann::json& r = runs[i].report;

@@ -1,6 +1,7 @@
 #include "vpsim/validate/cured_surface.h"
 
 #include "vpsim/core/error.h"
+#include "vpsim/core/text.h"
 
 namespace vpsim::validate {
 
@@ -8,7 +9,7 @@ geometry::Mesh curedSurface(const exposure::DoseVolume& exposure, const cure::Cu
     geometry::Mesh cured = exposure.isosurface(float(law.criticalDose()));
     if (cured.triangles.empty())
         throw InputError("nothing cured: the exposure never reaches the critical dose (" +
-                         std::to_string(law.criticalDose() * 100.0) + " mJ/cm^2)");
+                         formatQuantity(law.criticalDose() * 100.0) + " mJ/cm^2)");
     return cured;
 }
 

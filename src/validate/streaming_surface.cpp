@@ -11,6 +11,7 @@
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
+#include "vpsim/core/text.h"
 #include "vpsim/geometry/mesh_distance.h"
 
 namespace vpsim::validate {
@@ -259,7 +260,7 @@ void StreamingCuredSurface::finish() {
     s.finished = true;
     if (s.triangleCount == 0)
         throw InputError("nothing cured: the exposure never reaches the critical dose (" +
-                         std::to_string(s.iso * 100.0) + " mJ/cm^2)");
+                         formatQuantity(s.iso * 100.0) + " mJ/cm^2)");
     if (s.stl) {
         if (s.triangleCount > UINT32_MAX)
             throw InputError("too many triangles for a binary STL", s.stl->path());

@@ -52,6 +52,21 @@ TEST_CASE("messages escape control bytes and invalid UTF-8 and cut long text", "
     CHECK(std::string(error.what()).size() < 400);
 }
 
+TEST_CASE("quantities for people: about 4 significant digits, no trailing zeros", "[core][text]") {
+    CHECK(formatQuantity(78.0, "mJ/cm^2") == "78 mJ/cm^2");
+    CHECK(formatQuantity(1.0, "mm") == "1 mm");
+    CHECK(formatQuantity(0.35, "mm") == "0.35 mm");
+    CHECK(formatQuantity(0.1 + 0.2) == "0.3");
+    CHECK(formatQuantity(12345.6, "s") == "12346 s");  // integer digits are never cut
+    CHECK(formatQuantity(9.99996) == "10");
+    CHECK(formatQuantity(-0.00001234, "mm") == "-1.234e-05 mm");
+    CHECK(formatQuantity(-1e-9 * 1e-9) == "-1e-18");
+    CHECK(formatQuantity(0.0, "mW") == "0 mW");
+    CHECK(formatQuantity(-0.00004) == "-4e-05");
+    CHECK(formatQuantity(-0.0001) == "-0.0001");
+    CHECK(formatQuantity(2.0 / 3.0, "", 2) == "0.67");
+}
+
 TEST_CASE("numbers are decimal only", "[core][units]") {
     CHECK(parseDecimal("1.5e-3") == Approx(1.5e-3));
     CHECK(parseDecimal(".5") == Approx(0.5));

@@ -1,18 +1,47 @@
 // An optimised-mask run's report: the uniform plan simulated beside it for the features table,
 // the DLP figures written and linked from index.html, the figure data kept out of report.json,
 // and with xy_coupling both XY contour errors from the run's own validation, the joint one lower.
+// Its long planner stages report their progress to the observer.
 #include <catch2/catch.hpp>
 
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <mutex>
 #include <sstream>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "vpsim/core/progress.h"
 #include "vpsim/pipeline/run_job.h"
 #include "vpsim/report/dlp_figures.h"
 
 using namespace vpsim;
+
+namespace {
+
+/// The last (done, total) the progress observer saw for each label while alive.
+class ProgressRecorder {
+public:
+    ProgressRecorder() {
+        Progress::setObserver([this](const std::string& label, uint64_t done, uint64_t total) {
+            std::lock_guard<std::mutex> lock(mMutex);
+            mLast[label] = {done, total};
+        });
+    }
+    ~ProgressRecorder() { Progress::setObserver(nullptr); }
+    std::map<std::string, std::pair<uint64_t, uint64_t>> last() {
+        std::lock_guard<std::mutex> lock(mMutex);
+        return mLast;
+    }
+
+private:
+    std::mutex mMutex;
+    std::map<std::string, std::pair<uint64_t, uint64_t>> mLast;
+};
+
+}  // namespace
 
 TEST_CASE("optimised-mask run: uniform comparison, DLP figures, xy comparison", "[pipeline]") {
     // A small frustum wider at the top (down-facing walls), seed 001's resin and projector.
@@ -33,8 +62,30 @@ TEST_CASE("optimised-mask run: uniform comparison, DLP figures, xy comparison", 
     const auto jobPath = std::filesystem::temp_directory_path() / "vpsim_test_dlp_report.json";
     std::ofstream(jobPath) << job.dump(1);
     pipeline::Job loaded = pipeline::loadJob(jobPath.string(), pipeline::makeBuiltins());
+    ProgressRecorder progress;
     report::JobResult r = pipeline::runJob(loaded, dir.string(), RunContext{});
     const nlohmann::json& p = r.plan.planner;
+    {
+        // The planner's two long stages finished their declared work: every distinct column
+        // solved, every FISTA iteration of the joint optimum; the report stage its figures.
+        const auto seen = progress.last();
+        std::string labels;
+        for (const auto& entry : seen) labels += entry.first + "; ";
+        INFO("progress labels seen: " << labels);
+        using Counts = std::pair<uint64_t, uint64_t>;
+        const uint64_t columns = p["distinct_columns"].get<uint64_t>();
+        const uint64_t iterations = p["xy_coupling"]["iterations"].get<uint64_t>();
+        REQUIRE(seen.count("DLP masks: exact optimum of each distinct column"));
+        CHECK(seen.at("DLP masks: exact optimum of each distinct column") ==
+              Counts{columns, columns});
+        REQUIRE(seen.count("DLP masks: xy coupling, FISTA iterations"));
+        CHECK(iterations > 0);
+        CHECK(seen.at("DLP masks: xy coupling, FISTA iterations") ==
+              Counts{iterations, iterations});
+        REQUIRE(seen.count("report: section, deviation, 3D view and layer error figures"));
+        CHECK(seen.at("report: section, deviation, 3D view and layer error figures") ==
+              Counts{4, 4});
+    }
     REQUIRE_FALSE(p.contains("figures"));
     REQUIRE(p["uniform_comparison"]["dose_mJ_per_cm2"].get<double>() == Approx(78.0));
     REQUIRE(p["uniform_comparison"]["features"][0]["name"] == "wall");

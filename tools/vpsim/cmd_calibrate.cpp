@@ -16,6 +16,7 @@
 #include "vpsim/core/error.h"
 #include "vpsim/core/image.h"
 #include "vpsim/core/log.h"
+#include "vpsim/core/text.h"
 #include "vpsim/cure/calibration.h"
 #include "vpsim/pipeline/builtins.h"
 #include "vpsim/pipeline/calibration_report.h"
@@ -56,7 +57,7 @@ void printHuman(const nlohmann::json& out) {
                     out["attenuation_per_mm_stderr"].get<double>());
     }
     std::printf(
-        "  r^2 %.6f, residual sd %.3g mm (standard errors from the least-squares covariance)\n",
+        "  r^2 %.6g, residual sd %.3g mm (standard errors from the least-squares covariance)\n",
         out["r_squared"].get<double>(), out["residual_std_mm"].get<double>());
     std::printf("  %6s %14s %10s %10s %10s\n", "line", "dose mJ/cm^2", "Cd mm", "fit mm",
                 "resid mm");
@@ -100,7 +101,7 @@ void writePlot(const std::string& path, const WorkingCurveData& data, const Work
 void runCalibrate(const CalibrateOptions& o) {
     if (o.hasGelPoint && !(o.gelPoint > 0.0 && o.gelPoint < 1.0))
         throw InputError("--gel-point must lie strictly between 0 and 1, got " +
-                         std::to_string(o.gelPoint));
+                         vpsim::formatQuantity(o.gelPoint));
     WorkingCurveData data = loadWorkingCurveCsv(o.workingCurve);
     WorkingCurveFit fit;
     try {

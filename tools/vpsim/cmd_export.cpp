@@ -13,6 +13,7 @@
 #include "commands.h"
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
+#include "vpsim/core/text.h"
 #include "vpsim/core/units.h"
 #include "vpsim/pipeline/builtins.h"
 #include "vpsim/plan/machine/build_time.h"
@@ -122,7 +123,7 @@ void runExport(const ExportCliOptions& o, const cli::Globals& globals) {
                   << " layers, " << vectors << " vectors"
                   << (dlp ? ""
                           : ", build time " +
-                                std::to_string(summary["build_time_s"]["total"].get<double>()) +
+                                formatQuantity(summary["build_time_s"]["total"].get<double>()) +
                                 " s")
                   << "\n";
 }

@@ -87,15 +87,16 @@ void runKernel(const KernelCliOptions& o, const vpsim::cli::Globals& g) {
     std::printf("Beam kernel of %s (%llu photons on %s) -> %s\n", o.material.c_str(),
                 static_cast<unsigned long long>(k.photons),
                 fromCache ? "the kernel cache" : mc.backend.c_str(), o.out.c_str());
-    std::printf("  We3D  %.2f um   (incident W0 %.2f um)\n", k.fit.we3d * 1000, s.w0 * 1000);
-    std::printf("  De3D  %.2f um   (no scattering 1/mua = %.2f um)\n", k.fit.de3d * 1000,
-                1000 / s.optics.mua);
-    std::printf("  zmax  %.2f um   (depth of the largest Ie(0,z))\n", k.zmax * 1000);
-    std::printf("  Ie3D(0,0) %.4g mW/mm^2 (no scattering %.4g), fit residual %.3f\n",
+    const auto um = [](double mm) { return vpsim::formatQuantity(mm * 1000, "um"); };
+    std::printf("  We3D  %s   (incident W0 %s)\n", um(k.fit.we3d).c_str(), um(s.w0).c_str());
+    std::printf("  De3D  %s   (no scattering 1/mua = %s)\n", um(k.fit.de3d).c_str(),
+                um(1 / s.optics.mua).c_str());
+    std::printf("  zmax  %s   (depth of the largest Ie(0,z))\n", um(k.zmax).c_str());
+    std::printf("  Ie3D(0,0) %.4g mW/mm^2 (no scattering %.4g), fit residual %.3g\n",
                 k.fit.amplitude, k.beerLambert(0, 0), k.fit.residual);
     std::printf(
-        "  energy: the fit (used by the engines) carries %.3f of the table's absorbed "
-        "power;\n          the energy-conserving fit has Ie3D(0,0) %.4g, residual %.3f\n",
+        "  energy: the fit (used by the engines) carries %.3g of the table's absorbed "
+        "power;\n          the energy-conserving fit has Ie3D(0,0) %.4g, residual %.3g\n",
         k.fit.energyFraction, k.energyFit.amplitude, k.energyFit.residual);
 }
 

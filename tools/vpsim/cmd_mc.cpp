@@ -106,7 +106,8 @@ void runMc(const McOptions& o, const vpsim::cli::Globals& g) {
                 static_cast<unsigned long long>(r.total().photons), setup.seed, medium,
                 r.backend.c_str());
     auto line = [](const char* name, Fraction f) {
-        std::printf("  %-26s %.6f +- %.6f\n", name, f.value, f.standardError);
+        std::printf("  %-26s %s +- %s\n", name, vpsim::formatQuantity(f.value, "", 6).c_str(),
+                    vpsim::formatQuantity(f.standardError, "", 2).c_str());
     };
     line("specular reflectance", r.specular());
     line("diffuse reflectance", r.diffuse());
@@ -123,7 +124,7 @@ void runMc(const McOptions& o, const vpsim::cli::Globals& g) {
                 r.controlled() ? " (with control variates)" : "");
     if (convolvesBeam(setup))
         std::printf("  %-26s %s\n", "(r,z) bins", "pencil response convolved with the beam");
-    std::printf("  %-26s %.3f\n  %-26s %.3f\n  %-26s %.4g\n", "scatterings/photon",
+    std::printf("  %-26s %.4g\n  %-26s %.4g\n  %-26s %.4g\n", "scatterings/photon",
                 r.scatteringsPerPhoton(), "interactions/photon", r.interactionsPerPhoton(),
                 "photons/s", r.photonsPerSecond());
 }

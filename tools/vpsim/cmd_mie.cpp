@@ -10,6 +10,7 @@
 #include "commands.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/image.h"
+#include "vpsim/core/text.h"
 #include "vpsim/optics/material_file.h"
 #include "vpsim/optics/mie.h"
 #include "vpsim/optics/mie_summary.h"
@@ -71,9 +72,9 @@ void runSphere(const MieOptions& o) {
     Complex m = parseRefractiveIndex(o.m, "--m");
     nlohmann::json out = mieSphereJson(m, o.x, o.angles);
     if (!o.plot.empty()) {
-        writePhasePlot(
-            o.plot, miePhaseTable(mieCoefficients(m, o.x)),
-            "Mie phase function, x = " + std::to_string(o.x) + ", m = " + formatRefractiveIndex(m));
+        writePhasePlot(o.plot, miePhaseTable(mieCoefficients(m, o.x)),
+                       "Mie phase function, x = " + vpsim::formatQuantity(o.x) +
+                           ", m = " + formatRefractiveIndex(m));
         out["plot"] = o.plot;
     }
     if (o.json) {
@@ -108,10 +109,10 @@ void runMaterial(const MieOptions& o, const vpsim::cli::Globals& g) {
     std::printf("  transport mean free path   %.6g um\n",
                 out["transport_mean_free_path_um"].get<double>());
     std::printf("  absorption mua             %.6g /mm\n", s.medium.mua);
-    std::printf("  phase table                %zu entries, mean cosine %.6f\n",
+    std::printf("  phase table                %zu entries, mean cosine %.6g\n",
                 s.phase.inverseCdf.size(), s.phase.tableMeanCosine());
     for (size_t i = 0; i < o.cdfAngles.size(); ++i)
-        std::printf("  CDF(%g deg) = %.6f\n", o.cdfAngles[i], out["cdf"][i].get<double>());
+        std::printf("  CDF(%g deg) = %.6g\n", o.cdfAngles[i], out["cdf"][i].get<double>());
 }
 
 vpsim::cli::CommandRegistration registerMie{

@@ -135,8 +135,8 @@ void runLevelSet(const LevelSetCliOptions& o, const RunContext& context) {
     const Bounds b = mesh.bounds();
     const double largest = std::max({b.hi.x - b.lo.x, b.hi.y - b.lo.y, b.hi.z - b.lo.z});
     if (options.voxelSize > largest)
-        throw InputError("voxel " + std::to_string(options.voxelSize) +
-                             " mm is larger than the part (" + std::to_string(largest) + " mm)",
+        throw InputError("voxel " + formatQuantity(options.voxelSize) +
+                             " mm is larger than the part (" + formatQuantity(largest) + " mm)",
                          "", "--voxel");
     options.halfWidthVoxels = o.halfWidth;
     // In bytes against this run's budget (the library's default is a fixed 8 GiB).

@@ -15,6 +15,7 @@
 #include "vpsim/core/io.h"
 #include "vpsim/core/log.h"
 #include "vpsim/core/resources.h"
+#include "vpsim/core/text.h"
 #include "vpsim/core/units.h"
 #include "vpsim/geometry/layer_stack.h"
 #include "vpsim/geometry/raster.h"
@@ -68,7 +69,7 @@ void writePictures(const std::vector<Layer>& layers, const RasterGrid& grid,
         const std::string base = dir + stem;
         writePolygonSvg(
             base + ".svg", layer.region,
-            "layer " + std::to_string(layer.index) + " at z = " + std::to_string(layer.z) + " mm");
+            "layer " + std::to_string(layer.index) + " at z = " + formatQuantity(layer.z) + " mm");
         writePngGrey(base + "_coverage.png", grid.width, grid.height,
                      toGreyImage(rasterizeCoverage(layer.region, grid), grid));
         std::vector<uint8_t> mask = rasterizeBinary(layer.region, grid);
@@ -82,9 +83,9 @@ void writePictures(const std::vector<Layer>& layers, const RasterGrid& grid,
                          grid.height, -band, band, {0.0}));
     }
     logInfo("wrote pictures of " + std::to_string(layers.size()) + " layers to " + dir +
-            " (pitch " + std::to_string(grid.pitch * 1000.0) + " um, " +
+            " (pitch " + formatQuantity(grid.pitch * 1000.0) + " um, " +
             std::to_string(grid.width) + " x " + std::to_string(grid.height) + " pixels, origin (" +
-            std::to_string(grid.origin.x) + ", " + std::to_string(grid.origin.y) + ") mm)");
+            formatQuantity(grid.origin.x) + ", " + formatQuantity(grid.origin.y) + ") mm)");
 }
 
 /// Bytes per pixel while one layer's pictures are made: coverage (float) and its grey image,
@@ -100,7 +101,7 @@ void checkPictureMemory(const RunContext& context, const Bounds& b, double pitch
     const double height = std::ceil((b.hi.y - b.lo.y) / pitch) + 5;
     const std::string what = "layer pictures of " + formatCount(width) + " x " +
                              formatCount(height) + " pixels at --pitch " +
-                             std::to_string(pitch * 1000.0) + " um";
+                             formatQuantity(pitch * 1000.0) + " um";
     checkMemory(context, width * height * PICTURE_BYTES_PER_PIXEL, what, "use a coarser --pitch");
     // A picture beyond 16384^2 pixels is more than any viewer shows and takes minutes per layer.
     if (width * height > MAX_PICTURE_PIXELS)
@@ -120,14 +121,14 @@ void checkStackMemory(const RunContext& context, const Mesh& mesh, const SliceOp
     const double perLayer = sliced < count ? vertices * sliced / std::max(count, 1) : vertices;
     checkMemory(context, perLayer * 48.0 + vertices * 4.0 + double(sliced) * 1024.0,
                 "slicing into " + formatCount(double(sliced)) + " layers of " +
-                    std::to_string(options.layerThickness * 1000.0) + " um (" +
+                    formatQuantity(options.layerThickness * 1000.0) + " um (" +
                     formatCount(vertices) + " contour vertices)",
                 "use a thicker --layer or fewer --layers");
     // Measured: 5.5 million layers of a 28-triangle part took 105 s and 5 GB; a million layers
     // is 10 m of 10 um layers, more than any printer builds.
     if (sliced > 1000000)
         throw ResourceError("slicing into " + formatCount(double(sliced)) + " layers of " +
-                            std::to_string(options.layerThickness * 1000.0) +
+                            formatQuantity(options.layerThickness * 1000.0) +
                             " um would take minutes (more than a million layers): use a "
                             "thicker --layer or fewer --layers");
 }
@@ -137,7 +138,7 @@ void runSlice(const SliceCliOptions& o, const RunContext& context) {
     SliceOptions options;
     options.layerThickness = parseQuantity(o.layer, dim::LENGTH, "--layer");
     if (options.layerThickness > 1.0) {
-        logWarn("layer thickness " + std::to_string(options.layerThickness) +
+        logWarn("layer thickness " + formatQuantity(options.layerThickness) +
                 " mm is unusually thick (a bare number is in mm; write e.g. 25um)");
     }
     options.planePosition = o.plane;
@@ -150,9 +151,9 @@ void runSlice(const SliceCliOptions& o, const RunContext& context) {
         checkPictureMemory(context, bounds, pitch);
     }
     if (options.layerThickness > bounds.hi.z - bounds.lo.z)
-        throw InputError("layer thickness " + std::to_string(options.layerThickness) +
+        throw InputError("layer thickness " + formatQuantity(options.layerThickness) +
                              " mm is more than the part's height " +
-                             std::to_string(bounds.hi.z - bounds.lo.z) + " mm",
+                             formatQuantity(bounds.hi.z - bounds.lo.z) + " mm",
                          "", "--layer");
     const int count = layerCount(mesh, options);
     checkStackMemory(context, mesh, options, count,

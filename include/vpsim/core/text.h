@@ -39,5 +39,10 @@ std::string asciiLower(std::string_view text);
 /// `value` with `significantDigits` significant digits in the shortest form ("%g" style, the C
 /// locale), for messages and files: 0.1, 1e+07, 2.5.
 std::string formatNumber(double value, int significantDigits = 6);
+/// `value` for people: ~`significantDigits` significant digits without trailing zeros and
+/// without an exponent from 1e-4 to 1e15 ("78", "0.35", "12346"), then " " and `unit` when one
+/// is given: "78 mJ/cm^2", "1 mm". The form for every number in a message, log line or report
+/// text; counts stay integers (std::to_string).
+std::string formatQuantity(double value, std::string_view unit = "", int significantDigits = 4);
 
 }  // namespace vpsim

@@ -5,6 +5,7 @@
 
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
+#include "vpsim/core/text.h"
 #include "vpsim/core/units.h"
 
 namespace vpsim::optimise {
@@ -13,9 +14,9 @@ DlpMaskPlan planOptimisedMasks(const DlpLayerStack& part, const DlpProcess& proc
                                const DlpMaskPlannerSettings& settings,
                                const plan::GreyLevels& levels) {
     if (settings.maxDose > levels.maxDose() * (1.0 + 1e-9))
-        throw InputError("optimised-mask: max_dose " + std::to_string(settings.maxDose * 100.0) +
+        throw InputError("optimised-mask: max_dose " + formatQuantity(settings.maxDose * 100.0) +
                          " mJ/cm^2 is above the brightest grey level's dose " +
-                         std::to_string(levels.maxDose() * 100.0) + " mJ/cm^2");
+                         formatQuantity(levels.maxDose() * 100.0) + " mJ/cm^2");
     DlpPartOptions o;
     o.problem.layerThickness = process.layerThickness;
     o.problem.rateConstant = process.rateConstant;

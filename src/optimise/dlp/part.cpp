@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include "vpsim/core/error.h"
+#include "vpsim/core/progress.h"
 
 namespace vpsim::optimise {
 
@@ -63,6 +64,10 @@ DlpPartResult optimiseDlpPart(const DlpLayerStack& part, const DlpPartOptions& o
     std::vector<double> gaps(profiles.size(), 0.0);
     std::mutex errorMutex;
     std::string firstError;
+    Progress progress(options.objective == DlpObjective::Geometric
+                          ? "DLP masks: geometric optimum of each distinct column"
+                          : "DLP masks: exact optimum of each distinct column",
+                      profiles.size());
     tbb::parallel_for(size_t(0), profiles.size(), [&](size_t i) {
         try {
             std::vector<uint8_t> solid(profiles[i].begin(), profiles[i].end());
@@ -78,6 +83,7 @@ DlpPartResult optimiseDlpPart(const DlpLayerStack& part, const DlpPartOptions& o
                 gaps[i] = r.gap;
             }
             solved[i].assign(dose.begin(), dose.end());
+            progress.advance();
         } catch (const std::exception& e) {
             std::lock_guard<std::mutex> lock(errorMutex);
             if (firstError.empty()) firstError = e.what();

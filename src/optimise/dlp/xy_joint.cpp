@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "vpsim/core/error.h"
+#include "vpsim/core/progress.h"
 #include "vpsim/cure/cure_model.h"
 #include "vpsim/optimise/dlp/xy.h"
 
@@ -133,6 +134,7 @@ DlpXyResult optimiseDlpPartXy(const DlpLayerStack& part, const DlpPartOptions& o
     // (every evaluated point lies in the boxes), so the result never exceeds the start's J.
     Field best = x, y = x, gradient;
     double bestValue = out.objectiveStart, previous = out.objectiveStart, t = 1.0;
+    Progress progress("DLP masks: xy coupling, FISTA iterations", uint64_t(xy.iterations));
     for (int it = 0; it < xy.iterations; ++it) {
         const double value = objective.value(y, &gradient);
         if (value < bestValue) bestValue = value, best = y;
@@ -151,7 +153,9 @@ DlpXyResult optimiseDlpPartXy(const DlpLayerStack& part, const DlpPartOptions& o
         x = std::move(next);
         t = tNext;
         ++out.iterations;
+        progress.advance();
     }
+    progress.finish();
     const double last = objective.value(x);
     if (last < bestValue) bestValue = last, best = x;
     out.objectiveXy = bestValue;

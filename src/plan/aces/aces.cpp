@@ -6,6 +6,7 @@
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/log.h"
+#include "vpsim/core/text.h"
 
 namespace vpsim::plan {
 namespace {
@@ -249,8 +250,8 @@ LayerPlan planAcesLayer(const geometry::PolygonSet& region, const AcesDesign& de
     if (design.beamRadius > 0) detail::planSmallFeatures(region, design, laserPower, layer, local);
     if (!region.empty() && layer.vectors.empty() && layer.points.empty()) {
         local.unexposed = true;
-        logWarn("ACES: the layer region at z = " + std::to_string(z) + " mm (" +
-                std::to_string(region.area()) + " mm^2) gets no exposure");
+        logWarn("ACES: the layer region at z = " + formatQuantity(z) + " mm (" +
+                formatQuantity(region.area()) + " mm^2) gets no exposure");
     }
     if (info) *info = local;
     return layer;

@@ -3,6 +3,7 @@
 #include "vpsim/core/checks.h"
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
+#include "vpsim/core/text.h"
 
 namespace vpsim::plan {
 
@@ -26,7 +27,7 @@ Machine machineFromConfig(const ConfigNode& section) {
         machine.laserPowerMin = section.quantity("laser_power_min", dim::POWER, 0.0);
         if (!(machine.laserPowerMin >= 0) || !(machine.laserPowerMin <= machine.laserPower))
             throw section.error("laser_power_min", "must lie between 0 and laser_power (" +
-                                                       std::to_string(machine.laserPower) + " mW)");
+                                                       formatQuantity(machine.laserPower) + " mW)");
         machine.beamRadius = positiveQuantity(section, "beam_radius", dim::LENGTH, 0.05);
     } else {
         machine.pixelPitch = positiveQuantity(section, "pixel_pitch", dim::LENGTH, 0.0625);
