@@ -102,6 +102,10 @@ DlpXyResult optimiseDlpPartXy(const DlpLayerStack& part, const DlpPartOptions& o
     if (!(out.uniformityTarget > 0.0))
         out.uniformityTarget = cure::fppGelDose(p.rateConstant, p.gelPoint);
     DlpShapeObjective objective(part, p, xy, out.uniformityTarget);
+    // One line for the whole stage: its blur passes (warm starts, step size) draw none of their
+    // own under it.
+    Progress progress("DLP masks: xy coupling (warm starts, step size, FISTA iterations)",
+                      uint64_t(xy.iterations));
     // Warm starts: the column optimum; with conversion-l2 also the geometric optimum and the
     // per-pixel mix of the two (each pixel keeps the pattern its own column scores better with).
     Field x = columns->dose;
@@ -134,7 +138,6 @@ DlpXyResult optimiseDlpPartXy(const DlpLayerStack& part, const DlpPartOptions& o
     // (every evaluated point lies in the boxes), so the result never exceeds the start's J.
     Field best = x, y = x, gradient;
     double bestValue = out.objectiveStart, previous = out.objectiveStart, t = 1.0;
-    Progress progress("DLP masks: xy coupling, FISTA iterations", uint64_t(xy.iterations));
     for (int it = 0; it < xy.iterations; ++it) {
         const double value = objective.value(y, &gradient);
         if (value < bestValue) bestValue = value, best = y;
@@ -155,7 +158,6 @@ DlpXyResult optimiseDlpPartXy(const DlpLayerStack& part, const DlpPartOptions& o
         ++out.iterations;
         progress.advance();
     }
-    progress.finish();
     const double last = objective.value(x);
     if (last < bestValue) bestValue = last, best = x;
     out.objectiveXy = bestValue;
