@@ -29,21 +29,27 @@ def main(command):
         if not data:
             break
         now = time.time()
+        shown = pending.decode(errors="replace").strip()
         pieces = re.split(rb"[\r\n]", pending + data)
         pending = pieces[-1]
-        for piece in pieces[:-1]:
-            text = piece.decode(errors="replace").strip()
-            if not text:
-                continue
-            if now - last >= MIN_GAP:
-                gaps.append((now - last, last - start, last_text, text))
+        # The unterminated piece is on the screen already (a progress line ends with the next
+        # redraw's carriage return), so it counts when it arrives, not again when it ends.
+        texts = [p.decode(errors="replace").strip() for p in pieces]
+        if shown and texts[0] == shown:
+            texts = texts[1:]
+        texts = [t for t in texts if t]
+        if not texts:
+            continue
+        if now - last >= MIN_GAP:
+            gaps.append((now - last, last - start, last_text, texts[0]))
+        for text in texts:
             # A progress line is redrawn in place: one timeline entry per label.
             key = text.split(":")[0] if ("%" in text or " done, " in text) else text
             if key == timeline[-1][1]:
                 timeline[-1] = (timeline[-1][0], key, text)
             else:
                 timeline.append((now - start, key, text))
-            last, last_text = now, text
+        last, last_text = now, texts[-1]
     now = time.time()
     if now - last >= MIN_GAP:
         gaps.append((now - last, last - start, last_text, "(end)"))
