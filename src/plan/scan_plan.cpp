@@ -9,6 +9,7 @@
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
+#include "vpsim/core/progress.h"
 #include "vpsim/core/text.h"
 
 namespace vpsim::plan {
@@ -193,7 +194,14 @@ ScanPlan scanPlanFromJson(const nlohmann::json& json, const std::string& file) {
 }
 
 void saveScanPlan(const ScanPlan& plan, const std::string& path) {
-    writeFileAtomic(path, toJson(plan).dump(1));
+    // A DLP plan's masks make plan.json tens of MB: seconds to convert and write.
+    Progress progress("plan.json: plan converted, text made, file written", 3);
+    const nlohmann::json json = toJson(plan);
+    progress.advance();
+    const std::string text = json.dump(1);
+    progress.advance();
+    writeFileAtomic(path, text);
+    progress.advance();
 }
 
 ScanPlan loadScanPlan(const std::string& path) {
