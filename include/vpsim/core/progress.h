@@ -1,7 +1,9 @@
 #pragma once
 /// @file
 /// Progress display for long work: a single redrawn line on stderr when stderr is a terminal,
-/// silent otherwise (batch runs and CI logs stay clean). Thread-safe advance().
+/// silent otherwise (batch runs and CI logs stay clean). Thread-safe advance(). One line at a
+/// time: a Progress started while another draws (an exposure inside an optimiser's iterations)
+/// stays off the terminal and reports to the observer only.
 
 #include <atomic>
 #include <chrono>
