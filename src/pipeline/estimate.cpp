@@ -9,6 +9,7 @@
 #include "vpsim/geometry/level_set.h"
 #include "vpsim/geometry/slicer.h"
 #include "vpsim/pipeline/stages.h"
+#include "vpsim/report/layer_sections.h"
 
 // Where each term comes from (bytes; keep in step with the code, tests/pipeline/test_estimate.cpp
 // compares the peak with a measured one):
@@ -29,7 +30,9 @@
 //                    grown by the beam's reach and a leaf, at most the whole grid.
 //  slice consumers   validate::SliceValidator: a raster, three per-column arrays and the reference
 //                    raster of each slice (8 B per cell) and its over-cure runs (4 B per cell);
-//                    report::SectionRecorder: x-z section (5 B per column and slice) and x-y map.
+//                    report::SectionRecorder: x-z section (5 B per column and slice) and x-y map;
+//                    report::LayerSectionRecorder: the 3D view's per-layer sections (5 B per
+//                    kept pixel, at most SECTION_PIXEL_BUDGET of them).
 //  cured mesh        DoseVolume::isosurface (OpenVDB volumeToMesh): one quad per surface voxel
 //                    face; the cured surface is rougher and larger than the part's (the default
 //                    job: 2.8e5 triangles for 1e5 faces of the part's area), so 2 x area /
@@ -180,8 +183,10 @@ void exposureTerms(const Job& job, const Sizes& s, JobEstimate& e) {
             fmt(s.activeVoxels) + " stored voxels of " + fmt(s.voxels) + " (" + gridText(job, s) +
                 "), 4.5 B each, and an 8-slice buffer (only for simulation.write_vdb)",
             COARSER);
-    add(e, "slice validation and sections", s.cells * 17.0 + s.nx * s.slices * 5.0, Stage::Expose,
-        Stage::Validate,
+    add(e, "slice validation and sections",
+        s.cells * 17.0 + s.nx * s.slices * 5.0 +
+            double(report::layerSectionBytes(int(s.nx), int(s.ny), int(s.layers))),
+        Stage::Expose, Stage::Validate,
         "rasters and per-column arrays of " + fmt(s.cells) + " cells, an x-z section of " +
             fmt(s.slices) + " slices",
         COARSER);

@@ -17,6 +17,7 @@
 #include "vpsim/report/deviation_map.h"
 #include "vpsim/report/figures.h"
 #include "vpsim/report/html_report.h"
+#include "vpsim/report/layer_sections.h"
 #include "vpsim/report/viewer3d.h"
 #include "vpsim/validate/feature_probe.h"
 #include "vpsim/validate/slice_validator.h"
@@ -230,11 +231,12 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
                                      middle,
                                      report::busiestRow(f.layers.layers[middle].region, grid));
     validate::FeatureProbes features(job.features, grid, law, voxelHeight);
+    report::LayerSectionRecorder layerSections(f.layers, grid, law);  // the 3D view's sections
     auto sink = [](auto& consumer) {
         return [&consumer](const exposure::ExposureSlice& s) { consumer.add(s); };
     };
     std::vector<exposure::SliceSink> sinks{sink(validator), sink(*cured), sink(sections),
-                                           sink(features)};
+                                           sink(features), sink(layerSections)};
     if (volume) sinks.push_back(sink(*volume));
     result.exposure = exposeStage(*model, planned.plan, sinks, f.beam, layers);
     if (model->usesGpu()) result.exposure.backend = deviceName(context);
@@ -285,6 +287,8 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     progress.advance();
     report::writeLayerErrorPlot(outDir + "/xy_error_per_layer", result.validation.slices);
     progress.advance();
+    result.sectionView =
+        layerSections.write(outDir, f.beam.monteCarlo ? &*f.beam.monteCarlo : nullptr);
     progress.finish();
     timer.finish("report");
     result.inputs = jobInputs(job);

@@ -59,24 +59,55 @@ void section(std::ostringstream& html, const std::string& outDir, const ReportSe
     for (const ReportFigure& f : s.figures) figure(html, outDir, f.file, f.caption);
 }
 
-void viewer(std::ostringstream& html, const ViewerSummary& v) {
-    html << "<h2 id='view3d-title'>The cured part in 3D (<a href='view3d.html'>alone</a>)</h2>\n";
-    if (!v.missing.empty()) {
-        html << "<p>No 3D view: " << htmlEscape(v.missing) << ".</p>\n";
-        return;
+/// The per-layer section (synced with the 3D view's slider) and the kernel map, drawn by
+/// section_view.js from sections.js.
+void sectionPanels(std::ostringstream& html, const SectionViewSummary& s) {
+    html << "<div class='panel'><canvas id='section2d' width='560' height='520'></canvas><p>"
+            "Section through the layer at the slider: x-y exposure of its middle voxel slice "
+            "(viridis, 0 to "
+         << formatNumber(s.scaleMax, 3) << " mJ/cm², " << formatNumber(100 * s.aboveScale, 3)
+         << "% of the pixels above, drawn at the top), the cured region (white dashed: at least "
+            "the critical dose Dc) and the model's sliced outline (red). <span "
+            "id='section2d-label'></span> Kept: "
+         << s.layersKept << " of " << s.layers << " layers at " << s.width << " x " << s.height
+         << " pixels of " << formatNumber(s.pixelMm * 1000, 3) << " µm (sections.js, "
+         << formatNumber(double(s.dataBytes) / 1048576.0, 3) << " MB).</p></div>\n";
+    if (s.kernel)
+        html << "<div class='panel' id='kernel-panel'><canvas id='kernel2d' width='560' "
+                "height='460'></canvas><p>Beam kernel I(r, z) of the Monte Carlo in mW/mm² "
+                "(log colour scale, four decades below its maximum), r from the beam axis and "
+                "depth from the surface in µm; white: contours of the fitted Eq. 12 model at each "
+                "decade; red dashed: the depth where the fit starts (zmax).</p></div>\n";
+}
+
+void viewer(std::ostringstream& html, const JobResult& r, bool withSections) {
+    html << "<h2 id='view3d-title'>The cured part in 3D (<a href='view3d.html'>alone</a>)</h2>\n"
+            "<div class='views'>\n";
+    const bool shown = r.viewer && r.viewer->missing.empty();
+    if (r.viewer && !shown) html << "<p>No 3D view: " << htmlEscape(r.viewer->missing) << ".</p>\n";
+    if (shown) {
+        const ViewerSummary& v = *r.viewer;
+        const std::string limit = formatNumber(v.limitUm, 3);
+        html << "<div class='view3d'><canvas id='view3d' width='600' height='560'></canvas>"
+                "<div class='controls'><label><input type='checkbox' id='view3d-model' checked> "
+                "model (grey, edges dark)</label> <label>layer: <input type='range' "
+                "id='view3d-clip' min='0' max='1' step='1' value='1'></label> <span "
+                "id='view3d-clip-label'>whole part</span><div class='legend'><span>-"
+             << limit << " µm</span><span class='bar'></span><span>+" << limit
+             << " µm</span> signed deviation of the cured surface (blue inside the model, red "
+                "outside; beyond the ends at their colour)</div><p id='view3d-status'>Drag to "
+                "rotate, wheel to zoom, right-drag to pan; the slider cuts the view at a layer's "
+                "top and shows that layer's section.</p></div></div>\n";
+    } else if (withSections && r.sectionView) {
+        html << "<label>layer: <input type='range' id='view3d-clip' min='1' max='1' step='1' "
+                "value='1'></label>\n";
     }
-    const std::string limit = formatNumber(v.limitUm, 3);
-    html << "<div class='view3d'><canvas id='view3d' width='900' height='560'></canvas>"
-            "<div class='controls'><label><input type='checkbox' id='view3d-model' checked> "
-            "model (grey, edges dark)</label> <label>clip: <input type='range' id='view3d-clip' "
-            "min='0' max='1' step='1' value='1'></label> <span id='view3d-clip-label'>whole "
-            "part</span><div class='legend'><span>-"
-         << limit << " µm</span><span class='bar'></span><span>+" << limit
-         << " µm</span> signed deviation of the cured surface (blue inside the model, red "
-            "outside; beyond the ends at their colour)</div><p id='view3d-status'>Drag to rotate, "
-            "wheel to zoom, right-drag to pan; the slider cuts the view at a layer's top.</p>"
-            "</div></div>\n<p>Shown: "
-         << v.curedShown << " of the cured surface's " << v.curedTriangles << " triangles";
+    if (withSections && r.sectionView) sectionPanels(html, *r.sectionView);
+    html << "</div>\n";
+    if (!shown) return;
+    const ViewerSummary& v = *r.viewer;
+    html << "<p>Shown: " << v.curedShown << " of the cured surface's " << v.curedTriangles
+         << " triangles";
     if (v.clusterCell > 0)
         html << " (decimated for the view by vertex clustering on "
              << formatNumber(v.clusterCell * 1000, 3) << " µm cells, "
@@ -85,6 +116,18 @@ void viewer(std::ostringstream& html, const ViewerSummary& v) {
     html << ", " << v.modelShown << " of the model's " << v.modelTriangles
          << "; the view's data is " << formatNumber(double(v.dataBytes) / 1048576.0, 3)
          << " MB (mesh3d.js), the report is kept under 50 MB.</p>\n";
+}
+
+/// The 3D view's and the sections' scripts, classic and local (file:// blocks the rest).
+std::string viewerScripts(const JobResult& r, bool withSections) {
+    std::string scripts;
+    if (r.viewer && r.viewer->missing.empty())
+        scripts +=
+            "<script src='three.min.js'></script><script src='OrbitControls.js'></script>"
+            "<script src='mesh3d.js'></script><script src='viewer3d.js'></script>";
+    if (withSections && r.sectionView)
+        scripts += "<script src='sections.js'></script><script src='section_view.js'></script>";
+    return scripts + "\n";
 }
 
 std::string bytesText(uint64_t bytes) {
@@ -124,7 +167,10 @@ void writeHtmlReport(const std::string& outDir, const JobResult& r) {
             ".cards{display:flex;flex-wrap:wrap;gap:1em}.card h3{margin:.2em 0}"
             "figure{display:inline-block;margin:1em;vertical-align:top;max-width:600px}"
             "img{max-width:600px;border:1px solid #ddd}"
-            "#view3d{width:900px;height:560px;border:1px solid #ccc;display:block}"
+            "#view3d{width:600px;height:560px;border:1px solid #ccc;display:block}"
+            ".views{display:flex;flex-wrap:wrap;gap:1em;align-items:flex-start}"
+            ".view3d{max-width:600px}.panel{max-width:570px}.panel canvas{border:1px solid "
+            "#ccc;display:block}"
             ".legend .bar{display:inline-block;width:220px;height:12px;margin:0 6px;"
             "background:linear-gradient(to right,#2166ab,#f7f7f7,#b2182b)}"
             "</style></head><body>\n";
@@ -138,7 +184,7 @@ void writeHtmlReport(const std::string& outDir, const JobResult& r) {
     const SummaryTable features = featuresTable(report);
     if (!features.table.rows.empty()) titled(html, features);
     html << "</div>\n";
-    if (r.viewer) viewer(html, *r.viewer);
+    if (r.viewer || r.sectionView) viewer(html, r, true);
     html << "<h2 id='figures'>Figures</h2>\n<p>Exposure in mJ/cm², deviation in µm; axes in mm at "
             "the true aspect ratio. Click a figure for its PNG.</p>\n";
     for (const RunFigure& f : RUN_FIGURES) figure(html, outDir, f.file, f.caption);
@@ -166,21 +212,18 @@ void writeHtmlReport(const std::string& outDir, const JobResult& r) {
         html << "<tr><td><a href='" << htmlEscape(f.name) << "'>" << htmlEscape(f.name)
              << "</a></td><td>" << (f.bytes ? bytesText(f.bytes) : "") << "</td></tr>\n";
     html << "</table>\n";
-    const char* scripts =
-        "<script src='three.min.js'></script><script src='OrbitControls.js'>"
-        "</script><script src='mesh3d.js'></script><script "
-        "src='viewer3d.js'></script>\n";
+    if (r.viewer || r.sectionView) html << viewerScripts(r, true);
     if (r.viewer && r.viewer->missing.empty()) {
-        html << scripts;
-        // The 3D view alone, for a full window (and the browser test's screenshot).
+        // The 3D view alone, for a full window (and the browser test's screenshot, which counts
+        // its coloured pixels: the sections stay on index.html).
         std::ostringstream alone;
         alone << "<!doctype html><html><head><meta charset='utf-8'><title>vpsim 3D: " << name
               << "</title><style>body{font-family:sans-serif;margin:0}#view3d{width:100vw;height:"
                  "80vh;display:block}.legend .bar{display:inline-block;width:220px;height:12px;"
                  "background:linear-gradient(to right,#2166ab,#f7f7f7,#b2182b)}</style></head>"
                  "<body>\n";
-        viewer(alone, *r.viewer);
-        alone << scripts << "</body></html>\n";
+        viewer(alone, r, false);
+        alone << viewerScripts(r, false) << "</body></html>\n";
         writeFileAtomic(outDir + "/view3d.html", alone.str());
     }
     html << "</body></html>\n";

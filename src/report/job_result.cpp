@@ -61,6 +61,17 @@ nlohmann::json toJson(const JobResult& r) {
             {"cluster_cell_um", view.clusterCell * 1000}, {"data_bytes", view.dataBytes}};
         if (!view.missing.empty()) pictures["viewer3d"]["missing"] = view.missing;
     }
+    if (r.sectionView) {
+        const SectionViewSummary& view = *r.sectionView;
+        pictures["sections"] = {{"layers", view.layers},
+                                {"layers_kept", view.layersKept},
+                                {"pixels", {view.width, view.height}},
+                                {"pixel_um", view.pixelMm * 1000},
+                                {"scale_max_mJ_cm2", view.scaleMax},
+                                {"above_scale", view.aboveScale},
+                                {"kernel", view.kernel},
+                                {"data_bytes", view.dataBytes}};
+    }
     report["report"] = pictures;
     return report;
 }

@@ -1,14 +1,12 @@
 #include "vpsim/report/viewer3d.h"
 
 #include <cmath>
-#include <cstring>
 #include <filesystem>
 #include <unordered_map>
 
 #include "viewer3d_js.h"  // generated from assets/viewer3d.js: VIEWER3D_JS
 #include "vpsim/core/io.h"
 #include "vpsim/core/text.h"
-#include "vpsim/report/summary_tables.h"
 
 #ifndef VPSIM_THREE_JS_DIR
 #define VPSIM_THREE_JS_DIR "/usr/share/javascript/three"
@@ -16,13 +14,6 @@
 
 namespace vpsim::report {
 namespace {
-
-template <typename T>
-std::string base64Of(const std::vector<T>& values) {
-    std::string bytes(values.size() * sizeof(T), char(0));
-    if (!values.empty()) std::memcpy(bytes.data(), values.data(), bytes.size());
-    return base64(bytes);
-}
 
 /// {"positions": base64 Float32 xyz, "indices": base64 Uint32} of a mesh, centred on `centre`.
 std::string meshJs(const geometry::Mesh& mesh, const glm::dvec3& centre) {

@@ -4,7 +4,8 @@
 # opens each index.html in headless Chromium (Debian's `chromium`; WebGL through SwiftShader, no
 # flag that loosens file:// access) and fails on any console message or failed load, on a 3D
 # canvas without data-rendered="1", on a blank 3D view in a screenshot, on unescaped quoted text
-# and on anything loaded from the network.
+# and on anything loaded from the network; the per-layer section canvas must draw and redraw when
+# the layer slider moves, and the kernel map must be there when the run has a Monte Carlo kernel.
 # Usage: run_browser_test.sh VPSIM SOURCE_DIR
 set -euo pipefail
 vpsim="$1"; source="$2"
@@ -61,6 +62,23 @@ for page in default seed001 compare; do
   fi
 done
 grep -q "Features (mm)" "$work/seed001/index.html" || fail "seed001: no features table"
+
+# The per-layer section (drawn once at load) and the kernel map: default has a Monte Carlo
+# kernel, seed 001 (DLP) none.
+canvas() { grep -o "<canvas id=\"$2\"[^>]*>" "$1" || true; }
+for page in default seed001; do
+  section="$(canvas "$work/$page.dom" section2d)"
+  [[ "$section" == *'data-rendered="1"'* ]] || fail "$page: the section canvas did not draw: $section"
+  [[ "$section" == *'data-draws="1"'* ]] || fail "$page: the section canvas drew other than once at load: $section"
+done
+[[ "$(canvas "$work/default.dom" kernel2d)" == *'data-rendered="1"'* ]] ||
+  fail "default: no kernel map drawn although the run has a Monte Carlo kernel"
+grep -q 'kernel-panel' "$work/seed001.dom" && fail "seed001: a kernel panel without a kernel"
+# A slider change redraws: #layer=2 moves the slider once the page has drawn.
+open_page "$work/default/index.html#layer=2" dump-dom "$work/layer2.dom"
+section="$(canvas "$work/layer2.dom" section2d)"
+[[ "$section" == *'data-layer="2"'* && "$section" == *'data-draws="2"'* ]] ||
+  fail "default: moving the layer slider to 2 did not redraw the section: $section"
 for page in default compare; do
   grep -Eq "<b id=\"?injected" "$work/$page.dom" && fail "$page: the job name was not escaped"
   grep -q "&lt;b id=injected&gt;quoted &amp; " "$work/$page.dom" || fail "$page: the escaped job name is missing"

@@ -93,6 +93,17 @@ struct ViewerSummary {
     std::string missing;        ///< why no view was written (three.js not installed), else empty
 };
 
+/// The 3D view's per-layer sections and kernel map (layer_sections.h): what sections.js keeps.
+struct SectionViewSummary {
+    int layers = 0, layersKept = 0;  ///< of the run, and kept (every n-th and the top one)
+    int width = 0, height = 0;       ///< pixels of each kept section
+    double pixelMm = 0;              ///< mm per pixel
+    double scaleMax = 0;             ///< mJ/cm^2 at uint8 255, linear from 0
+    double aboveScale = 0;           ///< fraction of the kept pixels above scaleMax
+    bool kernel = false;             ///< the kernel I(r, z) with its fit is in sections.js
+    uint64_t dataBytes = 0;          ///< sections.js
+};
+
 /// A file of the output directory as written by the run (size in bytes).
 struct WrittenFile {
     std::string name;
@@ -113,10 +124,11 @@ struct JobResult {
     double curedVolume = 0;            ///< mm^3 of the cured mesh
     ValidationReport validation;
     std::vector<std::pair<std::string, double>> stageSeconds;  ///< in run order
-    std::vector<ReportSection> sections;  ///< components' own parts of index.html
-    std::optional<ViewerSummary> viewer;  ///< the 3D view, when written
-    double deviationLimit = 0;            ///< mm, the deviation maps' scale ends (±)
-    double beyondDeviationLimit = 0;      ///< fraction of the cured surface beyond it
+    std::vector<ReportSection> sections;            ///< components' own parts of index.html
+    std::optional<ViewerSummary> viewer;            ///< the 3D view, when written
+    std::optional<SectionViewSummary> sectionView;  ///< its sections, when recorded
+    double deviationLimit = 0;                      ///< mm, the deviation maps' scale ends (±)
+    double beyondDeviationLimit = 0;                ///< fraction of the cured surface beyond it
     /// Files of the run written before index.html (index.html and manifest.json follow), for the
     /// report's file list; the manifest lists the same files.
     std::vector<WrittenFile> files;

@@ -8,11 +8,13 @@
 /// report stays under REPORT_SIZE_TARGET on large parts; the summary says by how much.
 
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
 #include "vpsim/geometry/mesh.h"
 #include "vpsim/report/job_result.h"
+#include "vpsim/report/summary_tables.h"
 
 namespace vpsim::report {
 
@@ -20,6 +22,14 @@ namespace vpsim::report {
 constexpr uint64_t REPORT_SIZE_TARGET = 50ull << 20;
 /// Triangles drawn of the cured and of the model mesh together (about 16 MB of mesh3d.js).
 constexpr size_t VIEW_TRIANGLE_BUDGET = 600000;
+
+/// The bytes of `values` in base64 (little-endian, as JavaScript's typed arrays read them).
+template <typename T>
+std::string base64Of(const std::vector<T>& values) {
+    std::string bytes(values.size() * sizeof(T), char(0));
+    if (!values.empty()) std::memcpy(bytes.data(), values.data(), bytes.size());
+    return base64(bytes);
+}
 
 /// The files the 3D view writes besides the data (in the output directory).
 inline constexpr const char* VIEWER_FILES[] = {"three.min.js", "OrbitControls.js", "viewer3d.js",

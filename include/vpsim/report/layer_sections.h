@@ -1,0 +1,67 @@
+#pragma once
+/// @file
+/// The 3D view's per-layer x-y sections and kernel map: a slice sink that keeps, for each layer,
+/// the exposure of its middle voxel slice downsampled to at most SECTION_MAX_SIDE pixels on its
+/// long side (with the cured share of each pixel), and writes them with the layers' model
+/// outlines, and the Monte Carlo kernel I(r, z) with its Eq. 12 fit, to sections.js beside
+/// index.html (base64 in a classic script, like mesh3d.js: Chromium blocks fetch() on file://).
+/// The run never stores the 3D grid: the kept pixels are bounded by SECTION_PIXEL_BUDGET, first
+/// by coarser pixels (down to SECTION_MIN_SIDE), then by keeping every n-th layer.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "vpsim/cure/cure_law.h"
+#include "vpsim/exposure/exposure_model.h"
+#include "vpsim/geometry/layer_stack.h"
+#include "vpsim/kernel/beam_kernel.h"
+#include "vpsim/report/job_result.h"
+
+namespace vpsim::report {
+
+/// Pixels on the long side of a section at most, and the fewest before layers are skipped.
+constexpr int SECTION_MAX_SIDE = 256;
+constexpr int SECTION_MIN_SIDE = 64;
+/// Section pixels kept over all layers: 4 M (20 MB while the run streams, 1.5 B per pixel of
+/// sections.js: uint8 exposure and a cured bit, base64), well inside REPORT_SIZE_TARGET.
+constexpr uint64_t SECTION_PIXEL_BUDGET = 4ull << 20;
+
+/// How the sections sample the exposure grid: `factor` x `factor` cells per pixel, every
+/// `stride`-th layer from the bottom (and the top layer).
+struct SectionSampling {
+    int factor = 1, width = 0, height = 0, stride = 1;
+};
+
+/// The sampling of `layers` layers of an nx x ny cell grid under the limits above.
+SectionSampling sectionSampling(int nx, int ny, int layers);
+
+/// Bytes the recorder holds while the run streams (for the job's estimate).
+uint64_t layerSectionBytes(int nx, int ny, int layers);
+
+class LayerSectionRecorder {
+public:
+    LayerSectionRecorder(const geometry::LayerStack& stack, const exposure::ExposureGrid& grid,
+                         const cure::CureLaw& law);
+    /// A SliceSink: keeps the middle slice of each kept layer.
+    void add(const exposure::ExposureSlice& slice);
+    /// Writes sections.js and its viewer section_view.js into `outDir`: the sections on one linear
+    /// mJ/cm^2 scale (0 to the 99th percentile of the kept pixels, at least twice the critical
+    /// dose), the cured pixels (at least half of their cells at or above the critical dose), the
+    /// layers' outlines, and `kernel`'s I(r, z) and fit when given.
+    /// @throw InputError when the file cannot be written
+    SectionViewSummary write(const std::string& outDir, const kernel::BeamKernel* kernel) const;
+
+private:
+    const geometry::LayerStack& mStack;
+    exposure::ExposureGrid mGrid;
+    const cure::CureLaw& mLaw;
+    SectionSampling mSampling;
+    std::vector<int> mSlot;        ///< per layer: its index among the kept ones, or -1
+    std::vector<int> mKept;        ///< kept layer indices, bottom first
+    std::vector<double> mZ;        ///< mm, height of each kept layer's recorded slice
+    std::vector<float> mExposure;  ///< [kept][row from y0][column], mJ/mm^2
+    std::vector<uint8_t> mCured;   ///< same cells: 1 when cured
+};
+
+}  // namespace vpsim::report

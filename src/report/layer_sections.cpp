@@ -1,0 +1,193 @@
+#include "vpsim/report/layer_sections.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+
+#include "section_view_js.h"  // generated from assets/section_view.js: SECTION_VIEW_JS
+#include "vpsim/core/image.h"
+#include "vpsim/core/io.h"
+#include "vpsim/core/text.h"
+#include "vpsim/report/viewer3d.h"
+
+namespace vpsim::report {
+namespace {
+
+int ceilDiv(int a, int b) {
+    return (a + b - 1) / b;
+}
+
+/// The model's outline of each kept layer as [contours, points of each contour...] counts and
+/// x, y pairs (mm), vertices closer than `step` to the last one kept dropped (the view's pixels
+/// cannot show them).
+void outlines(const geometry::LayerStack& stack, const std::vector<int>& kept, double step,
+              std::vector<uint32_t>& counts, std::vector<float>& xy) {
+    for (int layer : kept) {
+        if (layer >= int(stack.layers.size())) {
+            counts.push_back(0);
+            continue;
+        }
+        const std::vector<geometry::Contour> contours = stack.layers[layer].region.contours();
+        counts.push_back(uint32_t(contours.size()));
+        for (const geometry::Contour& c : contours) {
+            uint32_t n = 0;
+            glm::dvec2 last{};
+            for (size_t i = 0; i < c.size(); ++i) {
+                if (i > 0 && c.size() - i > 2 && glm::length(c[i] - last) < step) continue;
+                xy.push_back(float(c[i].x)), xy.push_back(float(c[i].y));
+                last = c[i];
+                ++n;
+            }
+            counts.push_back(n);
+        }
+    }
+}
+
+/// window.VPSIM_KERNEL's fields: the table I(r, z) and the Eq. 12 fit on the same bin centres.
+std::string kernelJs(const kernel::BeamKernel& k) {
+    std::vector<float> fit(size_t(k.rBins) * k.zBins);
+    for (uint32_t iz = 0; iz < k.zBins; ++iz)
+        for (uint32_t ir = 0; ir < k.rBins; ++ir)
+            fit[size_t(iz) * k.rBins + ir] =
+                float(k.fitted((ir + 0.5) * k.rBin, (iz + 0.5) * k.zBin));
+    return "{\"r_bins\":" + std::to_string(k.rBins) + ",\"z_bins\":" + std::to_string(k.zBins) +
+           ",\"r_bin_um\":" + formatNumber(k.rBin * 1000, 6) +
+           ",\"z_bin_um\":" + formatNumber(k.zBin * 1000, 6) + ",\"intensity\":\"" +
+           base64Of(k.intensity) + "\",\"fit\":\"" + base64Of(fit) +
+           "\",\"we3d_um\":" + formatNumber(k.fit.we3d * 1000, 4) +
+           ",\"de3d_um\":" + formatNumber(k.fit.de3d * 1000, 4) +
+           ",\"fit_depth_start_um\":" + formatNumber(k.fit.fitDepthStart * 1000, 4) +
+           ",\"residual\":" + formatNumber(k.fit.residual, 4) +
+           ",\"photons\":" + std::to_string(k.photons) + "}";
+}
+
+}  // namespace
+
+SectionSampling sectionSampling(int nx, int ny, int layers) {
+    SectionSampling s;
+    const int longSide = std::max({nx, ny, 1});
+    const auto pixels = [&](int factor) {
+        return uint64_t(ceilDiv(nx, factor)) * uint64_t(ceilDiv(ny, factor));
+    };
+    s.factor = std::max(1, ceilDiv(longSide, SECTION_MAX_SIDE));
+    const int coarsest = std::max(s.factor, ceilDiv(longSide, SECTION_MIN_SIDE));
+    while (s.factor < coarsest && pixels(s.factor) * uint64_t(layers) > SECTION_PIXEL_BUDGET)
+        ++s.factor;
+    s.width = ceilDiv(nx, s.factor);
+    s.height = ceilDiv(ny, s.factor);
+    const uint64_t perLayer = std::max<uint64_t>(1, pixels(s.factor));
+    s.stride = int(std::max<uint64_t>(
+        1, (uint64_t(layers) * perLayer + SECTION_PIXEL_BUDGET - 1) / SECTION_PIXEL_BUDGET));
+    return s;
+}
+
+uint64_t layerSectionBytes(int nx, int ny, int layers) {
+    const SectionSampling s = sectionSampling(nx, ny, layers);
+    const uint64_t kept = uint64_t(ceilDiv(layers, s.stride)) + 1;
+    return kept * uint64_t(s.width) * uint64_t(s.height) * 5;  // float exposure, cured byte
+}
+
+LayerSectionRecorder::LayerSectionRecorder(const geometry::LayerStack& stack,
+                                           const exposure::ExposureGrid& grid,
+                                           const cure::CureLaw& law)
+    : mStack(stack), mGrid(grid), mLaw(law) {
+    const int layers = int(stack.layers.size());
+    mSampling = sectionSampling(grid.nx, grid.ny, layers);
+    mSlot.assign(size_t(layers), -1);
+    for (int k = 0; k < layers; ++k)
+        if (k % mSampling.stride == 0 || k == layers - 1) {
+            mSlot[k] = int(mKept.size());
+            mKept.push_back(k);
+        }
+    const size_t cells = mKept.size() * size_t(mSampling.width) * size_t(mSampling.height);
+    mExposure.assign(cells, 0.0f);
+    mCured.assign(cells, 0);
+    mZ.assign(mKept.size(), 0.0);
+}
+
+void LayerSectionRecorder::add(const exposure::ExposureSlice& slice) {
+    if (slice.slice != mGrid.slicesPerLayer / 2) return;  // the layer's middle voxel slice
+    if (slice.layer < 0 || slice.layer >= int(mSlot.size()) || mSlot[slice.layer] < 0) return;
+    const int slot = mSlot[slice.layer];
+    mZ[slot] = slice.z;
+    const exposure::SurfaceGrid& values = *slice.values;
+    const int f = mSampling.factor, w = mSampling.width, h = mSampling.height;
+    const size_t base = size_t(slot) * w * h;
+    for (int pj = 0; pj < h; ++pj)
+        for (int pi = 0; pi < w; ++pi) {
+            double sum = 0;
+            int cells = 0, cured = 0;
+            for (int j = pj * f; j < std::min(values.ny, (pj + 1) * f); ++j)
+                for (int i = pi * f; i < std::min(values.nx, (pi + 1) * f); ++i) {
+                    const float v = values.at(i, j);
+                    sum += v;
+                    cured += mLaw.isCured(v);
+                    ++cells;
+                }
+            mExposure[base + size_t(pj) * w + pi] = cells ? float(sum / cells) : 0.0f;
+            mCured[base + size_t(pj) * w + pi] = 2 * cured >= cells && cells > 0;
+        }
+}
+
+SectionViewSummary LayerSectionRecorder::write(const std::string& outDir,
+                                               const kernel::BeamKernel* kernel) const {
+    SectionViewSummary s;
+    s.layers = int(mSlot.size());
+    s.layersKept = int(mKept.size());
+    s.width = mSampling.width;
+    s.height = mSampling.height;
+    s.pixelMm = mGrid.pitch * mSampling.factor;
+    // One linear scale for every layer, as the exposure figures choose theirs (mJ/cm^2).
+    const double critical = mLaw.criticalDose() * 100;
+    std::vector<float> sample;
+    const size_t step = std::max<size_t>(1, mExposure.size() / (1u << 20));
+    for (size_t i = 0; i < mExposure.size(); i += step) sample.push_back(mExposure[i] * 100.0f);
+    double top = 2 * critical;
+    if (!sample.empty()) {
+        std::nth_element(sample.begin(), sample.begin() + sample.size() * 99 / 100, sample.end());
+        top = std::max(top, double(sample[sample.size() * 99 / 100]));
+    }
+    s.scaleMax = top;
+    std::vector<uint8_t> quantised(mExposure.size());
+    std::vector<uint8_t> curedBits;
+    const size_t perLayer = size_t(s.width) * s.height, bytesPerLayer = (perLayer + 7) / 8;
+    curedBits.assign(mKept.size() * bytesPerLayer, 0);
+    size_t above = 0;
+    for (size_t i = 0; i < mExposure.size(); ++i) {
+        const double t = mExposure[i] * 100.0 / top;
+        above += t > 1;
+        quantised[i] = uint8_t(std::lround(std::clamp(t, 0.0, 1.0) * 255));
+        const size_t layer = i / perLayer, bit = i % perLayer;
+        if (mCured[i]) curedBits[layer * bytesPerLayer + bit / 8] |= uint8_t(1u << (bit % 8));
+    }
+    s.aboveScale = mExposure.empty() ? 0.0 : double(above) / double(mExposure.size());
+    std::vector<uint32_t> counts;
+    std::vector<float> xy;
+    outlines(mStack, mKept, s.pixelMm / 2, counts, xy);
+    std::vector<uint8_t> palette(256 * 3);
+    for (int k = 0; k < 256; ++k)
+        viridis(k / 255.0, palette[3 * k], palette[3 * k + 1], palette[3 * k + 2]);
+    std::string zs = "[";
+    for (size_t i = 0; i < mZ.size(); ++i) zs += (i ? "," : "") + formatNumber(mZ[i], 6);
+    std::string keptText = "[";
+    for (size_t i = 0; i < mKept.size(); ++i) keptText += (i ? "," : "") + std::to_string(mKept[i]);
+    std::string js =
+        "window.VPSIM_SECTIONS={\"width\":" + std::to_string(s.width) +
+        ",\"height\":" + std::to_string(s.height) + ",\"x0\":" + formatNumber(mGrid.originX, 6) +
+        ",\"y0\":" + formatNumber(mGrid.originY, 6) +
+        ",\"pixel_mm\":" + formatNumber(s.pixelMm, 6) + ",\"scale_max\":" + formatNumber(top, 9) +
+        ",\"critical\":" + formatNumber(critical, 4) +
+        ",\"above_fraction\":" + formatNumber(s.aboveScale, 4) +
+        ",\"layers\":" + std::to_string(s.layers) + ",\"kept\":" + keptText + "],\"z\":" + zs +
+        "],\"exposure\":\"" + base64Of(quantised) + "\",\"cured\":\"" + base64Of(curedBits) +
+        "\",\"outline_counts\":\"" + base64Of(counts) + "\",\"outline_xy\":\"" + base64Of(xy) +
+        "\",\"palette\":\"" + base64Of(palette) +
+        "\"};\nwindow.VPSIM_KERNEL=" + (kernel ? kernelJs(*kernel) : std::string("null")) + ";\n";
+    s.kernel = kernel != nullptr;
+    s.dataBytes = js.size();
+    writeFileAtomic(outDir + "/sections.js", js);
+    writeFileAtomic(outDir + "/section_view.js", SECTION_VIEW_JS);
+    return s;
+}
+
+}  // namespace vpsim::report
