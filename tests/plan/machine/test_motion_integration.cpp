@@ -96,6 +96,22 @@ double integrateLayer(const std::vector<ScanMove>& moves, const AxisLimits& mach
     return t + runOut;
 }
 
+/// The model's mark and jump time of a layer's trajectory (10 mW dwells) against the integrated
+/// motion, on a plan with more than 20 jumps and no mark above the process speed.
+void checkAgainstIntegration(const LayerPlan& layer) {
+    const BuildTimeOptions options;
+    const LayerTrajectory trajectory = buildLayerTrajectory(layer, 10.0, {});
+    const LayerTime model = layerMoveTime(trajectory.moves, options);
+    const double integrated = integrateLayer(trajectory.moves, options.scanner.machine);
+    INFO("model " << model.mark + model.jump << " s, integrated " << integrated << " s over "
+                  << model.jumps << " jumps");
+    REQUIRE(model.jumps > 20);
+    CHECK(model.marksAboveProcessSpeed == 0);
+    // Each jump's integration ends within a step of its target: at most a few DT per jump.
+    CHECK(model.mark + model.jump == Approx(integrated).margin(4 * DT * double(model.jumps + 2)));
+    CHECK(model.mark + model.jump == Approx(integrated).epsilon(1e-3));
+}
+
 }  // namespace
 
 TEST_CASE("one axis: the closed form against the integrated motion", "[plan]") {
@@ -125,17 +141,7 @@ TEST_CASE("build time of a small plan agrees with the integrated motion", "[plan
     const auto hatch = hatchRegion(region.offset(-0.05), 0.05, 0.3, 2.0, 250.0);
     layer.vectors.insert(layer.vectors.end(), hatch.begin(), hatch.end());
     layer.points.push_back({4, 0, 0.01});
-    const BuildTimeOptions options;
-    const LayerTrajectory trajectory = buildLayerTrajectory(layer, 10.0, {});
-    const LayerTime model = layerMoveTime(trajectory.moves, options);
-    const double integrated = integrateLayer(trajectory.moves, options.scanner.machine);
-    INFO("model " << model.mark + model.jump << " s, integrated " << integrated << " s over "
-                  << model.jumps << " jumps");
-    REQUIRE(model.jumps > 20);
-    CHECK(model.marksAboveProcessSpeed == 0);
-    // Each jump's integration ends within a step of its target: at most a few DT per jump.
-    CHECK(model.mark + model.jump == Approx(integrated).margin(4 * DT * double(model.jumps + 2)));
-    CHECK(model.mark + model.jump == Approx(integrated).epsilon(1e-3));
+    checkAgainstIntegration(layer);
 }
 
 TEST_CASE("build time of a fitted dot plan agrees with the integrated motion", "[plan]") {
@@ -161,13 +167,5 @@ TEST_CASE("build time of a fitted dot plan agrees with the integrated motion", "
     limits.jumpAcceleration = options.scanner.machine.acceleration;
     fitPlanToLimits(plan, limits, pitch);
     REQUIRE(!plan.layers[0].points.empty());  // the isolated dot at least
-    const LayerTrajectory trajectory = buildLayerTrajectory(plan.layers[0], 10.0, {});
-    const LayerTime model = layerMoveTime(trajectory.moves, options);
-    const double integrated = integrateLayer(trajectory.moves, options.scanner.machine);
-    INFO("model " << model.mark + model.jump << " s, integrated " << integrated << " s over "
-                  << model.jumps << " jumps");
-    REQUIRE(model.jumps > 20);
-    CHECK(model.marksAboveProcessSpeed == 0);
-    CHECK(model.mark + model.jump == Approx(integrated).margin(4 * DT * double(model.jumps + 2)));
-    CHECK(model.mark + model.jump == Approx(integrated).epsilon(1e-3));
+    checkAgainstIntegration(plan.layers[0]);
 }
