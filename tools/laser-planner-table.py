@@ -18,7 +18,8 @@ for label, key in [("ACES, seed 5% edge rule", "aces_5_percent"),
     print(f"| {label} | {s[key]:.1f} | {s[key] / s['aces_5_percent']:.2f} | "
           f"{s[key] / s['aces_cure_at_contour']:.2f} |")
 print()
-names = {"aces": "aces", "dfbtp": "dfbtp", "inverse_shape": "inverse (shape)",
+names = {"aces": "aces", "dfbtp": "dfbtp", "dfbtp_shape_edges": "dfbtp (edges: shape)",
+         "inverse_shape": "inverse (shape)",
          "inverse_exposure_l2": "inverse (exposure-l2)"}
 print("| job | strategy | IoU | mean / RMS deviation (um) | over-cure below down-facing, "
       "mean / median (um) | build time (s) | plan (s) |")
@@ -26,6 +27,8 @@ print("|---|---|---|---|---|---|---|")
 for job, strategies in r["examples"].items():
     first = True
     for key, label in names.items():
+        if key not in strategies:
+            continue
         e = strategies[key]
         print(f"| {job if first else ''} | {label} | {e['iou']:.4f} | "
               f"{e['mean_deviation_um']:+.1f} / {e['rms_deviation_um']:.1f} | "

@@ -5,7 +5,6 @@
 
 #include "vpsim/core/log.h"
 #include "vpsim/core/text.h"
-#include "vpsim/geometry/slicer.h"
 #include "vpsim/optimise/laser/inverse.h"
 #include "vpsim/optimise/laser/inverse_shape.h"
 #include "vpsim/planners/aces_planner.h"
@@ -127,15 +126,19 @@ private:
         plan::ScanPlan start = acesStackPlan(in, mOptions);
         const int n = mShape.slicesPerLayer;
         const double h = in.machine.layerThickness;
-        std::vector<geometry::PolygonSet> slices;
-        for (size_t k = 0; k < start.layers.size(); ++k)
-            for (int s = 0; s < n; ++s)
-                slices.push_back(
-                    in.part ? geometry::sliceAt(*in.part, start.layers[k].z - (s + 0.5) * h / n)
-                            : in.layers.layers[k].region);
+        const std::vector<geometry::PolygonSet> slices = shapeSlices(in, start, n);
+        // The dots lie on every stride-th cell of the planning grid; on the machine they become
+        // power-modulated marks, and J_final is measured on those.
+        const double dotSpacing =
+            double(std::max(1L, std::lround(mP.dotPitch / mP.base.gridPitch))) * mP.base.gridPitch;
+        nlohmann::json fit;
+        auto toMachine = [&](plan::ScanPlan& dots) {
+            fit = fitLaserPlan(dots, aces, in.machine, dotSpacing);
+        };
         optimise::ShapeResult r =
             optimise::planInverseShape(layerRegions(in), slices, start, mP.base.gridPitch,
-                                       mP.dotPitch, mShape, in.beam, h, in.criticalDose);
+                                       mP.dotPitch, mShape, in.beam, h, in.criticalDose, toMachine);
+        if (r.keptStart) toMachine(r.plan);  // the ACES start, fitted already: its summary
         logInfo("inverse (shape objective): J of the ACES start " +
                 formatNumber(r.objectiveStart, 6) + " mm^3, gathered onto the dots " +
                 formatNumber(r.objectiveDots, 6));
@@ -154,10 +157,7 @@ private:
                       {"margin", mShape.margin},
                       {"slices_per_layer", n},
                       {"part_sliced_per_voxel_slice", in.part != nullptr}}}};
-        // Run on the machine: the dots become power-modulated marks at the process speed.
-        const double dotSpacing =
-            double(std::max(1L, std::lround(mP.dotPitch / mP.base.gridPitch))) * mP.base.gridPitch;
-        mSummary.update(fitLaserPlan(r.plan, aces, in.machine, dotSpacing));
+        mSummary.update(fit);
         return r.plan;
     }
 

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "vpsim/geometry/slicer.h"
+
 namespace vpsim::planners {
 
 std::vector<geometry::PolygonSet> layerRegions(const PlannerInputs& in) {
@@ -14,6 +16,18 @@ std::vector<double> layerTops(const plan::ScanPlan& empty) {
     std::vector<double> tops;
     for (const auto& layer : empty.layers) tops.push_back(layer.z);
     return tops;
+}
+
+std::vector<geometry::PolygonSet> shapeSlices(const PlannerInputs& in, const plan::ScanPlan& plan,
+                                              int n) {
+    const double h = in.machine.layerThickness;
+    std::vector<geometry::PolygonSet> slices;
+    for (size_t k = 0; k < plan.layers.size(); ++k)
+        for (int s = 0; s < n; ++s)
+            slices.push_back(in.part
+                                 ? geometry::sliceAt(*in.part, plan.layers[k].z - (s + 0.5) * h / n)
+                                 : in.layers.layers[k].region);
+    return slices;
 }
 
 nlohmann::json compensationJson(const std::vector<optimise::LayerCompensation>& layers) {

@@ -7,6 +7,7 @@
 #include <glm/common.hpp>
 
 #include "vpsim/core/error.h"
+#include "vpsim/core/progress.h"
 #include "vpsim/exposure/deposit.h"
 #include "vpsim/exposure/exposure_engine.h"
 #include "vpsim/optimise/laser/exposure_error.h"
@@ -300,7 +301,9 @@ DfbtpResult planDfbtp(const std::vector<geometry::PolygonSet>& regions,
     result.plan.machine.beamRadius = beam.radius;
     result.plan.layers.resize(regions.size());
     result.layers.resize(regions.size());
-    for (int k = int(regions.size()) - 1; k >= 0; --k) {  // top down (Eq. 21-22)
+    Progress progress("DFBTP planner: layers", regions.size());
+    for (int k = int(regions.size()) - 1; k >= 0;
+         --k, progress.advance()) {  // top down (Eq. 21-22)
         plan::LayerPlan& layer = result.plan.layers[k];
         layer.z = tops[k];
         if (regions[k].empty()) continue;  // an empty layer deposits nothing

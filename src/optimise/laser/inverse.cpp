@@ -5,9 +5,11 @@
 #include <memory>
 
 #include "vpsim/core/error.h"
+#include "vpsim/core/progress.h"
 #include "vpsim/exposure/deposit.h"
 #include "vpsim/exposure/exposure_engine.h"
 #include "vpsim/optimise/laser/exposure_error.h"
+#include "vpsim/optimise/solvers/projected_fista.h"
 #include "vpsim/plan/feature_blocks.h"
 
 namespace vpsim::optimise {
@@ -59,40 +61,20 @@ struct LayerProblem {
         for (size_t d : dots) largest = std::max(largest, double(back.values[d]) / cellArea);
         return 1.001 * std::max(largest, 1e-300);  // float rounding of the maps
     }
+    static void extrapolate(SurfaceGrid& out, const SurfaceGrid& a, const SurfaceGrid& b,
+                            double beta) {
+        for (size_t c = 0; c < out.values.size(); ++c)
+            out.values[c] = float(a.values[c] + beta * (a.values[c] - b.values[c]));
+    }
 };
 
-/// FISTA with projection onto x >= 0 and a restart whenever f rises. Returns the best iterate.
+/// The best iterate of the solver's FISTA (optimise/solvers/projected_fista.h) at 1 / L.
 std::vector<double> solve(const LayerProblem& problem, std::vector<double> x, int iterations,
                           double& best, int& done) {
-    const double step = 1.0 / problem.lipschitz();
-    SurfaceGrid ax = problem.forward(x);
-    double fx = problem.value(ax);
-    best = fx;
-    std::vector<double> bestX = x, y = x, xn(x.size());
-    SurfaceGrid ay = ax;
-    double t = 1;
-    for (done = 0; done < iterations; ++done) {
-        std::vector<double> g = problem.gradient(ay);
-        for (size_t k = 0; k < x.size(); ++k) xn[k] = std::max(y[k] - step * g[k], 0.0);
-        SurfaceGrid axn = problem.forward(xn);
-        double fn = problem.value(axn);
-        if (fn > fx) {  // momentum overshot: restart from x with a plain projected step
-            t = 1;
-            y = x;
-            ay = ax;
-            continue;
-        }
-        if (fn < best) best = fn, bestX = xn;
-        double tn = 0.5 * (1 + std::sqrt(1 + 4 * t * t)), beta = (t - 1) / tn;
-        for (size_t k = 0; k < x.size(); ++k) y[k] = xn[k] + beta * (xn[k] - x[k]);
-        for (size_t c = 0; c < ay.values.size(); ++c)
-            ay.values[c] = float(axn.values[c] + beta * (axn.values[c] - ax.values[c]));
-        x.swap(xn);
-        ax = std::move(axn);
-        fx = fn;
-        t = tn;
-    }
-    return bestX;
+    const std::vector<double> step(x.size(), 1.0 / problem.lipschitz());
+    FistaResult r = nonNegativeFista(problem, std::move(x), step, iterations);
+    best = r.best, done = r.iterations;
+    return std::move(r.x);
 }
 
 /// A grid whose cell centres are the dot cells of `fine` (every stride-th cell from stride/2):
@@ -282,7 +264,8 @@ InverseResult planInverse(const std::vector<geometry::PolygonSet>& regions,
     result.plan.layers.resize(regions.size());
     result.layers.resize(regions.size());
     result.compensation.resize(regions.size());
-    for (int k = int(regions.size()) - 1; k >= 0; --k) {
+    Progress progress("inverse planner: layers", regions.size());
+    for (int k = int(regions.size()) - 1; k >= 0; --k, progress.advance()) {
         plan::LayerPlan& layer = result.plan.layers[k];
         layer.z = tops[k];
         if (regions[k].empty()) continue;

@@ -173,11 +173,18 @@ ShapeProblem::ShapeProblem(exposure::ExposureModel& model, const ShapeTargets& t
     }
 }
 
-std::vector<SurfaceGrid> ShapeProblem::deposits(const std::vector<double>& x) const {
+std::vector<SurfaceGrid> ShapeProblem::dotDeposits(const std::vector<double>& x) const {
     std::vector<SurfaceGrid> out(mDots.size(), mModel.grid().surface());
     for (size_t k = 0; k < mDots.size(); ++k)
         for (size_t d = 0; d < mDots[k].size(); ++d)
             out[k].values[mDots[k][d]] = float(x[mOffset[k] + d] / mCellArea);
+    return out;
+}
+
+std::vector<SurfaceGrid> ShapeProblem::deposits(const std::vector<double>& x) const {
+    std::vector<SurfaceGrid> out = dotDeposits(x);
+    for (size_t k = 0; k < mFixed.size() && k < out.size(); ++k)
+        for (size_t c = 0; c < out[k].values.size(); ++c) out[k].values[c] += mFixed[k].values[c];
     return out;
 }
 
@@ -211,7 +218,7 @@ double ShapeProblem::valueAndGradient(const std::vector<double>& x,
 }
 
 std::vector<double> ShapeProblem::rowSums() const {
-    ExposureField field = mModel.stack(deposits(std::vector<double>(mSize, 1.0)));
+    ExposureField field = mModel.stack(dotDeposits(std::vector<double>(mSize, 1.0)));
     const double scale = mTargets.voxelVolume / (mTargets.criticalDose * mTargets.criticalDose);
     for (size_t v = 0; v < field.size(); ++v)
         for (size_t c = 0; c < field[v].values.size(); ++c)

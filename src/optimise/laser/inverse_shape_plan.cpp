@@ -4,11 +4,13 @@
 #include <memory>
 
 #include "vpsim/core/error.h"
+#include "vpsim/core/progress.h"
 #include "vpsim/exposure/deposit.h"
 #include "vpsim/exposure/exposure_engine.h"
 #include "vpsim/optimise/laser/dfbtp.h"
 #include "vpsim/optimise/laser/exposure_error.h"
 #include "vpsim/optimise/laser/inverse_shape.h"
+#include "vpsim/optimise/solvers/projected_fista.h"
 
 namespace vpsim::optimise {
 namespace {
@@ -16,16 +18,59 @@ namespace {
 using exposure::ExposureField;
 using exposure::SurfaceGrid;
 
-/// Dots of one layer: every stride-th cell centre within half a dot pitch of the region.
+/// Dots of one layer: every stride-th cell centre within half a dot pitch of the region (and,
+/// with an edge band, not deeper inside than the band).
 std::vector<size_t> layerDots(const geometry::PolygonSet& region, const exposure::ExposureGrid& g,
-                              int stride, double dotPitch) {
+                              int stride, double dotPitch, double edgeBand) {
     std::vector<size_t> dots;
     if (region.empty()) return dots;
     const std::vector<char> allowed = insideMask(region.offset(0.5 * dotPitch), g.surface());
+    const std::vector<char> deep = edgeBand > 0 ? insideMask(region.offset(-edgeBand), g.surface())
+                                                : std::vector<char>(allowed.size(), 0);
     for (int j = stride / 2; j < g.ny; j += stride)
-        for (int i = stride / 2; i < g.nx; i += stride)
-            if (allowed[size_t(j) * g.nx + i]) dots.push_back(size_t(j) * g.nx + i);
+        for (int i = stride / 2; i < g.nx; i += stride) {
+            const size_t c = size_t(j) * g.nx + i;
+            if (allowed[c] && !deep[c]) dots.push_back(c);
+        }
     return dots;
+}
+
+/// The start's marks the dots take over (`moving`: every mark without an edge band, else the
+/// dots and the vectors whose every point lies within the band of the contour) and the others
+/// (`fixed`, held as they are); both keep the start's layers.
+void splitStart(const plan::ScanPlan& start, const std::vector<geometry::PolygonSet>& regions,
+                double edgeBand, plan::ScanPlan& moving, plan::ScanPlan& fixed) {
+    moving = fixed = start;
+    for (size_t k = 0; k < start.layers.size(); ++k) {
+        plan::LayerPlan &m = moving.layers[k], &f = fixed.layers[k];
+        m.vectors.clear(), m.points.clear(), m.trajectory.clear();
+        f.vectors.clear(), f.points.clear(), f.trajectory.clear();
+        const geometry::PolygonSet deep =
+            edgeBand > 0 ? regions[k].offset(-edgeBand) : geometry::PolygonSet();
+        auto nearEdge = [&](double x, double y) { return edgeBand <= 0 || !deep.contains({x, y}); };
+        for (const plan::LaserVector& v : start.layers[k].vectors) {
+            // Sampled every half band: a hatch line across the middle has points deep inside.
+            const double length = std::hypot(v.x1 - v.x0, v.y1 - v.y0);
+            const int samples = edgeBand > 0 ? 1 + int(std::ceil(2 * length / edgeBand)) : 1;
+            bool near = true;
+            for (int i = 0; i <= samples && near; ++i) {
+                const double t = double(i) / samples;
+                near = nearEdge(v.x0 + t * (v.x1 - v.x0), v.y0 + t * (v.y1 - v.y0));
+            }
+            (near ? m : f).vectors.push_back(v);
+        }
+        for (const plan::LaserPoint& p : start.layers[k].points)
+            (nearEdge(p.x, p.y) ? m : f).points.push_back(p);
+    }
+}
+
+/// The per-layer deposits of a plan on `grid`.
+std::vector<SurfaceGrid> depositsOf(const plan::ScanPlan& plan,
+                                    const exposure::ExposureGrid& grid) {
+    std::vector<SurfaceGrid> deposits(plan.layers.size(), grid.surface());
+    for (size_t k = 0; k < plan.layers.size(); ++k)
+        exposure::depositLayer(plan.layers[k], deposits[k]);
+    return deposits;
 }
 
 /// The deposit gathered bilinearly onto the dot lattice (every stride-th cell from stride / 2),
@@ -54,46 +99,34 @@ void gather(const SurfaceGrid& deposit, const std::vector<size_t>& dots, int str
         }
 }
 
-void combine(ExposureField& out, const ExposureField& a, const ExposureField& b, double beta) {
-    for (size_t v = 0; v < out.size(); ++v)
-        for (size_t c = 0; c < out[v].values.size(); ++c)
-            out[v].values[c] = float(a[v].values[c] + beta * (a[v].values[c] - b[v].values[c]));
-}
+/// The shape problem as the solver's FISTA sees it (optimise/solvers/projected_fista.h): one
+/// forward and one adjoint of the stack per iteration.
+struct StackImage {
+    const ShapeProblem& problem;
+    ExposureField forward(const std::vector<double>& x) const { return problem.field(x); }
+    double value(const ExposureField& field) const { return problem.valueAt(field, nullptr); }
+    std::vector<double> gradient(const ExposureField& field) const {
+        std::vector<double> g;
+        problem.valueAt(field, &g);
+        return g;
+    }
+    static void extrapolate(ExposureField& out, const ExposureField& a, const ExposureField& b,
+                            double beta) {
+        for (size_t v = 0; v < out.size(); ++v)
+            for (size_t c = 0; c < out[v].values.size(); ++c)
+                out[v].values[c] = float(a[v].values[c] + beta * (a[v].values[c] - b[v].values[c]));
+    }
+};
 
-/// FISTA with projection onto x >= 0 and a restart whenever J rises; one forward and one
-/// adjoint of the stack per iteration (the field of the momentum point is combined from the
-/// iterates' fields, the map being linear). Returns the best iterate.
+/// The best iterate of FISTA in the metric of the Hessian's row sums.
 std::vector<double> solve(const ShapeProblem& problem, std::vector<double> x, int iterations,
-                          double& best, int& done) {
+                          double& best, int& done, Progress& progress) {
     std::vector<double> step = problem.rowSums();
     for (double& s : step) s = 1.0 / s;
-    ExposureField ax = problem.field(x);
-    double fx = problem.valueAt(ax, nullptr);
-    best = fx;
-    std::vector<double> bestX = x, y = x, xn(x.size()), g;
-    ExposureField ay = ax;
-    double t = 1;
-    for (done = 0; done < iterations; ++done) {
-        problem.valueAt(ay, &g);
-        for (size_t k = 0; k < x.size(); ++k) xn[k] = std::max(y[k] - step[k] * g[k], 0.0);
-        ExposureField axn = problem.field(xn);
-        const double fn = problem.valueAt(axn, nullptr);
-        if (fn > fx) {  // momentum overshot: restart from x with a plain projected step
-            t = 1;
-            y = x;
-            ay = ax;
-            continue;
-        }
-        if (fn < best) best = fn, bestX = xn;
-        const double tn = 0.5 * (1 + std::sqrt(1 + 4 * t * t)), beta = (t - 1) / tn;
-        for (size_t k = 0; k < x.size(); ++k) y[k] = xn[k] + beta * (xn[k] - x[k]);
-        combine(ay, axn, ax, beta);
-        x.swap(xn);
-        ax = std::move(axn);
-        fx = fn;
-        t = tn;
-    }
-    return bestX;
+    FistaResult r = nonNegativeFista(StackImage{problem}, std::move(x), step, iterations,
+                                     [&] { progress.advance(); });
+    best = r.best, done = r.iterations;
+    return std::move(r.x);
 }
 
 /// One resolution of the problem: the engine, the targets levelled on the start, the dots.
@@ -105,24 +138,29 @@ struct ShapeLevel {
     double startObjective = 0;  ///< J of the start plan on this grid
 };
 
+/// The level on `grid`: the start is `moving` (the marks the dots take over; `deposits` gets
+/// their deposits) plus `fixed` (held).
 std::unique_ptr<ShapeLevel> makeLevel(const exposure::ExposureGrid& grid,
                                       std::vector<std::vector<size_t>> dots,
                                       const std::vector<geometry::PolygonSet>& sliceRegions,
-                                      const plan::ScanPlan& start, const ShapeParameters& p,
-                                      const kernel::FittedBeam& beam, double layerThickness,
-                                      double criticalDose, std::vector<SurfaceGrid>& deposits) {
+                                      const plan::ScanPlan& moving, const plan::ScanPlan& fixed,
+                                      const ShapeParameters& p, const kernel::FittedBeam& beam,
+                                      double layerThickness, double criticalDose,
+                                      std::vector<SurfaceGrid>& deposits) {
     auto level = std::make_unique<ShapeLevel>();
     level->grid = grid;
     level->model = std::make_unique<exposure::ExposureEngine>(grid, beam, layerThickness);
     level->targets =
         shapeTargets(grid, layerThickness, beam.attenuationLength, sliceRegions, criticalDose, p);
-    deposits.assign(start.layers.size(), grid.surface());
-    for (size_t k = 0; k < start.layers.size(); ++k)
-        exposure::depositLayer(start.layers[k], deposits[k]);
-    const ExposureField startField = level->model->stack(deposits);
+    deposits = depositsOf(moving, grid);
+    std::vector<SurfaceGrid> held = depositsOf(fixed, grid), start = deposits;
+    for (size_t k = 0; k < start.size(); ++k)
+        for (size_t c = 0; c < start[k].values.size(); ++c) start[k].values[c] += held[k].values[c];
+    const ExposureField startField = level->model->stack(start);
     levelTargets(level->targets, startField);
     level->startObjective = shapeObjective(level->targets, startField);
     level->problem = std::make_unique<ShapeProblem>(*level->model, level->targets, std::move(dots));
+    if (p.edgeBand > 0) level->problem->holdFixed(std::move(held));
     return level;
 }
 
@@ -140,15 +178,13 @@ exposure::ExposureGrid coarseGrid(const exposure::ExposureGrid& fine, int stride
     return c;
 }
 
-/// The plan of the dot energies x: the start's layers (their z) with points only.
-plan::ScanPlan dotPlan(const plan::ScanPlan& start, const ShapeProblem& problem,
+/// The plan of the dot energies x added to the fixed marks (none without an edge band).
+plan::ScanPlan dotPlan(const plan::ScanPlan& fixed, const ShapeProblem& problem,
                        const exposure::ExposureGrid& grid, const std::vector<double>& x) {
-    plan::ScanPlan out = start;
+    plan::ScanPlan out = fixed;
     const auto& dots = problem.dots();
     for (size_t k = 0, offset = 0; k < dots.size(); offset += dots[k].size(), ++k) {
         plan::LayerPlan& layer = out.layers[k];
-        layer.vectors.clear();
-        layer.points.clear();
         for (size_t d = 0; d < dots[k].size(); ++d)
             if (x[offset + d] > 0)
                 layer.points.push_back({grid.originX + (dots[k][d] % grid.nx + 0.5) * grid.pitch,
@@ -164,7 +200,8 @@ ShapeResult planInverseShape(const std::vector<geometry::PolygonSet>& regions,
                              const std::vector<geometry::PolygonSet>& sliceRegions,
                              const plan::ScanPlan& start, double gridPitch, double dotPitch,
                              const ShapeParameters& p, const kernel::FittedBeam& beam,
-                             double layerThickness, double criticalDose) {
+                             double layerThickness, double criticalDose,
+                             const MachineFit& toMachine) {
     if (regions.size() != start.layers.size())
         throw InputError("inverse planner: one start layer per region is needed");
     if (!(gridPitch > 0) || !(dotPitch > 0) || p.iterations < 0 || p.coarseIterations < 0 ||
@@ -174,10 +211,12 @@ ShapeResult planInverseShape(const std::vector<geometry::PolygonSet>& regions,
     grid.slicesPerLayer = p.slicesPerLayer;
     const int stride = std::max(1, int(std::lround(dotPitch / gridPitch)));
     std::vector<std::vector<size_t>> dots;
-    for (const auto& r : regions) dots.push_back(layerDots(r, grid, stride, dotPitch));
+    for (const auto& r : regions) dots.push_back(layerDots(r, grid, stride, dotPitch, p.edgeBand));
+    plan::ScanPlan moving, fixed;
+    splitStart(start, regions, p.edgeBand, moving, fixed);
     std::vector<SurfaceGrid> deposits;
-    auto fine =
-        makeLevel(grid, dots, sliceRegions, start, p, beam, layerThickness, criticalDose, deposits);
+    auto fine = makeLevel(grid, dots, sliceRegions, moving, fixed, p, beam, layerThickness,
+                          criticalDose, deposits);
     const ShapeProblem& problem = *fine->problem;
 
     ShapeResult result;
@@ -192,8 +231,13 @@ ShapeResult planInverseShape(const std::vector<geometry::PolygonSet>& regions,
     int done = 0;
     // First on the grid whose cells are the dots: the same variables, stride^2 fewer cells and
     // a stride times shorter blur (the engine needs We3D >= its pitch).
-    if (stride > 1 && p.coarseIterations > 0 && beam.radius >= gridPitch * stride &&
-        problem.size() > 0) {
+    const bool coarseStage = stride > 1 && p.coarseIterations > 0 &&
+                             beam.radius >= gridPitch * stride && problem.size() > 0;
+    Progress progress("inverse planner: shape objective iterations",
+                      problem.size() > 0
+                          ? uint64_t(coarseStage ? p.coarseIterations : 0) + uint64_t(p.iterations)
+                          : 0);
+    if (coarseStage) {
         const exposure::ExposureGrid cg = coarseGrid(grid, stride);
         std::vector<std::vector<size_t>> coarseDots(dots.size());
         for (size_t k = 0; k < dots.size(); ++k)
@@ -201,19 +245,22 @@ ShapeResult planInverseShape(const std::vector<geometry::PolygonSet>& regions,
                 coarseDots[k].push_back(size_t((long(c / grid.nx) - stride / 2) / stride) * cg.nx +
                                         size_t((long(c % grid.nx) - stride / 2) / stride));
         std::vector<SurfaceGrid> coarseDeposits;
-        auto coarse = makeLevel(cg, std::move(coarseDots), sliceRegions, start, p, beam,
+        auto coarse = makeLevel(cg, std::move(coarseDots), sliceRegions, moving, fixed, p, beam,
                                 layerThickness, criticalDose, coarseDeposits);
-        x = solve(*coarse->problem, x, p.coarseIterations, best, done);
+        x = solve(*coarse->problem, x, p.coarseIterations, best, done, progress);
         result.iterations += done;
     }
-    if (problem.size() > 0) x = solve(problem, x, p.iterations, best, done);
+    if (problem.size() > 0) x = solve(problem, x, p.iterations, best, done, progress);
+    progress.finish();
     result.iterations += done;
     result.plan = start;
     result.keptStart = true;
     result.objectiveFinal = result.objectiveStart;
     if (!(best < result.objectiveStart)) return result;
-    // Measured on the returned plan (its points deposited as the simulation deposits them).
-    plan::ScanPlan planned = dotPlan(start, problem, grid, x);
+    // Measured on the returned plan as the machine runs it (its marks deposited as the
+    // simulation deposits them).
+    plan::ScanPlan planned = dotPlan(fixed, problem, grid, x);
+    if (toMachine) toMachine(planned);
     std::vector<SurfaceGrid> finalDeposits(regions.size(), grid.surface());
     for (size_t k = 0; k < regions.size(); ++k)
         exposure::depositLayer(planned.layers[k], finalDeposits[k]);

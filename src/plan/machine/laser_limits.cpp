@@ -34,32 +34,30 @@ struct Rows {
     bool alongX = true;
 };
 
-/// A dot's column along the row and its scan line across it; `merge` grid rows share one line.
-struct Dot {
-    double along = 0, line = 0, energy = 0;
-};
-
-Rows rowsAlong(const std::vector<const LaserPoint*>& dots, double pitch, bool alongX, int merge,
-               std::vector<LaserPoint>& merged) {
+/// The rows of `dots` along x (or y): `onGrid` gets the dots on their grid cells (dots sharing
+/// a cell add up) and the chains point to them.
+Rows rowsAlong(const std::vector<const LaserPoint*>& dots, double pitch, bool alongX,
+               std::vector<LaserPoint>& onGrid) {
     auto along = [&](const LaserPoint* p) { return alongX ? p->x : p->y; };
     auto across = [&](const LaserPoint* p) { return alongX ? p->y : p->x; };
     double origin = INFINITY, start = INFINITY;  // the grid's first line and first column
     for (const LaserPoint* p : dots)
         origin = std::min(origin, across(p)), start = std::min(start, along(p));
-    // Merge the grid rows k at a time: each dot goes to its group's middle line, and dots of one
-    // group in the same column add up.
+    // One grid row per scan line: merging rows on a fixed lattice aliases the line patterns the
+    // optimisers produce (measured on laser-l-shape's inverse plan: 60 um lines on a 40 um
+    // lattice beat into 120 um stripes and the IoU fell from 0.972 to 0.923).
     std::map<std::pair<long, long>, double> cells;  // (line, column) -> energy
     for (const LaserPoint* p : dots) {
         const long row = std::lround((across(p) - origin) / pitch);
         const long column = std::lround((along(p) - start) / pitch);
-        cells[{row / merge, column}] += p->energy;
+        cells[{row, column}] += p->energy;
     }
-    merged.clear();
-    merged.reserve(cells.size());
+    onGrid.clear();
+    onGrid.reserve(cells.size());
     for (const auto& [key, energy] : cells) {
-        const double line = origin + (double(key.first * merge) + 0.5 * (merge - 1)) * pitch;
+        const double line = origin + double(key.first) * pitch;
         const double position = start + double(key.second) * pitch;
-        merged.push_back(alongX ? LaserPoint{position, line, energy}
+        onGrid.push_back(alongX ? LaserPoint{position, line, energy}
                                 : LaserPoint{line, position, energy});
     }
     // `cells` is ordered by line, then column: runs of neighbouring columns are the chains.
@@ -70,7 +68,7 @@ Rows rowsAlong(const std::vector<const LaserPoint*>& dots, double pitch, bool al
     size_t k = 0;
     for (const auto& [key, energy] : cells) {
         (void)energy;
-        const LaserPoint* p = &merged[k++];
+        const LaserPoint* p = &onGrid[k++];
         if (key.first != lastLine) lineStart.push_back(rows.chains.size());
         if (key.first == lastLine && key.second == lastColumn + 1)
             rows.chains.back().push_back(p);
@@ -95,18 +93,17 @@ Rows rowsAlong(const std::vector<const LaserPoint*>& dots, double pitch, bool al
 
 /// A layer's dots: chains of two or more become vectors of one pitch per dot (energy per length
 /// E / pitch); the others stay points.
-void dotsToChains(LayerPlan& layer, double pitch, int merge, LimitFit& fit) {
+void dotsToChains(LayerPlan& layer, double pitch, LimitFit& fit) {
     std::vector<const LaserPoint*> dots;
     for (const LaserPoint& p : layer.points) dots.push_back(&p);
-    std::vector<LaserPoint> mergedX, mergedY;  // the dots the chains point to
-    Rows x = rowsAlong(dots, pitch, true, merge, mergedX);
-    Rows y = rowsAlong(dots, pitch, false, merge, mergedY);
+    std::vector<LaserPoint> onGridX, onGridY;  // the dots the chains point to
+    Rows x = rowsAlong(dots, pitch, true, onGridX);
+    Rows y = rowsAlong(dots, pitch, false, onGridY);
     const Rows& rows = y.chains.size() < x.chains.size() ? y : x;
     std::vector<LaserPoint> kept;
     for (const auto& chain : rows.chains) {
         if (chain.size() < 2) {
             kept.push_back(*chain[0]);
-            ++fit.dwellPoints;
             continue;
         }
         const double step = (rows.alongX ? chain[1]->x - chain[0]->x : chain[1]->y - chain[0]->y);
@@ -124,26 +121,27 @@ void dotsToChains(LayerPlan& layer, double pitch, int merge, LimitFit& fit) {
     layer.points = std::move(kept);
 }
 
-/// Sets one run's speed and powers (see the file comment) and appends what is kept.
-void fitRun(const std::vector<LaserVector>& chain, const LaserLimits& limits,
+/// A vector's own peak dose is below the negligible dose.
+bool negligible(const LaserVector& v, const LaserLimits& limits) {
+    return v.power / v.speed * std::sqrt(2.0 / M_PI) / limits.beamRadius < limits.negligibleDose;
+}
+
+/// Sets one run's speed and powers (see the file comment) and appends what is kept. `pathSpeed`
+/// caps the speed (the time-optimal speed of the scan path the run belongs to).
+void fitRun(const std::vector<LaserVector>& chain, const LaserLimits& limits, double pathSpeed,
             std::vector<LaserVector>& out, LimitFit& fit) {
     const LaserVector& first = chain.front();
     double fastest = markSpeedLimit(first.x0, first.y0, first.x1, first.y1, limits.processSpeed);
+    double slowest = 0;  // the weakest piece at the minimum power
     for (const LaserVector& v : chain) {
+        if (negligible(v, limits)) continue;  // kept, but no say in the speed
         const double lineEnergy = v.power / v.speed;
         fastest = std::min(fastest, limits.powerMax / lineEnergy);  // full power on the densest
+        slowest = std::max(slowest, limits.powerMin / lineEnergy);
     }
-    // At the process limit, or as fast as full power allows. (Slowing short chains to sqrt(a L /
-    // 2), which trades mark time against the reversals, was measured: ACES 30% faster, but the dot
-    // rows of the inverse planner, cut by dropped dots into runs, 20% slower.)
-    const double speed = fastest;
-    const double peakPerLineEnergy = std::sqrt(2.0 / M_PI) / limits.beamRadius;
+    const double speed = std::min(fastest, std::max(pathSpeed, slowest));
     for (const LaserVector& v : chain) {
         const double lineEnergy = v.power / v.speed;  // mJ/mm
-        if (lineEnergy * peakPerLineEnergy < limits.negligibleDose) {
-            ++fit.droppedNegligible;
-            continue;
-        }
         LaserVector fitted = v;
         fitted.speed = speed;
         fitted.power = std::min(lineEnergy * speed, limits.powerMax);
@@ -162,42 +160,87 @@ void fitRun(const std::vector<LaserVector>& chain, const LaserLimits& limits,
 /// A chain whose pieces span more than the laser's power range (densest over weakest above
 /// powerMax / powerMin) cannot run at one speed with every piece's power in range: it is cut
 /// into runs that can, each at its own speed (the scanner changes speed in the short jump
-/// between them).
-void fitChain(const std::vector<LaserVector>& chain, const LaserLimits& limits,
+/// between them). Negligible pieces at the chain's ends are dropped, those inside kept.
+void fitChain(const std::vector<LaserVector>& chain, const LaserLimits& limits, double pathSpeed,
               std::vector<LaserVector>& out, LimitFit& fit) {
+    size_t begin = 0, end = chain.size();
+    while (begin < end && negligible(chain[begin], limits)) ++begin;
+    while (end > begin && negligible(chain[end - 1], limits)) --end;
+    fit.droppedNegligible += (long long)(chain.size() - (end - begin));
     const double range = limits.powerMin > 0 ? limits.powerMax / limits.powerMin : INFINITY;
     std::vector<LaserVector> run;
     double lo = INFINITY, hi = 0;
-    const double peakPerLineEnergy = std::sqrt(2.0 / M_PI) / limits.beamRadius;
-    for (const LaserVector& v : chain) {
+    for (size_t k = begin; k < end; ++k) {
+        const LaserVector& v = chain[k];
         const double e = v.power / v.speed;
-        if (e * peakPerLineEnergy < limits.negligibleDose) {  // dropped: no say in the speed
-            ++fit.droppedNegligible;
-            continue;
+        if (!negligible(v, limits)) {
+            if (!run.empty() && std::max(hi, e) > range * std::min(lo, e)) {
+                fitRun(run, limits, pathSpeed, out, fit);
+                run.clear(), lo = INFINITY, hi = 0;
+            }
+            lo = std::min(lo, e), hi = std::max(hi, e);
         }
-        if (!run.empty() && std::max(hi, e) > range * std::min(lo, e)) {
-            fitRun(run, limits, out, fit);
-            run.clear(), lo = INFINITY, hi = 0;
-        }
-        run.push_back(v), lo = std::min(lo, e), hi = std::max(hi, e);
+        run.push_back(v);
     }
-    if (!run.empty()) fitRun(run, limits, out, fit);
+    if (!run.empty()) fitRun(run, limits, pathSpeed, out, fit);
+}
+
+/// Whether b lies on a's line ahead of a's end and runs the same way: the next piece of one
+/// scan line after a gap.
+bool aheadOnLine(const LaserVector& a, const LaserVector& b) {
+    const double dx = a.x1 - a.x0, dy = a.y1 - a.y0, length = std::hypot(dx, dy);
+    const double ux = dx / length, uy = dy / length;
+    const double off = std::abs((b.x0 - a.x1) * uy - (b.y0 - a.y1) * ux);
+    const double ahead = (b.x0 - a.x1) * ux + (b.y0 - a.y1) * uy;
+    const double bx = b.x1 - b.x0, by = b.y1 - b.y0;
+    const double turn = std::abs(bx * uy - by * ux), same = bx * ux + by * uy;
+    return off <= SAME && ahead >= -SAME && same > 0 && turn <= 1e-9 * std::hypot(bx, by);
+}
+
+/// Per vector, the time-optimal speed sqrt(a L / 2) of its scan path: vectors in plan order that
+/// chain or continue one scan line, L their length with the gaps (INFINITY without an
+/// acceleration).
+std::vector<double> pathSpeeds(const std::vector<LaserVector>& vectors, double acceleration) {
+    std::vector<double> speeds(vectors.size(), INFINITY);
+    if (!(acceleration > 0)) return speeds;
+    size_t first = 0;
+    double length = 0;
+    for (size_t k = 0; k <= vectors.size(); ++k) {
+        const bool goesOn = k > 0 && k < vectors.size() &&
+                            ((std::abs(vectors[k - 1].x1 - vectors[k].x0) <= SAME &&
+                              std::abs(vectors[k - 1].y1 - vectors[k].y0) <= SAME) ||
+                             aheadOnLine(vectors[k - 1], vectors[k]));
+        if (k > 0 && !goesOn) {
+            std::fill(speeds.begin() + long(first), speeds.begin() + long(k),
+                      std::sqrt(0.5 * acceleration * length));
+            first = k, length = 0;
+        }
+        if (k == vectors.size()) break;
+        length += lengthOf(vectors[k]);
+        if (goesOn)
+            length +=
+                std::hypot(vectors[k].x0 - vectors[k - 1].x1, vectors[k].y0 - vectors[k - 1].y1);
+    }
+    return speeds;
 }
 
 void fitVectors(std::vector<LaserVector>& vectors, const LaserLimits& limits, LimitFit& fit) {
-    std::vector<LaserVector> out, chain;
+    std::vector<LaserVector> kept, out, chain;
     for (const LaserVector& v : vectors) {
-        if (!(v.power > 0) || !(v.speed > 0) || !(lengthOf(v) > 0)) {
+        if (!(v.power > 0) || !(v.speed > 0) || !(lengthOf(v) > 0))
             ++fit.droppedNegligible;  // no energy, or nothing to scan
-            continue;
-        }
-        if (!chain.empty() && !continues(chain.back(), v)) {
-            fitChain(chain, limits, out, fit);
+        else
+            kept.push_back(v);
+    }
+    const std::vector<double> pathSpeed = pathSpeeds(kept, limits.jumpAcceleration);
+    for (size_t k = 0; k < kept.size(); ++k) {
+        if (!chain.empty() && !continues(chain.back(), kept[k])) {
+            fitChain(chain, limits, pathSpeed[k - 1], out, fit);
             chain.clear();
         }
-        chain.push_back(v);
+        chain.push_back(kept[k]);
     }
-    if (!chain.empty()) fitChain(chain, limits, out, fit);
+    if (!chain.empty()) fitChain(chain, limits, pathSpeed.back(), out, fit);
     vectors = std::move(out);
 }
 
@@ -229,6 +272,7 @@ LaserLimits laserLimits(const Machine& machine, double beamRadius, double neglig
     limits.processSpeed = machine.scanner.process.speed;
     limits.beamRadius = beamRadius;
     limits.negligibleDose = negligibleDose;
+    limits.jumpAcceleration = machine.scanner.machine.acceleration;
     return limits;
 }
 
@@ -242,25 +286,18 @@ nlohmann::json LimitFit::toJson() const {
             {"dropped_below_min_power", droppedBelowMinPower},
             {"raised_to_min_power", raisedToMinPower},
             {"points_as_vectors", pointsAsVectors},
-            {"dwell_points", dwellPoints},
-            {"dot_rows_per_line", rowsMerged}};
+            {"dwell_points", dwellPoints}};
 }
 
 LimitFit fitPlanToLimits(ScanPlan& plan, const LaserLimits& limits, double dotPitch) {
     if (!(limits.powerMax > 0) || !(limits.processSpeed > 0) || !(limits.beamRadius > 0))
         throw InputError("laser limits need a positive power, process speed and beam radius");
     LimitFit fit;
-    // One grid row per scan line: merging rows on a fixed lattice aliases the line patterns the
-    // optimisers produce (measured on laser-l-shape's inverse plan: 60 um lines on a 40 um
-    // lattice beat into 120 um stripes and the IoU fell from 0.972 to 0.923).
-    const int merge = 1;
-    fit.rowsMerged = merge;
     for (LayerPlan& layer : plan.layers) {
+        // Dots first become chains, so that negligible dots inside a row keep it going.
+        if (dotPitch > 0 && !layer.points.empty()) dotsToChains(layer, dotPitch, fit);
         dropNegligibleDots(layer.points, limits, fit);
-        if (dotPitch > 0 && !layer.points.empty())
-            dotsToChains(layer, dotPitch, merge, fit);
-        else
-            fit.dwellPoints += (long long)layer.points.size();
+        fit.dwellPoints += (long long)layer.points.size();
         fitVectors(layer.vectors, limits, fit);
     }
     plan.machine.laserPowerMin = limits.powerMin;

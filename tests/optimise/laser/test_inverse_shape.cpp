@@ -136,3 +136,66 @@ TEST_CASE("the shape planner is never worse than its start", "[optimise][inverse
     CHECK(r.objectiveFinal < 0.5 * r.objectiveStart);
     CHECK_FALSE(r.plan.layers[1].points.empty());
 }
+
+TEST_CASE("with an edge band only the edges move, and J is measured on the machine's plan",
+          "[optimise][inverse]") {
+    // A 0.6 mm square (a middle deeper than the band) hatched by ACES on both layers.
+    const std::vector<geometry::PolygonSet> square(
+        2, geometry::PolygonSet::rectangle({0, 0}, {0.6, 0.6}));
+    std::vector<geometry::PolygonSet> slices;
+    for (const auto& r : square) slices.insert(slices.end(), 2, r);
+    plan::AcesParameters a;
+    a.beamRadius = BEAM.radius, a.attenuationLength = BEAM.attenuationLength;
+    a.criticalDose = EC, a.layerThickness = LT, a.laserPower = 10.0;
+    plan::ScanPlan start;
+    for (size_t k = 0; k < 2; ++k)
+        start.layers.push_back(
+            plan::planAcesLayer(square[k], plan::designAces(a, square[k]), 10.0, (k + 1) * LT));
+    optimise::ShapeParameters p;
+    p.slicesPerLayer = 2, p.iterations = 10, p.coarseIterations = 20, p.edgeBand = 0.1;
+    int fits = 0;
+    auto toMachine = [&](plan::ScanPlan& plan) {  // stands for the limits' fit: marks it
+        ++fits;
+        for (auto& layer : plan.layers) layer.points.push_back({0, 0, 1.25e-7});  // a tag
+    };
+    auto r =
+        optimise::planInverseShape(square, slices, start, 0.01, 0.02, p, BEAM, LT, EC, toMachine);
+    CHECK(r.objectiveFinal <= r.objectiveStart);
+    REQUIRE_FALSE(r.keptStart);
+    CHECK(fits == 1);
+    // The start's marks deeper than the band are in the plan as they were; every dot lies
+    // within the band of the contour (or is the fit's mark).
+    const geometry::PolygonSet deep = square[0].offset(-p.edgeBand);
+    for (size_t k = 0; k < 2; ++k) {
+        size_t held = 0, kept = 0;
+        for (const auto& v : start.layers[k].vectors) {
+            if (!deep.contains({0.5 * (v.x0 + v.x1), 0.5 * (v.y0 + v.y1)})) continue;
+            ++held;
+            for (const auto& w : r.plan.layers[k].vectors)
+                kept += w.x0 == v.x0 && w.y0 == v.y0 && w.x1 == v.x1 && w.y1 == v.y1 &&
+                        w.power == v.power && w.speed == v.speed;
+        }
+        CHECK(held > 0);
+        CHECK(kept == held);
+        bool fitMark = false;
+        for (const auto& d : r.plan.layers[k].points) {
+            fitMark = fitMark || d.energy == 1.25e-7;
+            CHECK_FALSE(deep.contains({d.x, d.y}));
+        }
+        CHECK(fitMark);  // the returned plan is the one the fit made
+    }
+    // J_final is the J of that plan (the tag included) on a fresh engine.
+    exposure::ExposureGrid grid = optimise::planningGrid(square, BEAM.radius, 0.01);
+    grid.slicesPerLayer = 2;
+    exposure::ExposureEngine model(grid, BEAM, LT);
+    optimise::ShapeTargets targets =
+        optimise::shapeTargets(grid, LT, BEAM.attenuationLength, slices, EC, p);
+    std::vector<exposure::SurfaceGrid> s(2, grid.surface()), f(2, grid.surface());
+    for (int k = 0; k < 2; ++k) {
+        exposure::depositLayer(start.layers[k], s[k]);
+        exposure::depositLayer(r.plan.layers[k], f[k]);
+    }
+    optimise::levelTargets(targets, model.stack(s));
+    CHECK(optimise::shapeObjective(targets, model.stack(f)) ==
+          Approx(r.objectiveFinal).epsilon(1e-6));
+}

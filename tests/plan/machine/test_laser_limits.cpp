@@ -135,3 +135,58 @@ TEST_CASE("a target dose the machine cannot deliver is refused with what to chan
     machine.laserPowerMin = 1.0;
     CHECK_NOTHROW(checkDoseReachable(machine, 0.1, 0.05));
 }
+
+TEST_CASE("a scan path runs at the speed that minimises its build time", "[plan]") {
+    // A serpentine field of 2 mm lines, 50 um apart, at 0.02 mJ/mm (0.6 mW at 30 mm/s): brute
+    // force over one common speed for all lines, through the build-time model, against the fit.
+    const int lines = 20;
+    ScanPlan field;
+    field.machine.laserPower = 10;
+    LayerPlan layer;
+    for (int k = 0; k < lines; ++k) {
+        const double y = 0.05 * k, x0 = k % 2 ? 2.0 : 0.0;
+        layer.vectors.push_back({x0, y, 2.0 - x0, y, 0.6, 30.0});
+    }
+    field.layers = {layer};
+    const BuildTimeOptions options;
+    auto timeAt = [&](double speed) {
+        ScanPlan trial = field;
+        for (LaserVector& v : trial.layers[0].vectors) v.power *= speed / v.speed, v.speed = speed;
+        return estimateBuildTime(trial, options).total();
+    };
+    double best = INFINITY;
+    for (double speed = 10; speed <= 300; speed += 1) best = std::min(best, timeAt(speed));
+    LaserLimits l = limits();
+    l.jumpAcceleration = options.scanner.machine.acceleration;
+    ScanPlan fitted = field;
+    fitPlanToLimits(fitted, l);
+    const double time = estimateBuildTime(fitted, options).total();
+    INFO("fitted " << time << " s, best common speed " << best << " s, at the process speed "
+                   << timeAt(300) << " s");
+    CHECK(time <= best * 1.01);
+    CHECK(time < 0.8 * timeAt(300));  // the reversals at 300 mm/s cost more than the marks
+    for (size_t k = 0; k < fitted.layers[0].vectors.size(); ++k)
+        CHECK(lineEnergy(fitted.layers[0].vectors[k]) == Approx(0.02));
+    // Each line is its own path (they do not chain): sqrt(a L / 2).
+    CHECK(fitted.layers[0].vectors[0].speed == Approx(std::sqrt(0.5 * 20000.0 * 2.0)));
+}
+
+TEST_CASE("a dot row with a gap is one scan path; negligible dots inside it are kept", "[plan]") {
+    ScanPlan plan;
+    plan.machine.laserPower = 10;
+    LayerPlan layer;
+    const double pitch = 0.02;
+    // 30 dots along x with dots 10 and 11 missing and dot 20 negligible.
+    for (int i = 0; i < 30; ++i)
+        if (i != 10 && i != 11) layer.points.push_back({i * pitch, 0, i == 20 ? 1e-12 : 2e-4});
+    plan.layers = {layer};
+    LaserLimits l = limits();
+    l.jumpAcceleration = 20000;
+    const LimitFit fit = fitPlanToLimits(plan, l, pitch);
+    const auto& out = plan.layers[0].vectors;
+    CHECK(fit.droppedNegligible == 0);
+    REQUIRE(out.size() == 28);
+    // One path of 30 pitches (the gap included): one speed sqrt(a L / 2) for both runs.
+    for (const LaserVector& v : out) CHECK(v.speed == Approx(std::sqrt(0.5 * 20000 * 30 * pitch)));
+    CHECK(lineEnergy(out[18]) == Approx(1e-12 / pitch));  // the negligible dot, kept
+}

@@ -3,7 +3,8 @@
 // own trapezoidal or triangular velocity profile under the machine limits, a jump as long as its
 // slower axis. The integration drives each axis in small time steps with a bang-bang feedback
 // law (accelerate or brake at the limit, hold at the speed limit, follow the final constant-
-// acceleration arc into the target state), so it shares no closed form with scanner.cpp.
+// acceleration arc into the target state), so it shares no closed form with scanner.cpp. Plans
+// of hatching and of dot rows fitted to the limits (plan/machine/laser_limits.h).
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 
 #include "vpsim/plan/aces/aces.h"
 #include "vpsim/plan/machine/build_time.h"
+#include "vpsim/plan/machine/laser_limits.h"
 #include "vpsim/plan/machine/trajectory.h"
 
 using namespace vpsim;
@@ -94,6 +96,22 @@ double integrateLayer(const std::vector<ScanMove>& moves, const AxisLimits& mach
     return t + runOut;
 }
 
+/// The model's mark and jump time of a layer's trajectory (10 mW dwells) against the integrated
+/// motion, on a plan with more than 20 jumps and no mark above the process speed.
+void checkAgainstIntegration(const LayerPlan& layer) {
+    const BuildTimeOptions options;
+    const LayerTrajectory trajectory = buildLayerTrajectory(layer, 10.0, {});
+    const LayerTime model = layerMoveTime(trajectory.moves, options);
+    const double integrated = integrateLayer(trajectory.moves, options.scanner.machine);
+    INFO("model " << model.mark + model.jump << " s, integrated " << integrated << " s over "
+                  << model.jumps << " jumps");
+    REQUIRE(model.jumps > 20);
+    CHECK(model.marksAboveProcessSpeed == 0);
+    // Each jump's integration ends within a step of its target: at most a few DT per jump.
+    CHECK(model.mark + model.jump == Approx(integrated).margin(4 * DT * double(model.jumps + 2)));
+    CHECK(model.mark + model.jump == Approx(integrated).epsilon(1e-3));
+}
+
 }  // namespace
 
 TEST_CASE("one axis: the closed form against the integrated motion", "[plan]") {
@@ -123,15 +141,31 @@ TEST_CASE("build time of a small plan agrees with the integrated motion", "[plan
     const auto hatch = hatchRegion(region.offset(-0.05), 0.05, 0.3, 2.0, 250.0);
     layer.vectors.insert(layer.vectors.end(), hatch.begin(), hatch.end());
     layer.points.push_back({4, 0, 0.01});
+    checkAgainstIntegration(layer);
+}
+
+TEST_CASE("build time of a fitted dot plan agrees with the integrated motion", "[plan]") {
+    // Dot rows of an optimiser (a disc of dots 20 um apart with some dots missing and some
+    // negligible), fitted to the limits: power-modulated scan lines at their paths' speeds, gaps
+    // crossed at speed, reversals between lines, isolated dots as dwells.
+    LayerPlan layer;
+    const double pitch = 0.02;
+    for (int j = -10; j <= 10; ++j)
+        for (int i = -10; i <= 10; ++i) {
+            if (i * i + j * j > 100 || (i == 3 && j % 3 == 0)) continue;
+            const double energy = (i + j) % 7 == 0 ? 1e-12 : 1e-4 * (1 + 0.5 * std::sin(i + j));
+            layer.points.push_back({i * pitch, j * pitch, energy});
+        }
+    layer.points.push_back({1, 1, 1e-4});  // isolated: a dwell
+    ScanPlan plan;
+    plan.machine.laserPower = 10;
+    plan.layers = {layer};
     const BuildTimeOptions options;
-    const LayerTrajectory trajectory = buildLayerTrajectory(layer, 10.0, {});
-    const LayerTime model = layerMoveTime(trajectory.moves, options);
-    const double integrated = integrateLayer(trajectory.moves, options.scanner.machine);
-    INFO("model " << model.mark + model.jump << " s, integrated " << integrated << " s over "
-                  << model.jumps << " jumps");
-    REQUIRE(model.jumps > 20);
-    CHECK(model.marksAboveProcessSpeed == 0);
-    // Each jump's integration ends within a step of its target: at most a few DT per jump.
-    CHECK(model.mark + model.jump == Approx(integrated).margin(4 * DT * double(model.jumps + 2)));
-    CHECK(model.mark + model.jump == Approx(integrated).epsilon(1e-3));
+    LaserLimits limits;
+    limits.powerMax = 10, limits.processSpeed = options.scanner.process.speed;
+    limits.beamRadius = 0.05, limits.negligibleDose = 0.001;
+    limits.jumpAcceleration = options.scanner.machine.acceleration;
+    fitPlanToLimits(plan, limits, pitch);
+    REQUIRE(!plan.layers[0].points.empty());  // the isolated dot at least
+    checkAgainstIntegration(plan.layers[0]);
 }

@@ -24,6 +24,7 @@
 /// plan is never worse than the start on J, measured on the plans themselves: if the best iterate
 /// is not below J(start), the start is returned. Units: mm, mJ, mJ/mm^2.
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -45,6 +46,11 @@ struct ShapeParameters {
     /// Iterations first on the grid whose cells are the dots (the same variables, each about
     /// 1/stride^3 of a fine one); 0 skips it.
     int coarseIterations = 800;
+    /// mm: 0 moves every mark of the start onto the dots; > 0 optimises only the dots within
+    /// this distance of each layer's contour (the edges), onto which the start's marks there
+    /// move (a dot, or a vector whose every point is that near), the other marks held as they
+    /// are (DFBTP's middle area with `edges: shape`).
+    double edgeBand = 0;
 };
 
 /// Per-voxel targets of J on a grid's voxel slices (index k n + s, as an ExposureField).
@@ -83,7 +89,10 @@ public:
     ShapeProblem(exposure::ExposureModel& model, const ShapeTargets& targets,
                  std::vector<std::vector<size_t>> dots);
     size_t size() const { return mSize; }
-    /// The per-layer deposits of x (mJ/mm^2).
+    /// Deposits held as they are (mJ/mm^2 per layer: the marks the dots do not take over),
+    /// added to every x's; none by default.
+    void holdFixed(std::vector<exposure::SurfaceGrid> fixed) { mFixed = std::move(fixed); }
+    /// The per-layer deposits of x (mJ/mm^2), the fixed ones included.
     std::vector<exposure::SurfaceGrid> deposits(const std::vector<double>& x) const;
     double value(const std::vector<double>& x) const;
     /// The 3D exposure field of x.
@@ -104,7 +113,10 @@ private:
     exposure::ExposureModel& mModel;
     const ShapeTargets& mTargets;
     std::vector<std::vector<size_t>> mDots;
+    std::vector<exposure::SurfaceGrid> mFixed;
     std::vector<size_t> mOffset;  ///< first variable of each layer
+    /// The dots' deposits alone (the linear part of the map).
+    std::vector<exposure::SurfaceGrid> dotDeposits(const std::vector<double>& x) const;
     size_t mSize = 0;
     double mCellArea = 0;
 };
@@ -119,15 +131,22 @@ struct ShapeResult {
     size_t dots = 0;
 };
 
+/// Turns a plan of dots into what the machine runs (plan::fitPlanToLimits: dot rows as
+/// power-modulated vectors, negligible dots dropped).
+using MachineFit = std::function<void(plan::ScanPlan&)>;
+
 /// Plans every layer at once from `start` (one layer per region, bottom first; its layer z are
-/// kept). `regions` give the dots' area (within half a dot pitch); `sliceRegions` the part at
-/// every objective slice (see shapeTargets). Dots on every `dotPitch` / `gridPitch`-th cell of
-/// planningGrid(regions, We3D, gridPitch).
+/// kept). The optimised dots go through `toMachine` (when given) before the returned plan is
+/// measured against the start, so J_final is the objective of the plan the machine runs. `regions`
+/// give the dots' area (within half a dot pitch); `sliceRegions` the part at every objective slice
+/// (see shapeTargets). Dots on every `dotPitch` / `gridPitch`-th cell of planningGrid(regions,
+/// We3D, gridPitch).
 /// @throw InputError for impossible parameters
 ShapeResult planInverseShape(const std::vector<geometry::PolygonSet>& regions,
                              const std::vector<geometry::PolygonSet>& sliceRegions,
                              const plan::ScanPlan& start, double gridPitch, double dotPitch,
                              const ShapeParameters& parameters, const kernel::FittedBeam& beam,
-                             double layerThickness, double criticalDose);
+                             double layerThickness, double criticalDose,
+                             const MachineFit& toMachine = {});
 
 }  // namespace vpsim::optimise

@@ -9,15 +9,21 @@
 /// - a chain of collinear vectors that continue one another (a hatch line cut into pieces, a row
 ///   of dots) runs at one speed, and each piece's power gives it its energy at that speed: the
 ///   process limit along its direction, or slower where the laser's full power cannot give its
-///   densest piece its energy at it; a chain spanning more than the power range is cut into
-///   runs that each fit it;
+///   densest piece its energy at it (and no faster than its scan path's speed, below); a chain
+///   spanning more than the power range is cut into runs that each fit it;
+/// - a scan path (vectors in plan order that chain, or continue one scan line after a gap) that
+///   ends in a stop runs no faster than sqrt(a L / 2), a the jumps' acceleration and L the
+///   path's length: the speed that minimises its mark time L / v plus the 2 v / a of braking and
+///   re-accelerating at its end (a dense field of short lines spends its time in reversals
+///   otherwise), and no slower than its weakest piece's energy at the minimum power allows;
 /// - rows of dots on a grid (the inverse planner, DFBTP's corners) become such chains, one
 ///   segment of one pitch per dot (dose modulated along vectors by power), along x or y,
 ///   whichever gives fewer chains. An isolated dot stays a dwell at the laser's power (dose by
 ///   dwell time);
 /// - a vector or dot whose own peak dose is below `negligibleDose` is dropped (not scanned at
-///   kilometres per second); one whose power would fall below the minimum is raised to it when
-///   it needs at least half of it, and dropped otherwise.
+///   kilometres per second), except inside a chain, where it keeps its small power so that the
+///   scan line goes on without a jump; one whose power would fall below the minimum is raised to it
+///   when it needs at least half of it, and dropped otherwise.
 /// checkDoseReachable() refuses a job whose target dose cannot be delivered within the limits
 /// before anything is planned. Units: mm, s, mW, mJ (dose mJ/mm^2).
 
@@ -36,9 +42,13 @@ struct LaserLimits {
     /// mJ/mm^2 of delivered dose: a vector or dot whose own peak (sqrt(2/pi) (P/v)/W for a line,
     /// 2 E/(pi W^2) for a dot) stays below it is dropped; 0 drops nothing.
     double negligibleDose = 0;
+    /// mm/s^2 per axis of the jumps (`machine.scanner.machine_acceleration`), for the speed of a
+    /// scan path (see the file comment); 0 runs every mark as fast as the limits allow.
+    double jumpAcceleration = 0;
 };
 
-/// The limits of `machine` for a beam of radius `beamRadius` (mm); `negligibleDose` as above.
+/// The limits of `machine` (its jump acceleration included) for a beam of radius `beamRadius`
+/// (mm); `negligibleDose` as above.
 LaserLimits laserLimits(const Machine& machine, double beamRadius, double negligibleDose);
 
 /// Largest path speed (mm/s) of a mark from (x0, y0) to (x1, y1) whose axis speeds stay within
@@ -52,9 +62,8 @@ struct LimitFit {
     long long raisedToMinPower = 0;      ///< vectors run at the minimum power (more dose)
     long long pointsAsVectors = 0;       ///< dots turned into segments of a chain
     long long dwellPoints = 0;           ///< isolated dots kept as dwells
-    int rowsMerged = 1;                  ///< grid rows of dots per scan line (k)
     /// {"dropped_negligible", "dropped_below_min_power", "raised_to_min_power",
-    /// "points_as_vectors", "dwell_points", "dot_rows_per_line"}
+    /// "points_as_vectors", "dwell_points"}
     nlohmann::json toJson() const;
 };
 
