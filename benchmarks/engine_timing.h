@@ -3,7 +3,10 @@
 // whole run of a slab (on the shader path upload, dispatch, readback and the slices' hand-over to
 // a sink that does nothing included) less the time of depositing its layers, the same CPU code on
 // both paths, so the figure is the engine's own. Best of `repeats` runs, the paths alternating so
-// that drift of the shared machine hits both. Each run's process CPU time (every thread's,
+// that drift of the shared machine hits both. The deposit's best time is subtracted from each
+// path's best run: on a heavily loaded machine (load 20 on 2 cores) the two minima can come from
+// different luck and the fitted engine's small figure can even turn negative; its CPU-time
+// figures below are then the ones to read. Each run's process CPU time (every thread's,
 // lavapipe's included) is kept too: on a loaded machine it shows the work apart from the waits for
 // a core.
 #include <sys/resource.h>
