@@ -3,9 +3,11 @@
 // Prints JSON: seconds per stage, voxels per second, peak memory, and the ratio to the
 // memory-bandwidth floor (touching every voxel's 4 bytes once at ~30 GB/s, docs/PLATFORM.md), plus
 // both engines' CPU and shader paths measured in the same run, back to back, on a slab of 10
-// layers: cpu_ns_per_voxel and shader_ns_per_voxel keyed "fitted" / "tabulated" (wall time of the
-// whole slab per voxel: deposit, upload, dispatch, readback and the slices' hand-over included; the
-// best of `repeats` alternating runs of each path, so drift of the shared machine hits both).
+// layers: cpu_ns_per_voxel and shader_ns_per_voxel keyed "fitted" / "tabulated" (the engine's wall
+// time over the whole slab per voxel, upload, dispatch, readback and the slices' hand-over
+// included, the deposit's time taken out: engine_timing.h; the best of `repeats` alternating runs
+// of each path, so drift of the shared machine hits both), and the same with the deposit
+// (*_with_deposit).
 //
 // bench_exposure [engines] [--repeats N] [--side MM] [--engine NAME]: "engines" runs only the
 // engine comparison (of one engine with --engine), on a slab of side MM (default 10).
@@ -26,6 +28,8 @@
 #include "vpsim/exposure/tabulated_engine.h"
 #include "vpsim/gpu/context.h"
 #include "vpsim/plan/aces/aces.h"
+
+#include "engine_timing.h"
 
 namespace {
 
@@ -106,32 +110,35 @@ void blockFigures(nlohmann::json& out, const exposure::ExposureGrid& grid,
 using EngineFactory =
     std::function<std::unique_ptr<exposure::ExposureModel>(std::shared_ptr<gpu::Context>)>;
 
-/// ns per voxel of the CPU and shader paths of one engine on `slab`, best of `repeats` runs each,
-/// alternating; the engines are built outside the timing (stencils, pipelines).
+/// ns per voxel of the CPU and shader paths of one engine on `slab` (engine_timing.h); the engines
+/// are built outside the timing (stencils, pipelines).
 void compareEngine(nlohmann::json& out, const std::string& name, const EngineFactory& make,
                    const plan::ScanPlan& slab, const std::shared_ptr<gpu::Context>& context,
                    int repeats) {
     auto cpu = make(nullptr);
-    const exposure::ExposureGrid& g = cpu->grid();
-    const double voxels = double(g.nx) * g.ny * g.slicesPerLayer * slab.layers.size();
-    auto sinkNothing = [](const exposure::ExposureSlice&) {};
+    const double voxels = bench::slabVoxels(cpu->grid(), slab);
+    std::vector<exposure::ExposureModel*> engines{cpu.get()};
     std::unique_ptr<exposure::ExposureModel> shader;
-    if (context) shader = make(context);
-    double bestCpu = 1e300, bestShader = 1e300;
-    for (int r = 0; r < repeats; ++r) {
-        auto t = std::chrono::steady_clock::now();
-        cpu->run(slab, sinkNothing);
-        bestCpu = std::min(bestCpu, seconds(t));
-        if (!shader) continue;
-        t = std::chrono::steady_clock::now();
-        shader->run(slab, sinkNothing);
-        bestShader = std::min(bestShader, seconds(t));
+    if (context) {
+        shader = make(context);
+        engines.push_back(shader.get());
     }
+    const bench::EngineTimes t = bench::timeEngines(engines, slab, repeats);
+    const double bestCpu = t.runs[0] - t.deposit;
     out["slab_voxels"][name] = voxels;
+    out["deposit_ns_per_voxel"][name] = t.deposit / voxels * 1e9;
     out["cpu_ns_per_voxel"][name] = bestCpu / voxels * 1e9;
+    out["cpu_ns_per_voxel_with_deposit"][name] = t.runs[0] / voxels * 1e9;
     if (!shader) return;
+    const double bestShader = t.runs[1] - t.deposit;
     out["shader_ns_per_voxel"][name] = bestShader / voxels * 1e9;
+    out["shader_ns_per_voxel_with_deposit"][name] = t.runs[1] / voxels * 1e9;
     out["shader_over_cpu"][name] = bestShader / bestCpu;
+    // The same from process CPU time (every thread's): the work, apart from waits for a core.
+    out["cpu_path_cpu_ns_per_voxel"][name] = (t.cpuRuns[0] - t.cpuDeposit) / voxels * 1e9;
+    out["shader_path_cpu_ns_per_voxel"][name] = (t.cpuRuns[1] - t.cpuDeposit) / voxels * 1e9;
+    out["shader_over_cpu_in_cpu_time"][name] =
+        (t.cpuRuns[1] - t.cpuDeposit) / (t.cpuRuns[0] - t.cpuDeposit);
 }
 
 }  // namespace

@@ -5,8 +5,9 @@
 //   expose, cure, validate, report), ratio_to_memory_floor (expose+cure+validate against touching
 //   every voxel's 4 bytes once at ~30 GB/s), peak_memory_GiB (this process's peak RSS),
 //   cpu_ns_per_voxel and shader_ns_per_voxel keyed by engine ("fitted", "tabulated": each engine
-//   alone on a slab of the same grid, deposit and sinks excluded; the shaders on the Vulkan device
-//   found, lavapipe on a CPU-only machine, upload, dispatch and readback included; null when none).
+//   alone on a slab of the same grid, the paths alternating, wall time with the deposit taken out
+//   (engine_timing.h); the shaders on the Vulkan device found, lavapipe on a CPU-only machine,
+//   upload, dispatch and readback included; null when none).
 // Targets (issue 22, 2 cores): expose+cure+validate < 1.8 s, every stage after the plan < 4 s,
 // peak < 1 GiB without a .vdb. Usage:
 //   bench_pipeline [--vulkan]            the default run (under 5 minutes)
@@ -35,6 +36,8 @@
 #include "vpsim/gpu/context.h"
 #include "vpsim/pipeline/run_job.h"
 #include "vpsim/plan/aces/aces.h"
+
+#include "engine_timing.h"
 
 namespace {
 
@@ -88,10 +91,8 @@ nlohmann::json runBlock(double size, double height, bool vulkan) {
     return out;
 }
 
-/// The engines alone on `layers` ACES layers of a square of side `side` mm on the bench's grid
-/// (10 um, 5 slices per 50 um layer): ns per voxel, slices handed to a sink that does nothing.
-double engineNsPerVoxel(exposure::ExposureModel& engine, int layers, double side) {
-    const exposure::ExposureGrid& grid = engine.grid();
+/// `layers` ACES layers of a square of side `side` mm (the bench's 50 um layers, 25 um hatch).
+plan::ScanPlan squareSlab(int layers, double side) {
     plan::ScanPlan plan;
     plan.machine.layerThickness = 0.05;
     const auto square = geometry::PolygonSet::rectangle({0, 0}, {side, side});
@@ -101,9 +102,7 @@ double engineNsPerVoxel(exposure::ExposureModel& engine, int layers, double side
         layer.vectors = plan::hatchRegion(square, 0.025, 0.0, 10.0, 400.0);
         plan.layers.push_back(layer);
     }
-    const double seconds = engine.run(plan, [](const exposure::ExposureSlice&) {});
-    const double voxels = double(grid.nx) * grid.ny * grid.slicesPerLayer * layers;
-    return seconds / voxels * 1e9;
+    return plan;
 }
 
 /// Seed 000 Eq. 12's separable kernel as a table (what a Monte Carlo kernel's fit gives):
@@ -127,20 +126,39 @@ kernel::BeamKernel tableOf(const kernel::FittedBeam& beam, double power) {
     return k;
 }
 
-nlohmann::json engineFigures(std::shared_ptr<gpu::Context> context) {
+/// Both engines' CPU and shader paths (the shaders on `context`; none when null) on 4 layers of
+/// a 2 mm square on the bench grid's pitch and slices (~1e6 voxels): ns per voxel of the engine's
+/// wall time, upload, dispatch and readback included, the deposit taken out (engine_timing.h),
+/// best of 3 alternating runs.
+void engineFigures(nlohmann::json& out, const std::shared_ptr<gpu::Context>& context) {
     const kernel::FittedBeam beam{0.063, 0.037};
-    // 2 mm squares, 4 layers: a slab of the bench grid's pitch and slices (~1e6 voxels).
     const auto grid = exposure::ExposureGrid::covering(0, 0, 2, 2, 0.2, 0.01, 5);
-    nlohmann::json out;
+    const plan::ScanPlan slab = squareSlab(4, 2.0);
+    const double voxels = bench::slabVoxels(grid, slab);
+    auto figures = [&](const std::string& name, exposure::ExposureModel& cpu,
+                       exposure::ExposureModel* shader) {
+        std::vector<exposure::ExposureModel*> engines{&cpu};
+        if (shader) engines.push_back(shader);
+        const bench::EngineTimes t = bench::timeEngines(engines, slab, 3);
+        out["cpu_ns_per_voxel"][name] = (t.runs[0] - t.deposit) / voxels * 1e9;
+        out["shader_ns_per_voxel"][name] =
+            shader ? nlohmann::json((t.runs[1] - t.deposit) / voxels * 1e9) : nlohmann::json();
+    };
     {
-        exposure::ExposureEngine engine(grid, beam, 0.05, context);
-        out["fitted"] = engineNsPerVoxel(engine, 4, 2.0);
+        exposure::ExposureEngine cpu(grid, beam, 0.05);
+        std::unique_ptr<exposure::ExposureEngine> shader;
+        if (context) shader = std::make_unique<exposure::ExposureEngine>(grid, beam, 0.05, context);
+        figures("fitted", cpu, shader.get());
     }
     {
-        exposure::TabulatedExposureEngine engine(grid, tableOf(beam, 10.0), 0.05, context);
-        out["tabulated"] = engineNsPerVoxel(engine, 4, 2.0);
+        const kernel::BeamKernel table = tableOf(beam, 10.0);
+        exposure::TabulatedExposureEngine cpu(grid, table, 0.05);
+        std::unique_ptr<exposure::TabulatedExposureEngine> shader;
+        if (context)
+            shader =
+                std::make_unique<exposure::TabulatedExposureEngine>(grid, table, 0.05, context);
+        figures("tabulated", cpu, shader.get());
     }
-    return out;
 }
 
 }  // namespace
@@ -174,13 +192,13 @@ int main(int argc, char** argv) {
         out["targets"] = {{"expose_cure_validate_seconds", 1.8},
                           {"after_plan_seconds", 4.0},
                           {"peak_memory_GiB", 1.0}};
-        out["cpu_ns_per_voxel"] = engineFigures(nullptr);
+        std::shared_ptr<gpu::Context> shaderDevice;
         try {
-            out["shader_ns_per_voxel"] = engineFigures(gpu::Context::create());
+            shaderDevice = gpu::Context::create();
         } catch (const Error& e) {
-            out["shader_ns_per_voxel"] = {{"fitted", nullptr}, {"tabulated", nullptr}};
             out["shader_error"] = e.what();
         }
+        engineFigures(out, shaderDevice);
         if (scaling) {
             // Cubes of side s and height s/2 at 10 um: voxels ~ (100 s + 2 margin)^2 * 50 s.
             nlohmann::json series = nlohmann::json::array();

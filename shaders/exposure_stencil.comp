@@ -7,7 +7,9 @@
 // at offsets that depend on a loop: each invocation sums 8 rows of one column in 8 named
 // accumulators over a window of 8 deposit values sliding down the column, so each weight load
 // feeds 8 multiply-adds and each fetch 8 more; the deposit is a texel buffer (one vector gather per
-// fetch), zero-padded so no fetch needs a bounds check; the weights are a uniform block.
+// fetch), zero-padded so no fetch needs a bounds check; the weights are a uniform block. Each
+// stencil column runs only over its rows with a non-zero weight (a second small uniform block), so
+// the circular support is not swept as a square.
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 64) in;
 
@@ -18,7 +20,8 @@ layout(local_size_x = 64) in;
 layout(push_constant) uniform Push { ExposureStencilParams params; };
 layout(binding = 0) uniform samplerBuffer deposit;
 layout(std140, binding = 1) uniform Weights { vec4 weights[4096]; };
-layout(std430, binding = 2) buffer Slice { float slice[]; };
+layout(std140, binding = 2) uniform Columns { ivec4 columns[STENCIL_COLUMN_BLOCK / 2]; };
+layout(std430, binding = 3) buffer Slice { float slice[]; };
 
 float weight(int di, int dj, int H) {
     int k = stencilIndex(di, dj, H);
@@ -33,12 +36,16 @@ void main() {
     // weight w(di, t - H) is loaded once and adds d_r to output row j0 + r.
     const int first = (j0 + P - H) * pw + i + P;
     for (int di = -H; di <= H; ++di) {
-        int at = first + di;
+        // Rows first..last of column di (first > last: an empty column).
+        const int c = di + H;
+        const ivec4 pair = columns[c >> 1];
+        const int rowFirst = (c & 1) == 0 ? pair.x : pair.z, rowLast = (c & 1) == 0 ? pair.y : pair.w;
+        int at = first + di + rowFirst * pw;
         float d0 = texelFetch(deposit, at).r, d1 = texelFetch(deposit, at + pw).r;
         float d2 = texelFetch(deposit, at + 2 * pw).r, d3 = texelFetch(deposit, at + 3 * pw).r;
         float d4 = texelFetch(deposit, at + 4 * pw).r, d5 = texelFetch(deposit, at + 5 * pw).r;
         float d6 = texelFetch(deposit, at + 6 * pw).r, d7 = texelFetch(deposit, at + 7 * pw).r;
-        for (int t = 0; t <= 2 * H; ++t) {
+        for (int t = rowFirst; t <= rowLast; ++t) {
             const float w = weight(di, t - H, H);
             a0 += w * d0; a1 += w * d1; a2 += w * d2; a3 += w * d3;
             a4 += w * d4; a5 += w * d5; a6 += w * d6; a7 += w * d7;

@@ -11,16 +11,12 @@ layout(local_size_x = 1) in;
 layout(std430, binding = 0) buffer ProbeRngStreamParams { RngStreamParams probeRngStreamParams[]; };
 
 layout(std430, binding = 1) buffer ProbeExposureBlurParams { ExposureBlurParams probeExposureBlurParams[]; };
-layout(std430, binding = 2) buffer ProbeExposureRecursionParams {
-    ExposureRecursionParams probeExposureRecursionParams[];
-};
-layout(std430, binding = 3) buffer ProbePhotonParams { PhotonParams probePhotonParams[]; };
-layout(std430, binding = 4) buffer ProbeExposureStencilParams { ExposureStencilParams probeExposureStencilParams[]; };
+layout(std430, binding = 2) buffer ProbePhotonParams { PhotonParams probePhotonParams[]; };
+layout(std430, binding = 3) buffer ProbeExposureStencilParams { ExposureStencilParams probeExposureStencilParams[]; };
 
 void main() {
     probeRngStreamParams[0].seed = 0u;
     probeExposureBlurParams[0].nx = 0u;
-    probeExposureRecursionParams[0].count = 0u;
     probePhotonParams[0].seed = 0u;
     probeExposureStencilParams[0].nx = 0u;
 }

@@ -2,6 +2,13 @@
 #ifndef VPSIM_EXPOSURE_GLSL
 #define VPSIM_EXPOSURE_GLSL
 
+/// Floats in the fitted blur's uniform block of taps (exposure_blur.comp): half-widths up to 511.
+const int EXPOSURE_TAP_BLOCK = 1024;
+
+/// Stencil columns in exposure_stencil.comp's block of row ranges: half-widths up to 63, as its
+/// weight block allows.
+const int STENCIL_COLUMN_BLOCK = 128;
+
 /// Unnormalised weight of the Gaussian tap `offset` cells from the centre; sigmaCells = W/2/pitch
 /// (a 1/e^2 radius W is two standard deviations).
 float gaussianTap(int offset, float sigmaCells) {

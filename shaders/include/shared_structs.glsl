@@ -16,22 +16,15 @@ struct RngStreamParams {
     uint pad2;
 };
 
-/// Push constants of exposure_blur.comp: one 1D Gaussian pass along x (axis 0) or y (axis 1).
+/// Push constants of exposure_blur.comp: one Gaussian pass of the fitted kernel, along x from the
+/// zero-padded deposit into the pass buffer, or along y from the pass buffer into the running sum.
 struct ExposureBlurParams {
     uint nx;           ///< grid cells in x
     uint ny;           ///< grid cells in y
-    uint axis;         ///< 0: blur along x, 1: along y
-    int halfWidth;     ///< taps on each side of the centre
-    float sigmaCells;  ///< Gaussian standard deviation in cells
-    float norm;        ///< sum of the taps (gaussianNorm)
-    uint pad0;
-    uint pad1;
-};
-
-/// Push constants of exposure_recursion.comp.
-struct ExposureRecursionParams {
-    uint count;   ///< cells
-    float decay;  ///< exp(-h / De)
+    uint sourceWidth;  ///< row length of the pass's zero-padded source texels
+    uint targetWidth;  ///< row length of its target (the x pass's; the y pass writes nx-wide rows)
+    float norm;        ///< every sum is divided by it (the taps' sum; y: over the efficiency)
+    float decay;       ///< print-through factor exp(-h / De) of the y pass
     uint pad0;
     uint pad1;
 };

@@ -16,13 +16,19 @@
 namespace vpsim::exposure {
 namespace {
 
-/// One 1D Gaussian pass on the CPU: the same loop as shaders/exposure_blur.comp.
-void blurPassCpu(const SurfaceGrid& source, SurfaceGrid& target, int axis, int halfWidth,
-                 float sigmaCells, float norm) {
-    const int nx = source.nx, ny = source.ny;
+/// The blur's taps -halfWidth..halfWidth, shared by the CPU passes and the shaders' uniform block.
+std::vector<float> blurTaps(int halfWidth, float sigmaCells) {
     std::vector<float> taps(2 * halfWidth + 1);
     for (int o = -halfWidth; o <= halfWidth; ++o)
         taps[o + halfWidth] = glsl::gaussianTap(o, sigmaCells);
+    return taps;
+}
+
+/// One 1D Gaussian pass on the CPU: the same sums as shaders/exposure_blur.comp.
+void blurPassCpu(const SurfaceGrid& source, SurfaceGrid& target, int axis, int halfWidth,
+                 float sigmaCells, float norm) {
+    const int nx = source.nx, ny = source.ny;
+    const std::vector<float> taps = blurTaps(halfWidth, sigmaCells);
     // Each cell sums its taps in the order o = lo..hi, as the shader does; the loops run over
     // a row of cells per tap (contiguous, so the compiler vectorises them) instead of over the
     // taps per cell, which gives every cell the same sum in the same order.
@@ -82,36 +88,50 @@ ExposureEngine::ExposureEngine(const ExposureGrid& grid, const kernel::FittedBea
         throw ResourceError("exposure grid of " + std::to_string(grid.nx) + " x " +
                             std::to_string(grid.ny) + " cells needs " + formatBytes(bytes) +
                             " of working memory per layer; use a coarser pitch");
-    if (context) mGpu = std::make_unique<GpuState>(context, grid.nx, grid.ny);
+    if (context) {
+        const Blur blur = blurOf();
+        mGpu = std::make_unique<GpuState>(context, grid.nx, grid.ny,
+                                          blurTaps(blur.halfWidth, blur.sigmaCells), blur.normX,
+                                          blur.normY);
+    }
+}
+
+ExposureEngine::Blur ExposureEngine::blurOf() const {
+    Blur blur;
+    blur.sigmaCells = float(0.5 * mBeam.radius / mGrid.pitch);
+    blur.halfWidth = blurHalfWidth(mBeam.radius, mGrid.pitch);
+    // The efficiency scales the second pass's normalisation, so it costs nothing per tap.
+    blur.normX = glsl::gaussianNorm(blur.halfWidth, blur.sigmaCells);
+    blur.normY = float(blur.normX / mBeam.efficiency);
+    return blur;
 }
 
 ExposureEngine::~ExposureEngine() = default;
 
-void ExposureEngine::blurAndAccumulate(SurfaceGrid& deposit, SurfaceGrid& running, float decay,
-                                       double& seconds) {
-    const float sigmaCells = float(0.5 * mBeam.radius / mGrid.pitch);
-    const int halfWidth = blurHalfWidth(mBeam.radius, mGrid.pitch);
-    // The efficiency scales the second pass's normalisation, so it costs nothing per tap.
-    const float normX = glsl::gaussianNorm(halfWidth, sigmaCells);
-    const float normY = float(normX / mBeam.efficiency);
-    if (mGpu) {
-        seconds +=
-            mGpu->blurAndAccumulate(deposit, running, halfWidth, sigmaCells, normX, normY, decay);
-        return;
-    }
+void ExposureEngine::blurAndAccumulateCpu(SurfaceGrid& deposit, SurfaceGrid& running, float decay,
+                                          double& seconds) {
+    const Blur b = blurOf();
     auto start = std::chrono::steady_clock::now();
     SurfaceGrid pass(deposit.nx, deposit.ny, deposit.originX, deposit.originY, deposit.pitch);
-    blurPassCpu(deposit, pass, 0, halfWidth, sigmaCells, normX);
-    blurPassCpu(pass, deposit, 1, halfWidth, sigmaCells, normY);
+    blurPassCpu(deposit, pass, 0, b.halfWidth, b.sigmaCells, b.normX);
+    blurPassCpu(pass, deposit, 1, b.halfWidth, b.sigmaCells, b.normY);
     for (size_t c = 0; c < running.values.size(); ++c)
         running.values[c] = glsl::printThroughStep(deposit.values[c], running.values[c], decay);
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 SurfaceGrid ExposureEngine::layerMap(const SurfaceGrid& deposit, double depth) {
-    SurfaceGrid blurred = deposit, running = mGrid.surface();
-    double seconds = 0;
-    blurAndAccumulate(blurred, running, 0.0f, seconds);
+    SurfaceGrid running = mGrid.surface();
+    if (mGpu) {
+        // The device's running sum now holds this map: a run in progress re-uploads its own.
+        mGpu->addLayer(deposit, 0.0f, true);
+        mGpu->downloadRunning(running);
+        mGpuRunningStale = true;
+    } else {
+        SurfaceGrid blurred = deposit;
+        double seconds = 0;
+        blurAndAccumulateCpu(blurred, running, 0.0f, seconds);
+    }
     const float attenuation = float(std::exp(-depth / mBeam.attenuationLength));
     for (float& v : running.values) v *= attenuation;
     return running;
@@ -124,12 +144,22 @@ SurfaceGrid ExposureEngine::layerMapAdjoint(const SurfaceGrid& map, double depth
 void ExposureEngine::beginLayers(int layers) {
     mRunning = mGrid.surface();
     mSlice = mGrid.surface();
+    mGpuRestart = true;
+    mGpuRunningStale = false;
 }
 
 double ExposureEngine::addLayer(int k, SurfaceGrid& deposit) {
     const float decay = float(std::exp(-mLayerThickness / mBeam.attenuationLength));
     double seconds = 0;
-    blurAndAccumulate(deposit, mRunning, decay, seconds);
+    if (!mGpu) {
+        blurAndAccumulateCpu(deposit, mRunning, decay, seconds);
+        return seconds;
+    }
+    if (mGpuRunningStale) mGpu->setRunning(mRunning);
+    mGpuRunningStale = false;
+    seconds = mGpu->addLayer(deposit, decay, mGpuRestart);
+    mGpuRestart = false;
+    mGpu->downloadRunning(mRunning);
     return seconds;
 }
 

@@ -218,6 +218,7 @@ void TabulatedExposureEngine::buildStencils(const kernel::BeamKernel& kernel) {
 
 void TabulatedExposureEngine::beginLayers(int layers) {
     mAccumulators.assign(size_t(mLayersInFlight) * mGrid.slicesPerLayer, mGrid.surface());
+    if (mGpu) mGpu->clearSlots();
 }
 
 double TabulatedExposureEngine::addLayer(int source, SurfaceGrid& deposit) {

@@ -1,7 +1,6 @@
 #include "exposure/tabulated_gpu.h"
 
 #include <algorithm>
-#include <cstring>
 
 #include "exposure/exposure_glsl.h"
 #include "vpsim/core/error.h"
@@ -28,6 +27,25 @@ std::vector<float> weightBlock(const DepthStencil& st, int H) {
     return block;
 }
 
+/// Per stencil column di (index di + H): the first and last row index t = dj + H with a non-zero
+/// weight (0 and -1 for an empty column), two columns per ivec4, in a block of
+/// STENCIL_COLUMN_BLOCK columns.
+std::vector<int32_t> columnBlock(const DepthStencil& st) {
+    std::vector<int32_t> block(2 * glsl::STENCIL_COLUMN_BLOCK, 0);
+    const int H = st.halfWidth;
+    for (int di = -H; di <= H; ++di) {
+        int first = 0, last = -1;
+        for (int dj = -H; dj <= H; ++dj)
+            if (st.at(di, dj) != 0.0f) {
+                if (last < first) first = dj + H;
+                last = dj + H;
+            }
+        block[size_t(2 * (di + H))] = first;
+        block[size_t(2 * (di + H) + 1)] = last;
+    }
+    return block;
+}
+
 int paddedHalfWidth(const DepthStencil& st) {
     return st.halfWidth;
 }
@@ -49,10 +67,11 @@ TabulatedExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> contex
       padding(largestHalfWidth(stencils)),
       paddedWidth(uint32_t(roundUp(nx_, GROUP) + 2 * padding)),
       // The shader's window reads one row past the last stencil row.
-      padded(size_t(paddedWidth) * size_t(roundUp(ny_, ROWS) + 2 * padding + 1), 0.0f),
-      deposit(context, padded.size() * sizeof(float)),
+      deposit(context,
+              uint64_t(paddedWidth) * (roundUp(ny_, ROWS) + 2 * padding + 1) * sizeof(float)),
       kernel(context, exposure_stencil_spv, sizeof exposure_stencil_spv,
-             {gpu::Binding::UniformTexels, gpu::Binding::Uniform, gpu::Binding::Storage},
+             {gpu::Binding::UniformTexels, gpu::Binding::Uniform, gpu::Binding::Uniform,
+              gpu::Binding::Storage},
              sizeof(glsl::ExposureStencilParams), {}, GROUP) {
     for (const auto& st : stencils) {
         const int H = paddedHalfWidth(st);
@@ -63,21 +82,24 @@ TabulatedExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> contex
         halfWidths.push_back(H);
         weights.emplace_back(context, WEIGHT_BLOCK_FLOATS * sizeof(float));
         weights.back().upload(weightBlock(st, H));
+        columns.emplace_back(context, 2 * glsl::STENCIL_COLUMN_BLOCK * sizeof(int32_t));
+        columns.back().upload(columnBlock(st));
     }
-    for (int s = 0; s < slots; ++s) {
-        slices.emplace_back(context, uint64_t(nx) * ny * sizeof(float));
-        slices.back().fill(0u);
-    }
+    deposit.fill(0u);  // the border stays zero: uploads write the grid's cells only
+    for (int s = 0; s < slots; ++s) slices.emplace_back(context, uint64_t(nx) * ny * sizeof(float));
+    clearSlots();
 }
 
 double TabulatedExposureEngine::GpuState::addLayer(
     const SurfaceGrid& hostDeposit, const std::vector<std::pair<int, int>>& targets) {
-    for (uint32_t j = 0; j < ny; ++j)
-        std::memcpy(padded.data() + (size_t(j) + padding) * paddedWidth + padding,
-                    hostDeposit.values.data() + size_t(j) * nx, nx * sizeof(float));
-    deposit.upload(padded);
+    deposit.uploadRows(hostDeposit.values.data(), nx * sizeof(float), ny, nx * sizeof(float),
+                       (uint64_t(padding) * paddedWidth + padding) * sizeof(float),
+                       paddedWidth * sizeof(float));
     const uint32_t groupsX = (nx + GROUP - 1) / GROUP, groupsY = (ny + ROWS - 1) / ROWS;
     return 1e-3 * context->submit([&](gpu::Recorder& r) {
+        for (int slot : toClear) r.fill(slices[slot], 0u);
+        if (!toClear.empty()) r.barrier();
+        toClear.clear();
         for (const auto& [m, slot] : targets) {
             glsl::ExposureStencilParams params{};
             params.nx = nx;
@@ -85,14 +107,20 @@ double TabulatedExposureEngine::GpuState::addLayer(
             params.halfWidth = halfWidths[m];
             params.paddedWidth = paddedWidth;
             params.padding = padding;
-            r.dispatch(kernel, {&deposit, &weights[m], &slices[slot]}, &params, groupsX, groupsY);
+            r.dispatch(kernel, {&deposit, &weights[m], &columns[m], &slices[slot]}, &params,
+                       groupsX, groupsY);
         }
     });
 }
 
 void TabulatedExposureEngine::GpuState::takeSlot(int slot, SurfaceGrid& out) {
     slices[slot].download(out.values.data(), uint64_t(nx) * ny * sizeof(float));
-    slices[slot].fill(0u);
+    toClear.push_back(slot);
+}
+
+void TabulatedExposureEngine::GpuState::clearSlots() {
+    toClear.clear();
+    for (int slot = 0; slot < int(slices.size()); ++slot) toClear.push_back(slot);
 }
 
 }  // namespace vpsim::exposure

@@ -1,7 +1,8 @@
 #pragma once
 // Private: the shader path of the tabulated-kernel engine. Accumulator slices stay on the device;
 // per source layer the deposit is uploaded once, zero-padded, and each (stencil, slice) pair is
-// one dispatch (shaders/exposure_stencil.comp) in one submission.
+// one dispatch (shaders/exposure_stencil.comp) in one submission, which also clears the slices
+// taken since the last one (no submission of their own).
 #include <memory>
 #include <vector>
 
@@ -17,18 +18,21 @@ struct TabulatedExposureEngine::GpuState {
              const std::vector<DepthStencil>& stencils, int slots);
     /// Adds the deposit gathered by stencil m to slot t for every (m, t) in `targets`; GPU seconds.
     double addLayer(const SurfaceGrid& deposit, const std::vector<std::pair<int, int>>& targets);
-    /// Downloads slot t into `out` and clears it on the device.
+    /// Downloads slot t into `out`; the next addLayer clears it on the device.
     void takeSlot(int slot, SurfaceGrid& out);
+    /// Clears every slot (with the next addLayer): a new run starts.
+    void clearSlots();
 
     std::shared_ptr<gpu::Context> context;
     uint32_t nx, ny;
-    int padding;                ///< zero cells around the deposit: the largest half-width
-    uint32_t paddedWidth;       ///< row length of the padded deposit
-    std::vector<float> padded;  ///< host copy of the padded deposit (its border stays zero)
+    int padding;           ///< zero cells around the deposit: the largest half-width
+    uint32_t paddedWidth;  ///< row length of the padded deposit
     std::vector<int> halfWidths;
     gpu::Buffer deposit;
     std::vector<gpu::Buffer> weights;  ///< one uniform block per stencil
+    std::vector<gpu::Buffer> columns;  ///< per stencil: each column's rows with non-zero weights
     std::vector<gpu::Buffer> slices;
+    std::vector<int> toClear;  ///< slots taken since the last addLayer
     gpu::Kernel kernel;
 };
 

@@ -1,4 +1,5 @@
 #include <cstring>
+#include <vector>
 
 #include "gpu/vulkan_internal.h"
 
@@ -126,6 +127,40 @@ void Buffer::upload(const void* data, uint64_t bytes, uint64_t offset) {
         context.runOnce([&](VkCommandBuffer commandBuffer) {
             VkBufferCopy region{0, offset, bytes};
             vkCmdCopyBuffer(commandBuffer, staging.buffer, storage.buffer, 1, &region);
+        });
+    } catch (...) {
+        staging.destroy();
+        throw;
+    }
+    staging.destroy();
+}
+
+void Buffer::uploadRows(const void* data, uint64_t rowBytes, uint64_t rows, uint64_t sourceStride,
+                        uint64_t offset, uint64_t targetStride) {
+    if (rows == 0 || rowBytes == 0) return;
+    if (rowBytes > targetStride || offset + (rows - 1) * targetStride + rowBytes > size())
+        throw ResourceError("GPU buffer row upload beyond the buffer's end");
+    const char* source = static_cast<const char*>(data);
+    RawBuffer& storage = mImpl->storage;
+    if (storage.mapped) {
+        char* target = static_cast<char*>(storage.mapped) + offset;
+        for (uint64_t r = 0; r < rows; ++r)
+            std::memcpy(target + r * targetStride, source + r * sourceStride, rowBytes);
+        return;
+    }
+    Context::Impl& context = mImpl->context->impl();
+    RawBuffer staging;
+    staging.create(context, rows * rowBytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true);
+    std::vector<VkBufferCopy> regions(rows);
+    for (uint64_t r = 0; r < rows; ++r) {
+        std::memcpy(static_cast<char*>(staging.mapped) + r * rowBytes, source + r * sourceStride,
+                    rowBytes);
+        regions[r] = {r * rowBytes, offset + r * targetStride, rowBytes};
+    }
+    try {
+        context.runOnce([&](VkCommandBuffer commandBuffer) {
+            vkCmdCopyBuffer(commandBuffer, staging.buffer, storage.buffer, uint32_t(rows),
+                            regions.data());
         });
     } catch (...) {
         staging.destroy();

@@ -233,6 +233,10 @@ void Recorder::barrier() {
                          nullptr);
 }
 
+void Recorder::fill(Buffer& buffer, uint32_t word) {
+    vkCmdFillBuffer(mImpl->commandBuffer, buffer.impl().storage.buffer, 0, VK_WHOLE_SIZE, word);
+}
+
 void Recorder::copy(const Buffer& source, Buffer& destination, uint64_t bytes,
                     uint64_t sourceOffset, uint64_t destinationOffset) {
     if (sourceOffset + bytes > source.size() || destinationOffset + bytes > destination.size())

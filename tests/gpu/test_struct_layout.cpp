@@ -53,17 +53,12 @@ TEST_CASE("shared structs have the same layout in C++ and std430 GLSL", "[gpu][l
          VPSIM_MEMBER(RngStreamParams, mode), VPSIM_MEMBER(RngStreamParams, pad0),
          VPSIM_MEMBER(RngStreamParams, pad1), VPSIM_MEMBER(RngStreamParams, pad2)});
     using glsl::ExposureBlurParams;
-    checkStruct(
-        "ExposureBlurParams", sizeof(ExposureBlurParams),
-        {VPSIM_MEMBER(ExposureBlurParams, nx), VPSIM_MEMBER(ExposureBlurParams, ny),
-         VPSIM_MEMBER(ExposureBlurParams, axis), VPSIM_MEMBER(ExposureBlurParams, halfWidth),
-         VPSIM_MEMBER(ExposureBlurParams, sigmaCells), VPSIM_MEMBER(ExposureBlurParams, norm),
-         VPSIM_MEMBER(ExposureBlurParams, pad0), VPSIM_MEMBER(ExposureBlurParams, pad1)});
-    using glsl::ExposureRecursionParams;
-    checkStruct(
-        "ExposureRecursionParams", sizeof(ExposureRecursionParams),
-        {VPSIM_MEMBER(ExposureRecursionParams, count), VPSIM_MEMBER(ExposureRecursionParams, decay),
-         VPSIM_MEMBER(ExposureRecursionParams, pad0), VPSIM_MEMBER(ExposureRecursionParams, pad1)});
+    checkStruct("ExposureBlurParams", sizeof(ExposureBlurParams),
+                {VPSIM_MEMBER(ExposureBlurParams, nx), VPSIM_MEMBER(ExposureBlurParams, ny),
+                 VPSIM_MEMBER(ExposureBlurParams, sourceWidth),
+                 VPSIM_MEMBER(ExposureBlurParams, targetWidth),
+                 VPSIM_MEMBER(ExposureBlurParams, norm), VPSIM_MEMBER(ExposureBlurParams, decay),
+                 VPSIM_MEMBER(ExposureBlurParams, pad0), VPSIM_MEMBER(ExposureBlurParams, pad1)});
     using glsl::ExposureStencilParams;
     checkStruct(
         "ExposureStencilParams", sizeof(ExposureStencilParams),

@@ -11,8 +11,8 @@
 /// from the top down, so memory holds two 2D grids whatever the number of layers; each finished
 /// slice goes to a sink (statistics, an OpenVDB grid, pictures) and is not kept.
 ///
-/// The blur and the recursion run in compute shaders (shaders/exposure_blur.comp,
-/// shaders/exposure_recursion.comp) or on the CPU from the same GLSL
+/// The blur and the recursion run in a compute shader (shaders/exposure_blur.comp, two passes,
+/// the second ending with the recursion step) or on the CPU from the same GLSL
 /// (shaders/include/exposure.glsl).
 
 #include <memory>
@@ -61,14 +61,23 @@ private:
     void beginLayers(int layers) override;
     double addLayer(int k, SurfaceGrid& deposit) override;
     void emitLayer(int k, double top, const SliceSink& sink) override;
-    void blurAndAccumulate(SurfaceGrid& deposit, SurfaceGrid& running, float decay,
-                           double& seconds);
+    /// The blur's half-width (cells), standard deviation (cells) and the passes' divisors.
+    struct Blur {
+        int halfWidth;
+        float sigmaCells, normX, normY;
+    };
+    Blur blurOf() const;
+    /// Blurs `deposit` in place and updates running = B + decay running, on the CPU.
+    void blurAndAccumulateCpu(SurfaceGrid& deposit, SurfaceGrid& running, float decay,
+                              double& seconds);
 
     ExposureGrid mGrid;
     kernel::FittedBeam mBeam;
     double mLayerThickness;
     std::unique_ptr<GpuState> mGpu;
-    SurfaceGrid mRunning, mSlice;  ///< the recursion's running sum, the slice handed to sinks
+    SurfaceGrid mRunning, mSlice;   ///< the recursion's running sum, the slice handed to sinks
+    bool mGpuRestart = true;        ///< the next layer starts the device's running sum afresh
+    bool mGpuRunningStale = false;  ///< layerMap overwrote the device's running sum
 };
 
 }  // namespace vpsim::exposure

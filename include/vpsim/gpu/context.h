@@ -117,6 +117,11 @@ public:
 
     uint64_t size() const;
     void upload(const void* data, uint64_t bytes, uint64_t offset = 0);
+    /// Uploads `rows` rows of `rowBytes` each, read `sourceStride` bytes apart, to `offset`,
+    /// `targetStride` bytes apart: one copy into a zero-padded layout, without a padded host copy
+    /// (a memcpy per row when the memory is mapped, else one staged copy).
+    void uploadRows(const void* data, uint64_t rowBytes, uint64_t rows, uint64_t sourceStride,
+                    uint64_t offset, uint64_t targetStride);
     void download(void* data, uint64_t bytes, uint64_t offset = 0) const;
     /// Fills the whole buffer with a repeated 32-bit word.
     void fill(uint32_t word);
@@ -200,6 +205,8 @@ public:
                     const void* push, uint64_t invocations);
     /// Makes all earlier shader writes visible to later dispatches and transfers.
     void barrier();
+    /// Fills `buffer` with a repeated 32-bit word inside the submission (no submission of its own).
+    void fill(Buffer& buffer, uint32_t word);
     /// Copies bytes between buffers inside the submission.
     void copy(const Buffer& source, Buffer& destination, uint64_t bytes, uint64_t sourceOffset = 0,
               uint64_t destinationOffset = 0);
