@@ -61,6 +61,9 @@ for page in default seed001 compare; do
   fi
 done
 grep -q "Features (mm)" "$work/seed001/index.html" || fail "seed001: no features table"
+# Every figure the reports list: axis labels, units, colour bar and legend as SVG text, and a PNG.
+python3 "$source/tests/report/check_figures.py" "$work/default" "$work/seed001" ||
+  fail "figures without their labels, colour bar or legend (above)"
 for page in default compare; do
   grep -Eq "<b id=\"?injected" "$work/$page.dom" && fail "$page: the job name was not escaped"
   grep -q "&lt;b id=injected&gt;quoted &amp; " "$work/$page.dom" || fail "$page: the escaped job name is missing"
