@@ -171,7 +171,7 @@ void writeMapFigure(const std::string& stem, const MapFigure& figure) {
     const int columns = legendColumns(legendEntries, longest, pw);
     const int legendRows = int((legendEntries + columns - 1) / columns);
     const double left = 90, right = 210, top = 50;
-    const double bottom = (f.note.empty() ? 115 : 140) + 18.0 * std::max(0, legendRows - 1);
+    const double bottom = (f.note.empty() ? 115 : 140) + 25.0 * std::max(0, legendRows - 1);
     const int width = int(left + std::max(pw, 200.0) + right),
               height = int(top + std::max(ph, 60.0) + bottom);
     const ColourScale& s = f.scale;

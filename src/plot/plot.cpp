@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <mutex>
@@ -136,6 +137,9 @@ double niceStep(double span, int parts) {
 }
 
 std::string figureStem(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))  // FILE would become FILE.svg inside nothing
+        throw InputError("cannot write output: is a directory (give a file name)", path);
     const bool svg = path.size() > 4 && path.compare(path.size() - 4, 4, ".svg") == 0;
     return svg ? path.substr(0, path.size() - 4) : path;
 }
@@ -213,7 +217,7 @@ void writeLineFigure(const std::string& stem, const LineFigure& figure) {
     const size_t legendRows = (labelled + columns - 1) / columns;
     const double left = 95, right = 30, top = 45;
     const double bottom =
-        65 + (f.note.empty() ? 0 : 25) + (legendBelow ? 14 + 18.0 * double(legendRows) : 0);
+        65 + (f.note.empty() ? 0 : 25) + (legendBelow ? 14 + 25.0 * double(legendRows) : 0);
     const int width = int(left + std::max(pw, 300.0) + right), height = int(top + ph + bottom);
     plotTwice(stem, width, height, [&](bool) {
         plvpor(left / width, (left + pw) / width, bottom / height, (bottom + ph) / height);

@@ -156,4 +156,5 @@ TEST_CASE("figure stems from a user's FILE.svg", "[plot]") {
     CHECK(plot::figureStem("out/wc.svg") == "out/wc");
     CHECK(plot::figureStem("out/wc") == "out/wc");
     CHECK(plot::figureStem(".svg") == ".svg");
+    CHECK_THROWS_AS(plot::figureStem(std::filesystem::temp_directory_path().string()), InputError);
 }

@@ -121,7 +121,7 @@ double niceStep(double span, int parts);
 MapFigure downsampled(const MapFigure& figure, int maxCells = MAX_MAP_CELLS);
 
 /// `path` without a trailing ".svg": the stem a figure asked for as FILE.svg is written under
-/// (FILE.svg and FILE.png).
+/// (FILE.svg and FILE.png). @throw InputError when `path` is a directory
 std::string figureStem(const std::string& path);
 
 /// The standard palette's k-th colour (curves without a colour of their own).
