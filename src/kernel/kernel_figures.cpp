@@ -17,7 +17,8 @@ namespace vpsim::kernel {
 namespace {
 
 constexpr double UM = 1000.0;
-constexpr int TARGET_CELLS = 600;  // cells along the longer side of an intensity map
+constexpr int TARGET_CELLS =
+    300;  // cells along the longer side of an intensity map (bins are coarser)
 /// Iso-intensity levels in every figure, as fractions of the unscattered peak I0, so the
 /// contours compare directly between figures.
 const std::vector<double> FRACTIONS = {0.1, 0.2, 0.4, 0.8};
