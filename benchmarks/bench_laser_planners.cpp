@@ -26,6 +26,7 @@
 #include "vpsim/geometry/test_parts.h"
 #include "vpsim/optimise/laser/dfbtp.h"
 #include "vpsim/optimise/laser/exposure_error.h"
+#include "vpsim/optimise/laser/exposure_figures.h"
 #include "vpsim/optimise/laser/inverse.h"
 #include "vpsim/pipeline/run_job.h"
 #include "vpsim/plan/feature_blocks.h"
@@ -97,7 +98,7 @@ nlohmann::json compare(const geometry::PolygonSet& region, const std::string& na
     double s5 = sse(aces5), sc = sse(acesC), sd = sse(dfbtp.plan.layers[0]);
     double si = sse(inverse.plan.layers[0]), sf = sse(inverseFine.plan.layers[0]);
     if (!gPictures.empty()) {
-        std::vector<std::pair<std::string, optimise::ExposureError>> curves;
+        std::vector<std::pair<std::string, std::vector<float>>> curves;
         for (auto [label, layer] : {std::pair{"ACES 5%", &aces5},
                                     {"ACES cure-at-contour", &acesC},
                                     {"DFBTP", &dfbtp.plan.layers[0]},
@@ -105,16 +106,20 @@ nlohmann::json compare(const geometry::PolygonSet& region, const std::string& na
             exposure::SurfaceGrid d = grid.surface();
             exposure::depositLayer(*layer, d);
             auto map = engine.exposureMap(d);
-            curves.push_back(
-                {label, optimise::layerExposureError(map, region, dfbtp.targetDose,
-                                                     plan::effectiveRadius(BEAM.radius))});
+            const optimise::ExposureError e = optimise::layerExposureError(
+                map, region, dfbtp.targetDose, plan::effectiveRadius(BEAM.radius));
+            curves.push_back({std::string(label) + " (SSE " + std::to_string(std::lround(e.sse)) +
+                                  " mJ#u2#d/mm#u4#d)",
+                              e.sortedRelative});
             std::string file = std::string(label);
             for (char& ch : file)
                 if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-            optimise::writeExposurePicture(gPictures + "/" + name + "_" + file + ".png", map,
-                                           dfbtp.targetDose, 0.1);
+            optimise::writeExposureMapFigure(gPictures + "/" + name + "_" + file,
+                                             std::string(label) + ": surface exposure", map,
+                                             &region, dfbtp.targetDose, 0.1);
         }
-        optimise::writeErrorCurves(gPictures + "/" + name + "_error_curves.svg", curves);
+        optimise::writeSortedErrorFigure(gPictures + "/" + name + "_error_curves",
+                                         "Sorted exposure error (seed 000 Fig. 23)", curves);
     }
     return {{"sse_mJ2_per_mm4",
              {{"aces_5_percent", s5},

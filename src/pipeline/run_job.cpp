@@ -227,9 +227,10 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
         curedSurfaceSink(job, grid, voxelHeight, f.part, outDir + "/cured.stl");
     cured->keepTriangles(true);  // for the report's top view and 3D viewer
     const int middle = layers / 2;
+    std::vector<geometry::PolygonSet> regions;
+    for (const auto& layer : f.layers.layers) regions.push_back(layer.region);
     report::SectionRecorder sections(f.part, grid, layers * job.simulation.slicesPerLayer, law,
-                                     middle,
-                                     report::busiestRow(f.layers.layers[middle].region, grid));
+                                     middle, report::busiestRow(regions, grid));
     validate::FeatureProbes features(job.features, grid, law, voxelHeight);
     report::LayerSectionRecorder layerSections(f.layers, grid, law);  // the 3D view's sections
     auto sink = [](auto& consumer) {

@@ -48,10 +48,10 @@ void writeScanFiles(const plan::ScanSchedule& schedule, const plan::ScanPlan& pl
     // scan.cli is written by the job's exporters (exportStage), like every machine file.
     if (!schedule.layers.empty()) {
         const size_t k = plan::busiestLayer(schedule.layers);
-        plan::writeScanPathSvg(outDir + "/scan_path.svg", schedule.layers[k].moves,
-                               "scan path of layer " + std::to_string(k) + " (" +
-                                   std::to_string(schedule.layers[k].parts) + " parts, " +
-                                   schedule.layers[k].order.method + " order)");
+        plan::writeScanPathFigure(outDir + "/scan_path", schedule.layers[k].moves,
+                                  "scan path of layer " + std::to_string(k) + " (" +
+                                      std::to_string(schedule.layers[k].parts) + " parts, " +
+                                      schedule.layers[k].order.method + " order)");
     }
 }
 

@@ -7,9 +7,9 @@
 #include "vpsim/exposure/exposure_engine.h"
 #include "vpsim/optimise/laser/dfbtp.h"
 #include "vpsim/optimise/laser/exposure_error.h"
+#include "vpsim/optimise/laser/exposure_figures.h"
 #include "vpsim/plan/aces/aces.h"
 #include "vpsim/plan/feature_blocks.h"
-#include "vpsim/report/laser_figures.h"
 
 namespace vpsim::planners {
 namespace {
@@ -60,20 +60,22 @@ PlanReview laserExposureReview(const PlanReviewInputs& in) {
         cropped(topMap, regions[k], plan::effectiveRadius(b.radius) + 2 * b.radius);
     const optimise::ExposureError single =
         optimise::layerExposureError(map, regions[k], etar, plan::effectiveRadius(b.radius));
-    report::writeSortedErrorFigure(
-        in.outDir + "/exposure_error_sorted.svg",
+    optimise::writeSortedErrorFigure(
+        in.outDir + "/exposure_error_sorted",
+        "Sorted exposure error over the part plus Reff (seed 000 Fig. 23)",
         {{in.strategy + ", every layer (own + transmitted)", all.sortedRelative},
          {in.strategy + ", top layer", single.sortedRelative}});
-    report::writeLayerExposureFigure(in.outDir + "/exposure_top_layer.svg", map, regions[k], etar,
-                                     ec, "Surface exposure of the top layer (" + in.strategy + ")");
+    optimise::writeExposureMapFigure(in.outDir + "/exposure_top_layer",
+                                     "Surface exposure of the top layer (" + in.strategy + ")", map,
+                                     &regions[k], etar, ec);
     PlanReview review;
     review.report["layer_exposure_error"] = std::move(error);
     review.sections.push_back(
         {"Exposure error of the plan (seed 000 Fig. 23)",
          {},
-         {{"exposure_top_layer.svg",
+         {{"exposure_top_layer",
            "surface exposure of the top layer (mJ/cm^2; red: the model's outline)"},
-          {"exposure_error_sorted.svg",
+          {"exposure_error_sorted",
            "sorted |exposure error| / Etar over the part plus Reff, "
            "every layer (seed 000 Fig. 23)"}}});
     return review;

@@ -9,8 +9,8 @@
 #include "vpsim/core/output_directory.h"
 #include "vpsim/core/progress.h"
 #include "vpsim/core/text.h"
+#include "vpsim/plot/plot.h"
 #include "vpsim/report/html_report.h"
-#include "vpsim/report/plot.h"
 #include "vpsim/report/summary_tables.h"
 
 namespace vpsim::report {
@@ -22,18 +22,19 @@ struct Run {
     std::vector<ManifestEntry> files;
 };
 
-const Rgb PALETTE[] = {{31, 119, 180},  {255, 127, 14}, {44, 160, 44},   {214, 39, 40},
-                       {148, 103, 189}, {140, 86, 75},  {227, 119, 194}, {127, 127, 127}};
+const plot::Rgb PALETTE[] = {{31, 119, 180},  {255, 127, 14}, {44, 160, 44},   {214, 39, 40},
+                             {148, 103, 189}, {140, 86, 75},  {227, 119, 194}, {127, 127, 127}};
 
 /// Per-layer curves of all runs: `pick(layer entry)` -> (x, y) from report.json's array at
 /// `path` (validation.layers, layer_exposure_error.layers).
 template <typename Pick>
-bool overlay(const std::vector<Run>& runs, const char* section, LineFigure& figure, Pick pick) {
+bool overlay(const std::vector<Run>& runs, const char* section, plot::LineFigure& figure,
+             Pick pick) {
     bool any = false;
     for (size_t i = 0; i < runs.size(); ++i) {
         const nlohmann::json& r = runs[i].report;
         if (!r.contains(section) || !r[section].contains("layers")) continue;
-        Curve c{runs[i].label, {}, {}, PALETTE[i % 8], i >= 8};
+        plot::Curve c{runs[i].label, {}, {}, PALETTE[i % 8], i >= 8};
         for (const nlohmann::json& layer : r[section]["layers"]) {
             double x = 0, y = 0;
             if (pick(layer, x, y)) c.x.push_back(x), c.y.push_back(y);
@@ -91,7 +92,7 @@ std::string writeComparePage(const std::vector<std::string>& runDirs, const std:
                 }
         }
     }
-    LineFigure xy{"XY contour error per layer", "z (mm)", "mean XY error (µm)", {}, "", true};
+    plot::LineFigure xy{"XY contour error per layer", "z (mm)", "mean XY error (µm)", {}, "", true};
     const bool haveXy =
         overlay(runs, "validation", xy, [](const nlohmann::json& l, double& x, double& y) {
             if (!l.contains("xy_contour_error_mm") || l.value("reference_area_mm2", 0.0) <= 0)
@@ -99,8 +100,8 @@ std::string writeComparePage(const std::vector<std::string>& runDirs, const std:
             x = l.value("z", 0.0), y = l["xy_contour_error_mm"].get<double>() * 1000;
             return true;
         });
-    if (haveXy) writeLineFigure(outDir + "/compare_xy_error", xy);
-    LineFigure laser{
+    if (haveXy) plot::writeLineFigure(outDir + "/compare_xy_error", xy);
+    plot::LineFigure laser{
         "Laser exposure error per layer (seed 000)", "layer", "RMS |E - Etm| / Etar", {}, "", true};
     const bool haveLaser = overlay(runs, "layer_exposure_error", laser,
                                    [](const nlohmann::json& l, double& x, double& y) {
@@ -109,7 +110,7 @@ std::string writeComparePage(const std::vector<std::string>& runDirs, const std:
                                        y = l["rms_over_Etar"].get<double>();
                                        return true;
                                    });
-    if (haveLaser) writeLineFigure(outDir + "/compare_exposure_error", laser);
+    if (haveLaser) plot::writeLineFigure(outDir + "/compare_exposure_error", laser);
 
     std::ostringstream html;
     html << "<!doctype html><html><head><meta charset='utf-8'><title>vpsim compare</title><style>"

@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "vpsim/core/text.h"
-#include "vpsim/report/plot.h"
+#include "vpsim/plot/plot.h"
 
 namespace vpsim::report {
 namespace {
@@ -101,7 +101,7 @@ DeviationScale writeDeviationFigures(const std::string& directory, const geometr
     float hi = *std::max_element(deviations.begin(), deviations.end());
     const double limit = std::max(1e-6, double(std::max(std::abs(lo), std::abs(hi))));
     const int bins = 60;
-    Curve histogram{"", {}, {}, {31, 119, 180}, false};
+    plot::Curve histogram{"", {}, {}, {31, 119, 180}, false};
     std::vector<double> counts(bins, 0.0);
     for (float d : deviations)
         counts[std::clamp(int((d + limit) / (2 * limit) * bins), 0, bins - 1)] += 1;
@@ -110,12 +110,12 @@ DeviationScale writeDeviationFigures(const std::string& directory, const geometr
         histogram.x.insert(histogram.x.end(), {x0 * 1000, x1 * 1000});
         histogram.y.insert(histogram.y.end(), {counts[b], counts[b]});
     }
-    LineFigure h;
+    plot::LineFigure h;
     h.title = "Signed deviation of the cured surface from the model";
     h.xLabel = "deviation (µm), positive: outside the model";
     h.yLabel = "cured-surface vertices";
     h.curves = {histogram};
-    writeLineFigure(directory + "/deviation_histogram", h);
+    plot::writeLineFigure(directory + "/deviation_histogram", h);
 
     geometry::Bounds b = cured.bounds();
     const geometry::Bounds pb = part.bounds();
@@ -125,20 +125,24 @@ DeviationScale writeDeviationFigures(const std::string& directory, const geometr
     for (size_t i = 0; i < deviations.size(); ++i) microns[i] = deviations[i] * 1000.0f;
     curedView.draw(cured, microns);
     modelView.draw(part, {});
-    MapFigure f;
+    plot::MapFigure f;
     f.title = "Cured surface from above: deviation of its top surface";
     f.nx = curedView.nx, f.ny = curedView.ny;
     f.x0 = curedView.x0, f.x1 = f.x0 + f.nx * curedView.pitch;
     f.y0 = curedView.y0, f.y1 = f.y0 + f.ny * curedView.pitch;
     f.values = curedView.value;
     const double l = scale.limit * 1000;
-    f.scale = {ColourMap::Diverging, -l,           l, "deviation (µm), + outside the model",
-               lo * 1000 < -l,       hi * 1000 > l};
+    f.scale = {plot::ColourMap::Diverging,
+               -l,
+               l,
+               "deviation (µm), + outside the model",
+               lo * 1000 < -l,
+               hi * 1000 > l};
     f.outlines.push_back({"model silhouette", modelView.covered(), 0.5, {0, 0, 0}, true});
     f.outlines.push_back({"cured silhouette", curedView.covered(), 0.5, {120, 40, 160}, false});
     f.note = formatNumber(100 * scale.beyond, 2) + "% of the cured surface (vertices) beyond ±" +
              micrometres(scale.limit) + " µm; grey: nothing cured";
-    writeMapFigure(directory + "/deviation_map_top", f);
+    plot::writeMapFigure(directory + "/deviation_map_top", f);
     return scale;
 }
 

@@ -3,24 +3,23 @@
 #include <algorithm>
 #include <cmath>
 
-#include "vpsim/core/image.h"
 #include "vpsim/core/text.h"
 #include "vpsim/geometry/raster.h"
 #include "vpsim/geometry/slicer.h"
+#include "vpsim/plot/plot.h"
 #include "vpsim/report/deviation_map.h"
-#include "vpsim/report/plot.h"
 
 namespace vpsim::report {
 namespace {
 
 /// An exposure map through the plotting layer: exposure in mJ/cm^2 from 0 to the 99th percentile
 /// of what is shown (at least twice the critical dose), the model's outline (red) and the cured
-/// outline (white, dashed). `values` and `inside` are recorded with rows from the top.
+/// outline (pink, dashed). `values` and `inside` are recorded with rows from the top.
 void exposureFigure(const std::string& stem, const std::string& title, const std::string& yLabel,
                     const std::vector<float>& values, const std::vector<uint8_t>& inside, int width,
                     int height, double x0, double x1, double y0, double y1,
                     const cure::CureLaw& law) {
-    MapFigure f;
+    plot::MapFigure f;
     f.title = title;
     f.yLabel = yLabel;
     f.nx = width, f.ny = height;
@@ -40,17 +39,17 @@ void exposureFigure(const std::string& stem, const std::string& title, const std
         std::max(2.0 * law.criticalDose() * 100, double(sorted[sorted.size() * 99 / 100]));
     size_t above = 0;
     for (float v : f.values) above += v > top;
-    f.scale = {ColourMap::Sequential, 0.0, top, "exposure (mJ/cm#u2#d)", false, above > 0};
+    f.scale = {plot::ColourMap::Sequential, 0.0, top, "exposure (mJ/cm#u2#d)", false, above > 0};
     f.outlines.push_back({"model", model, 0.5, {230, 30, 30}, false});
     f.outlines.push_back(
         {"cured (critical dose " + formatNumber(law.criticalDose() * 100, 3) + " mJ/cm#u2#d)",
          cured,
          0.5,
-         {255, 255, 255},
+         {255, 80, 200},
          true});
     f.note = formatNumber(100.0 * double(above) / double(f.values.size()), 2) +
              "% of the cells above the scale (drawn at its top)";
-    writeMapFigure(stem, f);
+    plot::writeMapFigure(stem, f);
 }
 
 }  // namespace
@@ -85,14 +84,19 @@ void SectionRecorder::add(const exposure::ExposureSlice& slice) {
     }
 }
 
-int busiestRow(const geometry::PolygonSet& region, const exposure::ExposureGrid& grid) {
-    std::vector<uint8_t> inside = geometry::rasterizeBinary(region, grid.raster());
-    std::vector<int> counts(grid.ny, 0);
-    for (int j = 0; j < grid.ny; ++j)
-        for (int i = 0; i < grid.nx; ++i) counts[j] += inside[size_t(j) * grid.nx + i];
+int busiestRow(const std::vector<geometry::PolygonSet>& regions,
+               const exposure::ExposureGrid& grid) {
+    // Material per row summed over every layer: the cut through the most of the part, not of
+    // one layer (the middle layer of an overhang part may be only its pillars).
+    std::vector<long> counts(grid.ny, 0);
+    for (const geometry::PolygonSet& region : regions) {
+        const std::vector<uint8_t> inside = geometry::rasterizeBinary(region, grid.raster());
+        for (int j = 0; j < grid.ny; ++j)
+            for (int i = 0; i < grid.nx; ++i) counts[j] += inside[size_t(j) * grid.nx + i];
+    }
     // The middle of the rows that cross the most material, not the first of them (which lies at
     // the part's edge when many rows tie, as in a box or the foot of an L).
-    const int most = grid.ny > 0 ? *std::max_element(counts.begin(), counts.end()) : 0;
+    const long most = grid.ny > 0 ? *std::max_element(counts.begin(), counts.end()) : 0;
     std::vector<int> busiest;
     for (int j = 0; j < grid.ny; ++j)
         if (counts[j] == most) busiest.push_back(j);
@@ -118,18 +122,18 @@ void SectionRecorder::write(const std::string& directory) const {
 }
 
 void writeLayerErrorPlot(const std::string& stem, const validate::SliceValidationSummary& summary) {
-    PlotSeries error{"XY contour error", {}, {}, "", false};
+    plot::Curve error;
     for (const auto& layer : summary.layers)
         if (layer.referencePerimeter > 0) {
             error.x.push_back(layer.z);
             error.y.push_back(layer.xyContourError() * 1000);
         }
-    LineFigure f;
+    plot::LineFigure f;
     f.title = "Cured against model contour error per layer";
     f.xLabel = "z (mm)";
     f.yLabel = "mean XY error (µm)";
-    f.curves.push_back({"", error.x, error.y, {31, 119, 180}, false});
-    writeLineFigure(stem, f);
+    f.curves.push_back(error);
+    plot::writeLineFigure(stem, f);
 }
 
 }  // namespace vpsim::report

@@ -19,12 +19,12 @@ const std::vector<RunFigure> RUN_FIGURES = {
      "surface (blue inside the model, red outside)"},
     {"deviation_histogram", "histogram of the signed surface deviation"},
     {"xy_error_per_layer", "XY contour error per layer"},
-    {"scan_path.svg",
+    {"scan_path",
      "scan path of the busiest layer: marks, jumps within and between parts, "
      "part order"},
-    {"kernel/intensity_scattered.png", "beam kernel I(r, z) with scattering (Monte Carlo)"},
-    {"kernel/intensity_no_scattering.png", "beam kernel without scattering"},
-    {"kernel/radius_vs_depth.svg", "beam radius against depth, Monte Carlo and its Eq. 12 fit"},
+    {"kernel/intensity_scattered", "beam kernel I(r, z) with scattering (Monte Carlo)"},
+    {"kernel/intensity_no_scattering", "beam kernel without scattering"},
+    {"kernel/radius_vs_depth", "beam radius against depth, Monte Carlo and its Eq. 12 fit"},
 };
 
 namespace {

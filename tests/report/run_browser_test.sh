@@ -79,6 +79,9 @@ open_page "$work/default/index.html#layer=2" dump-dom "$work/layer2.dom"
 section="$(canvas "$work/layer2.dom" section2d)"
 [[ "$section" == *'data-layer="2"'* && "$section" == *'data-draws="2"'* ]] ||
   fail "default: moving the layer slider to 2 did not redraw the section: $section"
+# Every figure the reports list: axis labels, units, colour bar and legend as SVG text, and a PNG.
+python3 "$source/tests/report/check_figures.py" "$work/default" "$work/seed001" ||
+  fail "figures without their labels, colour bar or legend (above)"
 for page in default compare; do
   grep -Eq "<b id=\"?injected" "$work/$page.dom" && fail "$page: the job name was not escaped"
   grep -q "&lt;b id=injected&gt;quoted &amp; " "$work/$page.dom" || fail "$page: the escaped job name is missing"

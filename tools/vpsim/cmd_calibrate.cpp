@@ -14,12 +14,12 @@
 
 #include "commands.h"
 #include "vpsim/core/error.h"
-#include "vpsim/core/image.h"
 #include "vpsim/core/log.h"
 #include "vpsim/core/text.h"
 #include "vpsim/cure/calibration.h"
 #include "vpsim/pipeline/builtins.h"
 #include "vpsim/pipeline/calibration_report.h"
+#include "vpsim/plot/plot.h"
 
 namespace {
 
@@ -78,13 +78,13 @@ void writePlot(const std::string& path, const WorkingCurveData& data, const Work
         return data.dose[a] != data.dose[b] ? data.dose[a] < data.dose[b]
                                             : data.cureDepth[a] < data.cureDepth[b];
     });
-    vpsim::PlotSeries samples{"measured samples", {}, {}, "", false};
+    vpsim::plot::Curve samples{"measured samples"};
     for (size_t i : order) {
         samples.x.push_back(std::log(data.dose[i] * PER_MM2_TO_PER_CM2));
         samples.y.push_back(data.cureDepth[i]);
     }
     const double maxDose = *std::max_element(data.dose.begin(), data.dose.end());
-    vpsim::PlotSeries line{"fit Cd = Dp ln(E0/Ec)", {}, {}, "", true};
+    vpsim::plot::Curve line{"fit Cd = Dp ln(E0/Ec)", {}, {}, vpsim::plot::paletteColour(1), true};
     for (double dose :
          {std::min(fit.criticalDose, *std::min_element(data.dose.begin(), data.dose.end())),
           maxDose}) {
@@ -94,8 +94,9 @@ void writePlot(const std::string& path, const WorkingCurveData& data, const Work
     char title[160];
     std::snprintf(title, sizeof title, "Working curve: Dp = %.4g mm, Ec = %.4g mJ/cm^2",
                   fit.penetrationDepth, fit.criticalDose * PER_MM2_TO_PER_CM2);
-    vpsim::writeSvgLinePlot(path, title, "ln(E0 / (mJ/cm^2))", "cured thickness Cd (mm)",
-                            {samples, line});
+    vpsim::plot::writeLineFigure(
+        vpsim::plot::figureStem(path),
+        {title, "ln(E0 / (mJ/cm^2))", "cured thickness Cd (mm)", {samples, line}});
 }
 
 void runCalibrate(const CalibrateOptions& o) {
@@ -135,8 +136,9 @@ vpsim::cli::CommandRegistration registerCalibrate{
             ->required();
         cmd->add_option("--gel-point", o->gelPoint,
                         "gel-point conversion Phi_c in (0,1); gives the FPP rate constant K");
-        cmd->add_option("--plot", o->plot,
-                        "write the working curve (samples and fit vs ln E0) to this SVG file");
+        cmd->add_option(
+            "--plot", o->plot,
+            "write the working curve (samples and fit vs ln E0) to FILE.svg (and FILE.png)");
         cmd->add_flag("--json", o->json, "print JSON");
         cmd->callback([o, cmd] {
             o->hasGelPoint = cmd->count("--gel-point") > 0;

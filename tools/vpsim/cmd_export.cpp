@@ -19,6 +19,7 @@
 #include "vpsim/plan/machine/build_time.h"
 #include "vpsim/plan/machine/scan_report.h"
 #include "vpsim/plan/machine/trajectory.h"
+#include "vpsim/plot/plot.h"
 
 namespace {
 
@@ -92,8 +93,8 @@ void runExport(const ExportCliOptions& o, const cli::Globals& globals) {
         order = plan::scanOrderJson(trajectories);
         if (!o.svg.empty()) {
             size_t k = plan::busiestLayer(trajectories);
-            plan::writeScanPathSvg(o.svg, trajectories[k].moves,
-                                   "scan path of layer " + std::to_string(k));
+            plan::writeScanPathFigure(plot::figureStem(o.svg), trajectories[k].moves,
+                                      "scan path of layer " + std::to_string(k));
         }
     }
     const pipeline::Builtins builtins = pipeline::makeBuiltins();
@@ -153,8 +154,10 @@ vpsim::cli::CommandRegistration registerExport{
         cmd->add_option("--order", o->order,
                         "with --trajectories: auto (default), exact, heuristic, "
                         "nearest-neighbour, as-sliced");
-        cmd->add_option("--svg", o->svg,
-                        "with --trajectories: write the busiest layer's scan path here (SVG)");
+        cmd->add_option(
+            "--svg", o->svg,
+            "with --trajectories: write the busiest layer's scan path here (FILE.svg and "
+            "FILE.png)");
         cmd->add_flag("--json", o->json,
                       "print {file, exporter, options, layers, vectors, build_time_s, scan_order}");
         cmd->callback([o, &globals] { runExport(*o, globals); });

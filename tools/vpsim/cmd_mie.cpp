@@ -9,12 +9,12 @@
 
 #include "commands.h"
 #include "vpsim/core/error.h"
-#include "vpsim/core/image.h"
 #include "vpsim/core/text.h"
 #include "vpsim/optics/material_file.h"
 #include "vpsim/optics/mie.h"
 #include "vpsim/optics/mie_summary.h"
 #include "vpsim/optics/phase_table.h"
+#include "vpsim/plot/plot.h"
 
 namespace {
 
@@ -36,18 +36,18 @@ struct MieOptions {
 /// Writes log10 of the normalised phase function p(theta) (1/sr, integral over the sphere = 1)
 /// per 0.1-degree panel of the table, from the CDF increments.
 void writePhasePlot(const std::string& path, const PhaseTable& t, const std::string& title) {
-    vpsim::PlotSeries series;
-    series.label = "phase function";
+    vpsim::plot::Curve series{"phase function"};
     for (size_t i = 0; i + 1 < t.thetaEdges.size(); ++i) {
         const double t0 = t.thetaEdges[i], t1 = t.thetaEdges[i + 1];
         const double solidAngle = 2.0 * PI * (std::cos(t0) - std::cos(t1));
         const double p = (t.cdf[i + 1] - t.cdf[i]) / solidAngle;
         if (!(p > 0.0)) continue;
         series.x.push_back(0.5 * (t0 + t1) * 180.0 / PI);
-        series.y.push_back(std::log10(p));
+        series.y.push_back(p);
     }
-    vpsim::writeSvgLinePlot(path, title, "scattering angle (deg)", "log10 p(theta) (1/sr)",
-                            {series});
+    vpsim::plot::LineFigure figure{title, "scattering angle (deg)", "p(#gh) (1/sr)", {series}};
+    figure.logY = true;
+    vpsim::plot::writeLineFigure(vpsim::plot::figureStem(path), figure);
 }
 
 void printSphereTable(const nlohmann::json& out) {
@@ -131,7 +131,7 @@ vpsim::cli::CommandRegistration registerMie{
         cmd->add_option("--cdf-angles", o->cdfAngles,
                         "angles at which to print the phase CDF, degrees")
             ->delimiter(',');
-        cmd->add_option("--plot", o->plot, "write the phase function as an SVG plot to this file");
+        cmd->add_option("--plot", o->plot, "write the phase function to FILE.svg (and FILE.png)");
         cmd->add_flag("--json", o->json, "print JSON");
         cmd->callback([o, &g] {
             checkAngles(o->angles, "--angles");

@@ -1,10 +1,10 @@
 #pragma once
 /// @file
-/// Pictures of results: PNG raster images (heat maps with a colour map) and small SVG line charts.
+/// Raster pictures: PNG images and heat maps with a colour map (figures with axes are drawn by
+/// the plotting layer, plot/plot.h).
 
 #include <cstdint>
 #include <string>
-#include <utility>
 #include <vector>
 
 namespace vpsim {
@@ -33,17 +33,5 @@ void viridis(double t, uint8_t& r, uint8_t& g, uint8_t& b);
 /// and hi; `contours` draws iso-lines in white at those levels.
 RgbImage heatMap(const std::vector<float>& values, int width, int height, double lo, double hi,
                  const std::vector<double>& contours = {});
-
-/// One series of an SVG line chart.
-struct PlotSeries {
-    std::string label;
-    std::vector<double> x, y;
-    std::string colour = "";  ///< CSS colour; empty picks from a palette
-    bool dashed = false;
-};
-/// Writes an SVG line chart with axes, ticks, labels and a legend (atomically). A non-finite point
-/// breaks its series's line, so one series can hold separate segments.
-void writeSvgLinePlot(const std::string& path, const std::string& title, const std::string& xLabel,
-                      const std::string& yLabel, const std::vector<PlotSeries>& series);
 
 }  // namespace vpsim

@@ -106,12 +106,12 @@ void computeFitEnergies(BeamKernel& kernel);
 /// @throw ResourceError above 32M voxels; InputError when the file cannot be written.
 void writeKernelVdb(const std::string& path, const BeamKernel& kernel);
 
-/// Writes the pictures of seed 000 Fig. 11-13 into `directory`: intensity_scattered.png,
-/// intensity_no_scattering.png, intensity_fit.png (heat maps, r horizontal mirrored, z down,
-/// same scale and contour levels); contours_scattering.svg (Fig. 11: iso-intensity contours
-/// with and without scattering), contours_fit.svg (Fig. 13: the table against the Eq. 12 fit),
-/// amplitude_vs_depth.svg and radius_vs_depth.svg (Fig. 12: Ie(0, z) and We(z), zmax marked),
-/// all with axes in um and intensities in mW/mm^2 or % of the unscattered peak.
+/// Writes the figures of seed 000 Fig. 11-13 into `directory`, each as .svg and .png through the
+/// plotting layer (plot/plot.h): intensity_scattered, intensity_no_scattering, intensity_fit
+/// (maps of I(r, z) in mW/mm^2 on one scale, r mirrored, depth down, the same iso-intensity
+/// contours); contours_scattering (Fig. 11: contours with and without scattering), contours_fit
+/// (Fig. 13: the table against the Eq. 12 fit), amplitude_vs_depth and radius_vs_depth (Fig. 12:
+/// Ie(0, z) and We(z), zmax marked); axes in um.
 /// @throw InputError when a file cannot be written.
 void writeKernelFigures(const std::string& directory, const BeamKernel& kernel);
 

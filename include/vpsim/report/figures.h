@@ -36,8 +36,10 @@ private:
     std::vector<uint8_t> mMapInside;
 };
 
-/// The grid row crossing most of `region` (where an x-z section shows the most of the part).
-int busiestRow(const geometry::PolygonSet& region, const exposure::ExposureGrid& grid);
+/// The grid row crossing the most material of all layers' `regions` together (where an x-z
+/// section shows the most of the part).
+int busiestRow(const std::vector<geometry::PolygonSet>& regions,
+               const exposure::ExposureGrid& grid);
 
 /// Per-layer XY contour error against height: `stem`.svg and `stem`.png.
 void writeLayerErrorPlot(const std::string& stem, const validate::SliceValidationSummary& summary);

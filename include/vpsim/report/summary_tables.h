@@ -7,12 +7,12 @@
 /// "hatch spacing (µm)").
 
 #include <string>
-#include <string_view>
 #include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "vpsim/core/base64.h"  // base64, used with the tables by the report writers
 #include "vpsim/report/job_result.h"
 
 namespace vpsim::report {
@@ -41,7 +41,5 @@ std::string tableHtml(const ReportTable& table);
 std::string humanKey(const std::string& key);
 /// A JSON value as text for a table cell: numbers with 4 significant digits, arrays joined.
 std::string humanValue(const nlohmann::json& value);
-/// RFC 4648 base64.
-std::string base64(std::string_view bytes);
 
 }  // namespace vpsim::report

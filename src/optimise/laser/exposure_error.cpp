@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include "vpsim/core/error.h"
-#include "vpsim/core/image.h"
 #include "vpsim/exposure/deposit.h"
 #include "vpsim/exposure/exposure_engine.h"
 
@@ -46,38 +45,6 @@ ExposureError layerExposureError(const exposure::SurfaceGrid& exposure,
         e.maxRelative = e.sortedRelative.back();
     }
     return e;
-}
-
-}  // namespace vpsim::optimise
-
-namespace vpsim::optimise {
-
-void writeErrorCurves(const std::string& path,
-                      const std::vector<std::pair<std::string, ExposureError>>& curves) {
-    std::vector<PlotSeries> series;
-    for (const auto& [label, e] : curves) {
-        PlotSeries s;
-        s.label = label + " (SSE " + std::to_string(int(std::lround(e.sse))) + " mJ^2/mm^4)";
-        const size_t n = e.sortedRelative.size(), step = std::max<size_t>(1, n / 400);
-        for (size_t i = 0; i < n; i += step) {
-            s.x.push_back(double(i) / std::max<size_t>(1, n - 1));
-            s.y.push_back(e.sortedRelative[i]);
-        }
-        if (n > 0) s.x.push_back(1.0), s.y.push_back(e.sortedRelative.back());
-        series.push_back(std::move(s));
-    }
-    writeSvgLinePlot(path, "Sorted exposure error (seed 000 Fig. 23)", "fraction of cells",
-                     "|E - Etm| / Etar", series);
-}
-
-void writeExposurePicture(const std::string& path, const exposure::SurfaceGrid& exposure,
-                          double targetDose, double contourLevel) {
-    std::vector<float> flipped(exposure.values.size());
-    for (int j = 0; j < exposure.ny; ++j)  // heatMap rows run from the top
-        for (int i = 0; i < exposure.nx; ++i)
-            flipped[size_t(exposure.ny - 1 - j) * exposure.nx + i] = exposure.at(i, j);
-    writePng(path, heatMap(flipped, exposure.nx, exposure.ny, 0.0, 1.5 * targetDose,
-                           {contourLevel, targetDose}));
 }
 
 }  // namespace vpsim::optimise

@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "vpsim/core/config.h"
-#include "vpsim/core/image.h"
+#include "vpsim/plot/plot.h"
 
 namespace vpsim::plan {
 
@@ -88,29 +88,53 @@ size_t busiestLayer(const std::vector<LayerTrajectory>& trajectories) {
     return best;
 }
 
-void writeScanPathSvg(const std::string& path, const std::vector<ScanMove>& moves,
-                      const std::string& title) {
-    PlotSeries marks{"marks", {}, {}, "#1f77b4", false};
-    PlotSeries inner{"jumps in a part", {}, {}, "#999999", true};
-    PlotSeries between{"jumps between parts", {}, {}, "#d62728", true};
-    PlotSeries order{"part order", {}, {}, "#ff7f0e", false};
-    auto add = [](PlotSeries& s, const ScanMove& m) {
-        s.x.insert(s.x.end(), {m.x0, m.x1, NAN});
-        s.y.insert(s.y.end(), {m.y0, m.y1, NAN});
+void writeScanPathFigure(const std::string& stem, const std::vector<ScanMove>& moves,
+                         const std::string& title) {
+    plot::Curve marks{"marks", {}, {}, {31, 119, 180}, false};
+    plot::Curve inner{"jumps in a part", {}, {}, {153, 153, 153}, true};
+    plot::Curve between{"jumps between parts", {}, {}, {214, 39, 40}, true};
+    plot::Curve order{"part order", {}, {}, {255, 127, 14}, false};
+    size_t markCount = 0, innerCount = 0;
+    for (size_t i = 0; i < moves.size(); ++i)
+        if (moves[i].laserOn)
+            ++markCount;
+        else
+            innerCount +=
+                !(i + 1 < moves.size() && i > 0 && moves[i + 1].part != moves[i - 1].part);
+    // A large layer draws every k-th mark and jump within a part (the hatch at a k times wider
+    // spacing), so the figure stays readable and a few MB at most; jumps between parts and the
+    // order are all drawn.
+    const size_t markStep = (markCount + SCAN_PATH_SEGMENTS - 1) / SCAN_PATH_SEGMENTS;
+    const size_t innerStep = (innerCount + SCAN_PATH_SEGMENTS - 1) / SCAN_PATH_SEGMENTS;
+    auto add = [](plot::Curve& c, const ScanMove& m) {
+        c.x.insert(c.x.end(), {m.x0, m.x1, NAN});
+        c.y.insert(c.y.end(), {m.y0, m.y1, NAN});
     };
     int part = -2;
+    size_t markIndex = 0, innerIndex = 0;
     for (size_t i = 0; i < moves.size(); ++i) {
         const ScanMove& m = moves[i];
         if (m.laserOn) {
-            add(marks, m);
+            if (markIndex++ % std::max<size_t>(1, markStep) == 0) add(marks, m);
             if (m.part != part) order.x.push_back(m.x0), order.y.push_back(m.y0), part = m.part;
-        } else {
-            const bool crosses =
-                i + 1 < moves.size() && i > 0 && moves[i + 1].part != moves[i - 1].part;
-            add(crosses ? between : inner, m);
+        } else if (i + 1 < moves.size() && i > 0 && moves[i + 1].part != moves[i - 1].part) {
+            add(between, m);
+        } else if (innerIndex++ % std::max<size_t>(1, innerStep) == 0) {
+            add(inner, m);
         }
     }
-    writeSvgLinePlot(path, title, "x (mm)", "y (mm)", {marks, inner, between, order});
+    plot::LineFigure f;
+    f.title = title;
+    f.xLabel = "x (mm)";
+    f.yLabel = "y (mm)";
+    f.equalAspect = true;
+    f.curves = {marks, inner, between, order};
+    if (markStep > 1 || innerStep > 1)
+        f.note = "drawn: 1 in " + std::to_string(std::max<size_t>(1, markStep)) + " of the " +
+                 std::to_string(markCount) + " marks, 1 in " +
+                 std::to_string(std::max<size_t>(1, innerStep)) + " of the " +
+                 std::to_string(innerCount) + " jumps in a part";
+    plot::writeLineFigure(stem, f);
 }
 
 }  // namespace vpsim::plan

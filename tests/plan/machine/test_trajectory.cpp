@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "support/svg_text.h"
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
@@ -187,12 +188,15 @@ TEST_CASE("report pieces: scan_order, point strategies, plan keys, scan-path SVG
     CHECK(points["modulated_s"].get<double>() < points["dwell_s"].get<double>());
     CHECK(pointStrategyJson(ScanPlan{}, options, BuildTimeOptions{}).is_null());
 
-    auto svg = (std::filesystem::temp_directory_path() / "vpsim_scan_path.svg").string();
-    writeScanPathSvg(svg, layers[busiestLayer(layers)].moves, "scan path");
+    const auto stem = (std::filesystem::temp_directory_path() / "vpsim_scan_path").string();
+    const std::string svg = stem + ".svg";
+    writeScanPathFigure(stem, layers[busiestLayer(layers)].moves, "scan path");
     const std::string text = readFile(svg);
-    CHECK_THAT(text, Catch::Contains("jumps between parts"));
-    CHECK_THAT(text, Catch::Contains("x (mm)"));
+    CHECK(test::hasText(text, "jumps between parts"));
+    CHECK(test::hasText(text, "x (mm)"));
+    CHECK(std::filesystem::exists(stem + ".png"));
     std::filesystem::remove(svg);
+    std::filesystem::remove(stem + ".png");
 }
 
 TEST_CASE("transition arcs replace stop-and-go jumps when faster", "[plan]") {

@@ -39,21 +39,6 @@ ExposureError layerExposureError(const exposure::SurfaceGrid& exposure,
 
 namespace vpsim::optimise {
 
-/// Seed 000 Fig. 23: the sorted |error| / Etar of each plan against the fraction of cells, as an
-/// SVG line chart (at most 400 points per curve). @throw InputError when it cannot be written
-void writeErrorCurves(const std::string& path,
-                      const std::vector<std::pair<std::string, ExposureError>>& curves);
-
-/// The seed-style single-layer figure (Fig. 21/22 as a top view): the surface exposure as a heat
-/// map from 0 to 1.5 Etar, with iso-lines at Etar and at `contourLevel` (e.g. Ec), as PNG.
-/// @throw InputError when it cannot be written
-void writeExposurePicture(const std::string& path, const exposure::SurfaceGrid& exposure,
-                          double targetDose, double contourLevel);
-
-}  // namespace vpsim::optimise
-
-namespace vpsim::optimise {
-
 /// Issue 11 item 6, `layer_exposure_error` of report.json: for every layer of `plan` (regions
 /// bottom first, same count), the metric above on the layer's total surface exposure (its own
 /// map plus what the layers above transmit, through `model`), then the total over layers and

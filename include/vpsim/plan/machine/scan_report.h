@@ -53,10 +53,15 @@ ScanSchedule scheduleScans(ScanPlan& plan, const TrajectoryOptions& trajectory,
 /// The index of the layer with the most parts (the most telling picture), 0 when none has any.
 size_t busiestLayer(const std::vector<LayerTrajectory>& trajectories);
 
-/// SVG of one layer's scan path with mm axes: marks solid, jumps within a part dashed grey, jumps
-/// between parts dashed red, and the part order as a line through the parts' first marks.
-/// @throw InputError when the file cannot be written
-void writeScanPathSvg(const std::string& path, const std::vector<ScanMove>& moves,
-                      const std::string& title);
+/// Marks and jumps within a part drawn at most in a layer's scan-path figure (every k-th beyond).
+constexpr size_t SCAN_PATH_SEGMENTS = 5000;
+
+/// One layer's scan path as `stem`.svg and .png with mm axes at the true aspect ratio: marks
+/// solid, jumps within a part dashed grey, jumps between parts dashed red, and the part order as
+/// a line through the parts' first marks; a large layer draws every k-th mark and jump within a
+/// part (SCAN_PATH_SEGMENTS of each) and says so under the plot.
+/// @throw InputError when a file cannot be written
+void writeScanPathFigure(const std::string& stem, const std::vector<ScanMove>& moves,
+                         const std::string& title);
 
 }  // namespace vpsim::plan

@@ -1,0 +1,74 @@
+#include "vpsim/optimise/laser/exposure_figures.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "vpsim/core/text.h"
+#include "vpsim/plot/plot.h"
+
+namespace vpsim::optimise {
+
+void writeSortedErrorFigure(const std::string& stem, const std::string& title,
+                            const std::vector<std::pair<std::string, std::vector<float>>>& curves) {
+    plot::LineFigure f;
+    f.title = title;
+    f.xLabel = "fraction of cells";
+    f.yLabel = "|E - E#dtm#u| / E#dtar#u";
+    for (const auto& [label, sorted] : curves) {
+        plot::Curve c{label, {}, {}, plot::paletteColour(f.curves.size())};
+        const size_t n = sorted.size(), step = std::max<size_t>(1, n / 400);
+        for (size_t i = 0; i < n; i += step) {
+            c.x.push_back(double(i) / double(std::max<size_t>(1, n - 1)));
+            c.y.push_back(sorted[i]);
+        }
+        if (n > 0) c.x.push_back(1.0), c.y.push_back(sorted.back());
+        f.curves.push_back(std::move(c));
+    }
+    plot::writeLineFigure(stem, f);
+}
+
+void writeExposureMapFigure(const std::string& stem, const std::string& title,
+                            const exposure::SurfaceGrid& map, const geometry::PolygonSet* region,
+                            double targetDose, double criticalDose) {
+    constexpr double PER_CM2 = 100.0;  // mJ/mm^2 -> mJ/cm^2
+    plot::MapFigure f;
+    f.title = title;
+    f.nx = map.nx, f.ny = map.ny;
+    f.x0 = map.originX, f.x1 = map.originX + map.nx * map.pitch;
+    f.y0 = map.originY, f.y1 = map.originY + map.ny * map.pitch;
+    f.values.resize(map.values.size());
+    size_t above = 0;
+    const double hi = 1.5 * targetDose * PER_CM2;
+    for (size_t c = 0; c < map.values.size(); ++c) {
+        f.values[c] = float(map.values[c] * PER_CM2);
+        above += f.values[c] > hi;
+    }
+    f.scale = {plot::ColourMap::Sequential,     0.0,   hi,
+               "surface exposure (mJ/cm#u2#d)", false, above > 0};
+    f.outlines.push_back({"E#dtar#u = " + formatNumber(targetDose * PER_CM2, 3) + " mJ/cm#u2#d",
+                          {},
+                          targetDose * PER_CM2,
+                          {255, 80, 200},
+                          true});
+    if (criticalDose > 0)
+        f.outlines.push_back({"E#dc#u = " + formatNumber(criticalDose * PER_CM2, 3) + " mJ/cm#u2#d",
+                              {},
+                              criticalDose * PER_CM2,
+                              {255, 127, 14},
+                              false});
+    if (region) {
+        plot::Curve outline{"model outline", {}, {}, {230, 30, 30}};
+        for (const auto& contour : region->contours()) {
+            for (const auto& v : contour) outline.x.push_back(v.x), outline.y.push_back(v.y);
+            if (!contour.empty())  // closed, then a break before the next contour
+                outline.x.insert(outline.x.end(), {contour.front().x, NAN}),
+                    outline.y.insert(outline.y.end(), {contour.front().y, NAN});
+        }
+        f.lines.push_back(std::move(outline));
+    }
+    f.note = formatNumber(100.0 * double(above) / double(std::max<size_t>(1, f.values.size())), 3) +
+             "% of the cells above 1.5 E#dtar#u (drawn at the top of the scale)";
+    plot::writeMapFigure(stem, f);
+}
+
+}  // namespace vpsim::optimise

@@ -1,0 +1,160 @@
+// The plotting layer: what a figure shows is in its SVG as text (title, axis labels, tick labels,
+// colour bar label, legend, note), maps keep the data's aspect ratio, large grids are averaged
+// down to MAX_MAP_CELLS (checked against a brute-force mean), and both files are written.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <regex>
+
+#include "support/svg_text.h"
+#include "vpsim/core/error.h"
+#include "vpsim/plot/plot.h"
+
+using namespace vpsim;
+using vpsim::test::hasText;
+using vpsim::test::readWhole;
+using vpsim::test::svgTexts;
+
+namespace {
+
+std::filesystem::path scratch(const char* name) {
+    const auto dir = std::filesystem::temp_directory_path() / name;
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+/// Numbers among the SVG's texts (the tick labels).
+size_t numericTexts(const std::string& svg) {
+    size_t count = 0;
+    for (const std::string& t : svgTexts(svg))
+        count += std::regex_match(t, std::regex(R"(\s*[-−]?[0-9]+(\.[0-9]+)?\s*)"));
+    return count;
+}
+
+/// width / height of the SVG's embedded raster (the map's plot area).
+double rasterAspect(const std::string& svg) {
+    std::smatch m;
+    REQUIRE(std::regex_search(svg, m,
+                              std::regex(R"(<image x='[^']*' y='[^']*' width='([0-9.]+)' )"
+                                         R"(height='([0-9.]+)')")));
+    return std::stod(m[1]) / std::stod(m[2]);
+}
+
+}  // namespace
+
+TEST_CASE("line figure: labels, ticks and legend as SVG text, and a PNG", "[plot]") {
+    const auto dir = scratch("vpsim_test_plot_line");
+    plot::LineFigure f;
+    f.title = "A title";
+    f.xLabel = "depth z (µm)";
+    f.yLabel = "We (µm)";
+    f.note = "a note under the plot";
+    f.curves.push_back({"first curve", {0, 1, 2}, {1, 3, 2}});
+    f.curves.push_back({"second curve", {0, 2}, {2, 2}, plot::paletteColour(1), true});
+    const std::string stem = (dir / "line").string();
+    plot::writeLineFigure(stem, f);
+    const std::string svg = readWhole(stem + ".svg");
+    for (const char* text : {"A title", "depth z (µm)", "We (µm)", "first curve", "second curve",
+                             "a note under the plot"}) {
+        INFO(text);
+        CHECK(hasText(svg, text));
+    }
+    CHECK(numericTexts(svg) >= 6);  // tick labels on both axes
+    CHECK(std::filesystem::file_size(stem + ".png") > 1000);
+    std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("bars on categories and a log axis", "[plot]") {
+    const auto dir = scratch("vpsim_test_plot_bars");
+    plot::LineFigure f{"Bars", "", "count", {}};
+    plot::Curve bars{"counts"};
+    bars.style = plot::CurveStyle::Bars;
+    bars.x = {0, 1}, bars.y = {3, 3000};
+    bars.errorLow = {2, 2000}, bars.errorHigh = {4, 4000};
+    f.curves = {bars};
+    f.xCategories = {{0, "hole"}, {1, "pillar"}};
+    f.logY = true;
+    const std::string stem = (dir / "bars").string();
+    plot::writeLineFigure(stem, f);
+    const std::string svg = readWhole(stem + ".svg");
+    CHECK(hasText(svg, "hole"));
+    CHECK(hasText(svg, "pillar"));
+    CHECK(hasText(svg, "counts"));
+    std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("map figure: colour bar, outlines in the legend, true aspect ratio", "[plot]") {
+    const auto dir = scratch("vpsim_test_plot_map");
+    plot::MapFigure f;
+    f.title = "Exposure map";
+    f.nx = 40, f.ny = 10;
+    f.x0 = 0, f.x1 = 4, f.y0 = 1, f.y1 = 2;  // 4 mm x 1 mm
+    for (int j = 0; j < f.ny; ++j)
+        for (int i = 0; i < f.nx; ++i) f.values.push_back(float(i));
+    f.scale = {plot::ColourMap::Sequential, 0, 39, "exposure (mJ/cm#u2#d)", false, false};
+    f.outlines.push_back({"cured edge", {}, 20.0, {230, 30, 30}, false});
+    f.lines.push_back({"model outline", {1, 3, 3, 1, 1}, {1.2, 1.2, 1.8, 1.8, 1.2}});
+    f.note = "1.5% of the cells above the scale";
+    const std::string stem = (dir / "map").string();
+    plot::writeMapFigure(stem, f);
+    const std::string svg = readWhole(stem + ".svg");
+    for (const char* text : {"Exposure map", "x (mm)", "y (mm)", "exposure (mJ/cm", "cured edge",
+                             "model outline", "1.5% of the cells"}) {
+        INFO(text);
+        CHECK(hasText(svg, text));
+    }
+    CHECK(hasText(svg, " mm"));  // the scale bar's length
+    CHECK(rasterAspect(svg) == Approx(4.0).epsilon(0.01));
+    CHECK(std::filesystem::file_size(stem + ".png") > 1000);
+    const plot::MapFigure empty;
+    CHECK_THROWS_AS(plot::writeMapFigure(stem, empty), InputError);
+    std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("large maps are averaged down to MAX_MAP_CELLS, their edges kept", "[plot]") {
+    plot::MapFigure f;
+    f.nx = 2500, f.ny = 7;
+    f.x0 = -1, f.x1 = 1.5, f.y0 = 0, f.y1 = 0.007;
+    for (int j = 0; j < f.ny; ++j)
+        for (int i = 0; i < f.nx; ++i)
+            f.values.push_back(i == 5 && j == 3 ? NAN : float(std::sin(0.01 * i) + j));
+    std::vector<float> mask(f.values.size(), 1.0f);
+    f.outlines.push_back({"mask", mask, 0.5, {0, 0, 0}, false});
+    const plot::MapFigure d = plot::downsampled(f);
+    REQUIRE(d.nx == 834);  // ceil(2500 / 3): blocks of 2 or 3 cells
+    REQUIRE(d.ny == 3);
+    CHECK(d.x0 == f.x0);
+    CHECK(d.x1 == f.x1);
+    REQUIRE(d.outlines[0].field.size() == d.values.size());
+    // Brute force: cell i of the original is in the last block starting at or before it (block b
+    // starts at floor(b n / n')), and a block's value is the mean of its finite cells.
+    auto block = [](int i, int n, int blocks) { return ((i + 1) * blocks + n - 1) / n - 1; };
+    for (int jd = 0; jd < d.ny; ++jd)
+        for (int id = 0; id < d.nx; id += 97) {
+            double sum = 0;
+            int count = 0;
+            for (int j = 0; j < f.ny; ++j)
+                for (int i = 0; i < f.nx; ++i) {
+                    const float v = f.values[size_t(j) * f.nx + i];
+                    if (block(i, f.nx, d.nx) != id || block(j, f.ny, d.ny) != jd || std::isnan(v))
+                        continue;
+                    sum += v, ++count;
+                }
+            INFO(id << ", " << jd);
+            CHECK(d.values[size_t(jd) * d.nx + id] == Approx(sum / count).epsilon(1e-5));
+            CHECK(d.outlines[0].field[size_t(jd) * d.nx + id] == 1.0f);
+        }
+    plot::MapFigure small = f;
+    small.nx = 10, small.ny = 7;
+    small.values.resize(70);
+    CHECK(plot::downsampled(small).values == small.values);
+}
+
+TEST_CASE("figure stems from a user's FILE.svg", "[plot]") {
+    CHECK(plot::figureStem("out/wc.svg") == "out/wc");
+    CHECK(plot::figureStem("out/wc") == "out/wc");
+    CHECK(plot::figureStem(".svg") == ".svg");
+    CHECK_THROWS_AS(plot::figureStem(std::filesystem::temp_directory_path().string()), InputError);
+}
