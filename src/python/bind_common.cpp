@@ -3,6 +3,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <mutex>
 
@@ -100,6 +101,19 @@ double quantity(const py::handle& value, Dimension dimension, const std::string&
         throw InputError("expected a number or a string with units", "", key);
     try {
         return value.cast<double>();
+    } catch (const py::cast_error&) {
+        throw InputError("expected a number or a string with units", "", key);
+    }
+}
+
+std::string argumentText(const py::handle& v, const std::string& key) {
+    if (py::isinstance<py::str>(v)) return v.cast<std::string>();
+    if (py::isinstance<py::bool_>(v) || v.is_none())
+        throw InputError("expected a number or a string with units", "", key);
+    try {
+        char text[40];
+        std::snprintf(text, sizeof text, "%.17g", v.cast<double>());
+        return text;
     } catch (const py::cast_error&) {
         throw InputError("expected a number or a string with units", "", key);
     }

@@ -32,6 +32,11 @@ py::object fromJson(const nlohmann::json& value);
 /// A number in base units, or a string with units ("50 um"). @throw InputError naming `key`
 double quantity(const py::handle& value, Dimension dimension, const std::string& key);
 
+/// A number (base units, or a count) or a string with units as text, as the library's
+/// argument structs (transport::McArguments, kernel::KernelArguments) take them: numbers are
+/// written with all 17 digits. @throw InputError naming `key` for anything else
+std::string argumentText(const py::handle& value, const std::string& key);
+
 /// The settings the frontend passes to every call that may run physics.
 struct Settings {
     std::string backend = "auto";  ///< auto | vulkan | cpu

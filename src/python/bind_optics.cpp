@@ -65,20 +65,6 @@ py::dict material(const std::string& path, const std::vector<std::string>& overr
     return out;
 }
 
-/// A number (mm, or a count) or a string with units, as the text McArguments takes.
-std::string argumentText(const py::handle& v, const std::string& key) {
-    if (py::isinstance<py::str>(v)) return v.cast<std::string>();
-    if (py::isinstance<py::bool_>(v) || v.is_none())
-        throw InputError("expected a number or a string with units", "", key);
-    try {
-        char text[40];
-        std::snprintf(text, sizeof text, "%.17g", v.cast<double>());
-        return text;
-    } catch (const py::cast_error&) {
-        throw InputError("expected a number or a string with units", "", key);
-    }
-}
-
 /// `vpsim mc`'s set-up (transport::mcSetup) from keyword arguments named as its options.
 transport::McSetup mcSetup(const std::string& path, const py::dict& a) {
     transport::McArguments m;

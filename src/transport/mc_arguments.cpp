@@ -9,6 +9,16 @@
 
 namespace vpsim::transport {
 
+uint64_t parsePhotonCount(const std::string& text, const std::string& key) {
+    // Decimal only ("1e6" is fine; "0x10", "inf" and "nan" are not counts).
+    const std::optional<double> n = parseDecimal(text);
+    if (!n || !(*n >= 1) || *n > double(MAX_PHOTONS) || *n != std::floor(*n))
+        throw InputError("expected a whole number from 1 to " + std::to_string(MAX_PHOTONS) +
+                             ", got " + quoteUser(text),
+                         "", key);
+    return uint64_t(*n);
+}
+
 McSetup mcSetup(const McArguments& a, const optics::MediumOptics& optics, const ArgumentName& name,
                 const RunContext& context) {
     auto length = [&](const std::string& text, const std::string& key) {
@@ -16,14 +26,7 @@ McSetup mcSetup(const McArguments& a, const optics::MediumOptics& optics, const 
     };
     McSetup s;
     s.optics = optics;
-    // Decimal only ("1e6" is fine; "0x10", "inf" and "nan" are not counts).
-    const std::optional<double> photons = parseDecimal(a.photons);
-    if (!photons || !(*photons >= 1) || *photons > double(MAX_PHOTONS) ||
-        *photons != std::floor(*photons))
-        throw InputError("expected a whole number from 1 to " + std::to_string(MAX_PHOTONS) +
-                             ", got " + quoteUser(a.photons),
-                         "", name("photons"));
-    s.photons = uint64_t(*photons);
+    s.photons = parsePhotonCount(a.photons, name("photons"));
     s.seed = a.seed;
     s.estimator = parseEstimator(a.estimator, name("estimator"));
     s.rouletteThreshold = a.roulette;

@@ -27,20 +27,12 @@ struct McOptions {
     bool json = false;
 };
 
-/// "r_max" -> "--r-max", the option's name in messages.
-std::string optionName(const std::string& key) {
-    std::string name = "--" + key;
-    for (char& c : name)
-        if (c == '_') c = '-';
-    return name;
-}
-
 McSetup setupFrom(const McOptions& o, const vpsim::cli::Globals& g) {
     McArguments a = o.arguments;
     a.controlVariates = !o.noControls;
     a.voxel = o.vdb.empty() ? "" : o.voxel;
-    return mcSetup(a, vpsim::optics::loadMediumOptics(o.material, g.overrides), optionName,
-                   g.hostContext());
+    return mcSetup(a, vpsim::optics::loadMediumOptics(o.material, g.overrides),
+                   vpsim::cli::optionName, g.hostContext());
 }
 
 void runMc(const McOptions& o, const vpsim::cli::Globals& g) {

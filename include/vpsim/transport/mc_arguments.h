@@ -35,6 +35,10 @@ struct McArguments {
 /// How a front end names an argument ("r_max") in its messages ("--r-max").
 using ArgumentName = std::function<std::string(const std::string& key)>;
 
+/// A photon count written as an integer or in exponent form ("1e6"), from 1 to MAX_PHOTONS.
+/// @throw InputError naming `key`
+uint64_t parsePhotonCount(const std::string& text, const std::string& key);
+
 /// The run of `arguments` in a medium of `optics`; the Cartesian grid is checked against the
 /// context's memory budget before it is sized.
 /// @throw InputError naming the argument, ResourceError for a grid beyond the budget

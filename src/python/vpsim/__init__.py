@@ -263,7 +263,7 @@ def kernel(material, power="10 mW", w0="50 um", photons=1000000, seed=1, thickne
     ``r`` and ``z`` (mm), and the per-depth fits depth_amplitude, depth_radius. Uses the same
     kernel cache as the CLI; ``out`` also writes the CLI's files there."""
     arguments = {
-        "power": power, "w0": w0, "photons": float(photons), "seed": int(seed),
+        "power": power, "w0": w0, "photons": photons, "seed": int(seed),
         "thickness": thickness, "n_outside": float(n_outside), "r_max": r_max, "z_max": z_max,
         "bins": int(bins), "estimator": estimator,
         "out": os.fspath(out) if out is not None else None, "overrides": list(overrides),
