@@ -33,7 +33,9 @@ PartSpec partSpecFromConfig(const ConfigNode& part) {
 
 Mesh loadPart(const PartSpec& spec) {
     Mesh part;
-    if (!spec.stl.empty()) {
+    if (spec.mesh) {
+        part = *spec.mesh;
+    } else if (!spec.stl.empty()) {
         part = readStl(spec.stl, spec.scale);
     } else {
         part = makeTestPart(spec.testPart, spec.testPartOptions);

@@ -99,7 +99,8 @@ Job loadJob(const std::string& path, const Builtins& builtins,
     return loadJob(ConfigNode::load(path, overrides), builtins);
 }
 
-Job loadJob(const ConfigNode& root, const Builtins& builtins) {
+Job loadJob(const ConfigNode& root, const Builtins& builtins,
+            std::shared_ptr<const geometry::Mesh> part) {
     const std::string& path = root.file();
     Job job;
     job.file = path;
@@ -107,7 +108,12 @@ Job loadJob(const ConfigNode& root, const Builtins& builtins) {
     job.name = root.string("name", std::filesystem::path(path).stem().string());
     root.string("description", std::string());
     job.cure = cure::cureLawFromConfig(builtins.cureLaws, root, "cure");
-    job.part = geometry::partSpecFromConfig(root.child("part"));
+    if (part && root.has("part"))
+        throw root.error("part", "the part is given as arrays: leave the part section out");
+    if (part)
+        job.part.mesh = std::move(part);
+    else
+        job.part = geometry::partSpecFromConfig(root.child("part"));
     job.machine = plan::machineFromConfig(root.child("machine"));
     if (root.has("material")) job.materialFile = resolvePath(root, "material");
     job.kernel = kernel::kernelSpecFromConfig(sectionOrEmpty(root, "kernel"));

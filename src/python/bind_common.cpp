@@ -1,12 +1,17 @@
 #include "bind_common.h"
 
+#include <array>
 #include <atomic>
+#include <cmath>
+#include <cstdio>
 #include <map>
 #include <mutex>
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/progress.h"
 #include "vpsim/core/text.h"
+#include "vpsim/geometry/mesh_check.h"
+#include "vpsim/geometry/stl_io.h"
 #include "vpsim/gpu/context.h"
 
 namespace vpsim::python {
@@ -101,6 +106,19 @@ double quantity(const py::handle& value, Dimension dimension, const std::string&
     }
 }
 
+std::string argumentText(const py::handle& v, const std::string& key) {
+    if (py::isinstance<py::str>(v)) return v.cast<std::string>();
+    if (py::isinstance<py::bool_>(v) || v.is_none())
+        throw InputError("expected a number or a string with units", "", key);
+    try {
+        char text[40];
+        std::snprintf(text, sizeof text, "%.17g", v.cast<double>());
+        return text;
+    } catch (const py::cast_error&) {
+        throw InputError("expected a number or a string with units", "", key);
+    }
+}
+
 Settings settingsFrom(const py::dict& o) {
     Settings s;
     if (o.contains("backend") && !o["backend"].is_none())
@@ -145,18 +163,59 @@ const pipeline::Builtins& builtins() {
     return *made;
 }
 
+geometry::Mesh partMesh(const py::handle& part, double scale) {
+    using namespace geometry;
+    if (!py::isinstance<py::tuple>(part) && !py::isinstance<py::list>(part))
+        return readStl(toJson(part, "part").get<std::string>(), scale);
+    auto items = py::reinterpret_borrow<py::sequence>(part);
+    if (items.size() != 2)
+        throw InputError("expected a path or (vertices (N, 3), triangles (M, 3))", "", "part");
+    auto v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(items[0]);
+    auto t = py::array_t<long long, py::array::c_style | py::array::forcecast>::ensure(items[1]);
+    if (!v || v.ndim() != 2 || v.shape(1) != 3)
+        throw InputError("vertices: expected an (N, 3) array of mm", "", "part");
+    if (!t || t.ndim() != 2 || t.shape(1) != 3)
+        throw InputError("triangles: expected an (M, 3) integer array", "", "part");
+    // A triangle soup, as an STL file gives readStl, so that checkMesh merges and repairs alike.
+    Mesh mesh;
+    const double* pv = v.data();
+    const long long* pt = t.data();
+    for (py::ssize_t i = 0; i < t.shape(0); ++i) {
+        std::array<uint32_t, 3> tri{};
+        for (int c = 0; c < 3; ++c) {
+            const long long index = pt[3 * i + c];
+            if (index < 0 || index >= v.shape(0))
+                throw InputError("triangles: index " + std::to_string(index) + " of triangle " +
+                                     std::to_string(i) + " is out of range",
+                                 "", "part");
+            const glm::dvec3 p(pv[3 * index], pv[3 * index + 1], pv[3 * index + 2]);
+            if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+                throw InputError("vertices: vertex " + std::to_string(index) + " is not finite", "",
+                                 "part");
+            tri[c] = uint32_t(mesh.vertices.size());
+            mesh.vertices.push_back(p * scale);
+        }
+        mesh.triangles.push_back(tri);
+    }
+    if (mesh.triangles.empty()) throw InputError("no triangles", "", "part");
+    checkMesh(mesh, "part arrays");
+    return mesh;
+}
+
 pipeline::Job loadJob(const py::handle& job, const std::string& baseDir,
-                      const std::vector<std::string>& overrides) {
+                      const std::vector<std::string>& overrides, const py::handle& part) {
+    std::shared_ptr<const geometry::Mesh> mesh;
+    if (!part.is_none()) mesh = std::make_shared<const geometry::Mesh>(partMesh(part));
     if (!py::isinstance<py::dict>(job)) {
         const std::string path = toJson(job, "job").get<std::string>();
-        return pipeline::loadJob(path, builtins(), overrides);
+        return pipeline::loadJob(ConfigNode::load(path, overrides), builtins(), mesh);
     }
     const std::string file = baseDir.empty() ? "<dict>" : baseDir + "/<dict>";
     nlohmann::json document = toJson(job, file);
     for (const auto& assignment : overrides) applyOverride(document, assignment);
     // Through the text reader, so a dict meets the limits a job file meets.
     ConfigNode root(parseJsonText(document.dump(), file), file);
-    return pipeline::loadJob(root, builtins());
+    return pipeline::loadJob(root, builtins(), mesh);
 }
 
 struct ProgressScope::State {

@@ -32,6 +32,11 @@ py::object fromJson(const nlohmann::json& value);
 /// A number in base units, or a string with units ("50 um"). @throw InputError naming `key`
 double quantity(const py::handle& value, Dimension dimension, const std::string& key);
 
+/// A number (base units, or a count) or a string with units as text, as the library's
+/// argument structs (transport::McArguments, kernel::KernelArguments) take them: numbers are
+/// written with all 17 digits. @throw InputError naming `key` for anything else
+std::string argumentText(const py::handle& value, const std::string& key);
+
 /// The settings the frontend passes to every call that may run physics.
 struct Settings {
     std::string backend = "auto";  ///< auto | vulkan | cpu
@@ -50,10 +55,17 @@ Settings settingsFrom(const py::dict& options);
 /// The builtins (every registered planner, cure law, exporter), made once.
 const pipeline::Builtins& builtins();
 
+/// A part from an STL path or (vertices (N, 3) mm, triangles (M, 3)) arrays; the arrays are
+/// checked and repaired as readStl() does an STL file's triangles.
+/// @throw InputError naming the file or the key "part"
+geometry::Mesh partMesh(const py::handle& part, double scale = 1.0);
+
 /// A job from a path or a dict (`baseDir` resolves a dict's relative paths; "" = the working
-/// directory), with `overrides` ("key.path=value") applied first.
+/// directory), with `overrides` ("key.path=value") applied first; `part` (None, or vertex and
+/// triangle arrays) replaces the job's part section, which must then be absent.
 pipeline::Job loadJob(const py::handle& job, const std::string& baseDir,
-                      const std::vector<std::string>& overrides);
+                      const std::vector<std::string>& overrides,
+                      const py::handle& part = py::none());
 
 /// While alive, vpsim's Progress reports go to `callback(label, done, total)` (None: nowhere),
 /// called with the GIL held from whichever thread advances; an exception the callback raises

@@ -147,10 +147,10 @@ private:
 };
 
 std::shared_ptr<Prepared> prepare(const py::handle& jobArg, const std::string& baseDir,
-                                  const std::vector<std::string>& overrides,
+                                  const std::vector<std::string>& overrides, const py::handle& part,
                                   const py::handle& planArg, const py::dict& settings,
                                   const py::object& progress) {
-    auto job = std::make_shared<pipeline::Job>(loadJob(jobArg, baseDir, overrides));
+    auto job = std::make_shared<pipeline::Job>(loadJob(jobArg, baseDir, overrides, part));
     const RunContext context = runContext(settingsFrom(settings));
     const PlanObject* given = planArg.is_none() ? nullptr : &planArg.cast<const PlanObject&>();
     return withoutGil(progress, [&] {
@@ -193,9 +193,11 @@ py::dict describe(const Prepared& p) {
 }
 
 py::dict expose(const py::handle& job, const std::string& baseDir,
-                const std::vector<std::string>& overrides, const py::handle& planArg,
-                double maxBytes, const py::dict& settings, const py::object& progress) {
-    std::shared_ptr<Prepared> p = prepare(job, baseDir, overrides, planArg, settings, progress);
+                const std::vector<std::string>& overrides, const py::handle& part,
+                const py::handle& planArg, double maxBytes, const py::dict& settings,
+                const py::object& progress) {
+    std::shared_ptr<Prepared> p =
+        prepare(job, baseDir, overrides, part, planArg, settings, progress);
     py::dict out = describe(*p);
     const size_t nx = size_t(p->grid.nx), ny = size_t(p->grid.ny),
                  nz = size_t(p->layers) * size_t(p->grid.slicesPerLayer);
@@ -264,10 +266,10 @@ py::dict cure(const py::handle& law,
 }
 
 py::dict validateExposure(const py::handle& jobArg, const std::string& baseDir,
-                          const std::vector<std::string>& overrides,
+                          const std::vector<std::string>& overrides, const py::handle& part,
                           const py::array_t<float, py::array::c_style | py::array::forcecast>& a,
                           const py::dict& grid, const py::object& progress) {
-    const pipeline::Job job = loadJob(jobArg, baseDir, overrides);
+    const pipeline::Job job = loadJob(jobArg, baseDir, overrides, part);
     exposure::ExposureGrid g;
     g.nx = grid["nx"].cast<int>();
     g.ny = grid["ny"].cast<int>();
@@ -285,8 +287,8 @@ py::dict validateExposure(const py::handle& jobArg, const std::string& baseDir,
         throw InputError("the exposure's slices are not whole layers", "", "exposure");
     const float* data = a.data();
     nlohmann::json summary = withoutGil(progress, [&] {
-        const geometry::Mesh part = pipeline::partStage(job);
-        validate::SliceValidator validator(part, g, *job.cure, h);
+        const geometry::Mesh mesh = pipeline::partStage(job);
+        validate::SliceValidator validator(mesh, g, *job.cure, h);
         exposure::SurfaceGrid slice = g.surface();
         const int n = g.slicesPerLayer;
         for (int k = nz - 1; k >= 0; --k) {  // top down, as the engine emits them
@@ -317,10 +319,11 @@ void bindExposure(py::module_& m) {
         .def("__next__", &SliceStream::next)
         .def("close", &SliceStream::close, "stops the engine (also when the iterator goes)");
     m.def("_expose", &expose, py::arg("job"), py::arg("base_dir"), py::arg("overrides"),
-          py::arg("plan"), py::arg("max_bytes"), py::arg("settings"), py::arg("progress"));
+          py::arg("part"), py::arg("plan"), py::arg("max_bytes"), py::arg("settings"),
+          py::arg("progress"));
     m.def("_cure", &cure, py::arg("law"), py::arg("dose"));
     m.def("_validate", &validateExposure, py::arg("job"), py::arg("base_dir"), py::arg("overrides"),
-          py::arg("array"), py::arg("grid"), py::arg("progress"));
+          py::arg("part"), py::arg("array"), py::arg("grid"), py::arg("progress"));
 }
 
 }  // namespace vpsim::python

@@ -35,48 +35,9 @@ py::array_t<T> xyArray(const std::vector<U>& values, const RasterGrid& grid) {
     return ownedArray(std::move(out), {grid.width, grid.height});
 }
 
-Mesh meshFrom(const py::handle& part, double scale) {
-    if (!py::isinstance<py::tuple>(part) && !py::isinstance<py::list>(part))
-        return readStl(toJson(part, "part").get<std::string>(), scale);
-    auto items = py::reinterpret_borrow<py::sequence>(part);
-    if (items.size() != 2)
-        throw InputError("expected a path or (vertices (N, 3), triangles (M, 3))", "", "part");
-    auto v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(items[0]);
-    auto t = py::array_t<long long, py::array::c_style | py::array::forcecast>::ensure(items[1]);
-    if (!v || v.ndim() != 2 || v.shape(1) != 3)
-        throw InputError("vertices: expected an (N, 3) array of mm", "", "part");
-    if (!t || t.ndim() != 2 || t.shape(1) != 3)
-        throw InputError("triangles: expected an (M, 3) integer array", "", "part");
-    Mesh mesh;
-    const double* pv = v.data();
-    for (py::ssize_t i = 0; i < v.shape(0); ++i) {
-        glm::dvec3 p(pv[3 * i], pv[3 * i + 1], pv[3 * i + 2]);
-        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-            throw InputError("vertices: vertex " + std::to_string(i) + " is not finite", "",
-                             "part");
-        mesh.vertices.push_back(p * scale);
-    }
-    const long long* pt = t.data();
-    for (py::ssize_t i = 0; i < t.shape(0); ++i) {
-        std::array<uint32_t, 3> tri{};
-        for (int c = 0; c < 3; ++c) {
-            const long long index = pt[3 * i + c];
-            if (index < 0 || index >= v.shape(0))
-                throw InputError("triangles: index " + std::to_string(index) + " of triangle " +
-                                     std::to_string(i) + " is out of range",
-                                 "", "part");
-            tri[c] = uint32_t(index);
-        }
-        mesh.triangles.push_back(tri);
-    }
-    if (mesh.triangles.empty()) throw InputError("no triangles", "", "part");
-    mergeDuplicateVertices(mesh);
-    return mesh;
-}
-
 py::dict slice(const py::handle& part, const py::handle& layerThickness, const py::dict& a,
                const py::object& progress) {
-    const Mesh mesh = meshFrom(part, a["scale"].cast<double>());
+    const Mesh mesh = partMesh(part, a["scale"].cast<double>());
     SliceOptions options;
     options.layerThickness = quantity(layerThickness, dim::LENGTH, "layer_thickness");
     if (!(options.layerThickness > 0)) throw InputError("must be > 0", "", "layer_thickness");

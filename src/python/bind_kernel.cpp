@@ -4,6 +4,7 @@
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
 #include "vpsim/kernel/fitted_beam.h"
+#include "vpsim/kernel/kernel_arguments.h"
 #include "vpsim/kernel/kernel_summary.h"
 
 namespace vpsim::python {
@@ -25,25 +26,19 @@ void addArrays(py::dict& out, kernel::BeamKernel k) {
 
 py::dict beamKernel(const std::string& path, const py::dict& a, const py::dict& settings,
                     const py::object& progress) {
-    kernel::KernelOptions o;
-    o.power = quantity(a["power"], dim::POWER, "power");
-    o.w0 = quantity(a["w0"], dim::LENGTH, "w0");
-    if (!(o.power > 0)) throw InputError("must be > 0", "", "power");
-    if (!(o.w0 > 0.0 && o.w0 <= 100.0)) throw InputError("must be in (0, 100] mm", "", "w0");
-    const double photons = a["photons"].cast<double>();
-    if (!(photons >= 1 && photons <= double(transport::MAX_PHOTONS) &&
-          photons == std::floor(photons)))
-        throw InputError("expected a whole number from 1", "", "photons");
-    o.photons = uint64_t(photons);
-    o.seed = a["seed"].cast<uint32_t>();
-    if (!a["thickness"].is_none()) o.thickness = quantity(a["thickness"], dim::LENGTH, "thickness");
-    o.nOutside = a["n_outside"].cast<double>();
-    if (!a["r_max"].is_none()) o.rMax = quantity(a["r_max"], dim::LENGTH, "r_max");
-    if (!a["z_max"].is_none()) o.zMax = quantity(a["z_max"], dim::LENGTH, "z_max");
-    o.bins = a["bins"].cast<uint32_t>();
-    if (o.bins < 4 || o.bins > 1000)
-        throw InputError("expected 4..1000, got " + std::to_string(o.bins), "", "bins");
-    o.estimator = transport::parseEstimator(a["estimator"].cast<std::string>(), "estimator");
+    kernel::KernelArguments given;
+    given.power = argumentText(a["power"], "power");
+    given.w0 = argumentText(a["w0"], "w0");
+    given.photons = argumentText(a["photons"], "photons");
+    given.seed = a["seed"].cast<uint32_t>();
+    if (!a["thickness"].is_none()) given.thickness = argumentText(a["thickness"], "thickness");
+    given.nOutside = a["n_outside"].cast<double>();
+    if (!a["r_max"].is_none()) given.rMax = argumentText(a["r_max"], "r_max");
+    if (!a["z_max"].is_none()) given.zMax = argumentText(a["z_max"], "z_max");
+    given.bins = a["bins"].cast<uint32_t>();
+    given.estimator = a["estimator"].cast<std::string>();
+    const kernel::KernelOptions o =
+        kernel::kernelOptions(given, [](const std::string& key) { return key; });
     const kernel::KernelRequest request =
         kernel::kernelRequest(path, o, a["overrides"].cast<std::vector<std::string>>());
     const RunContext context = runContext(settingsFrom(settings));

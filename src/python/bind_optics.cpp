@@ -1,6 +1,7 @@
 // vpsim.mie, vpsim.material and vpsim.mc: Lorenz-Mie of one sphere, a material's optics with its
 // phase-function table as arrays, and the photon Monte Carlo with `vpsim mc --json`'s figures.
 #include <cmath>
+#include <cstdio>
 
 #include "bind_common.h"
 #include "vpsim/core/error.h"
@@ -9,6 +10,7 @@
 #include "vpsim/optics/material_file.h"
 #include "vpsim/optics/mie.h"
 #include "vpsim/optics/mie_summary.h"
+#include "vpsim/transport/mc_arguments.h"
 #include "vpsim/transport/photon_mc.h"
 
 namespace vpsim::python {
@@ -63,40 +65,27 @@ py::dict material(const std::string& path, const std::vector<std::string>& overr
     return out;
 }
 
-double length(const py::handle& v, const std::string& key) {
-    return quantity(v, dim::LENGTH, key);
-}
-
-/// The setup of `vpsim mc` from keyword arguments named as its options.
+/// `vpsim mc`'s set-up (transport::mcSetup) from keyword arguments named as its options.
 transport::McSetup mcSetup(const std::string& path, const py::dict& a) {
-    using namespace transport;
-    McSetup s;
-    s.optics = optics::loadMediumOptics(path, a["overrides"].cast<std::vector<std::string>>());
-    const double photons = a["photons"].cast<double>();
-    if (!(photons >= 1 && photons <= double(MAX_PHOTONS) && photons == std::floor(photons)))
-        throw InputError("expected a whole number from 1 to " + std::to_string(MAX_PHOTONS), "",
-                         "photons");
-    s.photons = uint64_t(photons);
-    s.seed = a["seed"].cast<uint32_t>();
-    s.estimator = parseEstimator(a["estimator"].cast<std::string>(), "estimator");
-    s.rouletteThreshold = a["roulette"].cast<double>();
-    s.thickness = a["thickness"].is_none() ? 0.0 : length(a["thickness"], "thickness");
-    if (!a["thickness"].is_none() && !(s.thickness > 0))
-        throw InputError("must be > 0 (None for a semi-infinite medium)", "", "thickness");
-    s.nAbove = s.nBelow = a["n_outside"].cast<double>();
-    const std::string beam = a["beam"].cast<std::string>();
-    if (beam != "pencil" && beam != "gaussian")
-        throw InputError("expected 'pencil' or 'gaussian', got " + beam, "", "beam");
-    s.beam = beam == "gaussian" ? BeamShape::Gaussian : BeamShape::Pencil;
-    s.w0 = length(a["w0"], "w0");
-    if (!(s.w0 > 0.0 && s.w0 <= 100.0)) throw InputError("must be in (0, 100] mm", "", "w0");
-    s.beamConvolution = !a["direct_beam"].cast<bool>();
-    s.controlVariates = a["control_variates"].cast<bool>();
-    for (auto d : a["depths"]) s.depths.push_back(length(d, "depths"));
-    s.bins.rMax = length(a["r_max"], "r_max");
-    s.bins.zMax = length(a["z_max"], "z_max");
-    s.bins.rBins = s.bins.zBins = a["bins"].cast<uint32_t>();
-    return s;
+    transport::McArguments m;
+    m.photons = argumentText(a["photons"], "photons");
+    m.seed = a["seed"].cast<uint32_t>();
+    m.estimator = a["estimator"].cast<std::string>();
+    m.roulette = a["roulette"].cast<double>();
+    if (!a["thickness"].is_none()) m.thickness = argumentText(a["thickness"], "thickness");
+    m.nOutside = a["n_outside"].cast<double>();
+    m.beam = a["beam"].cast<std::string>();
+    m.w0 = argumentText(a["w0"], "w0");
+    m.directBeam = a["direct_beam"].cast<bool>();
+    m.controlVariates = a["control_variates"].cast<bool>();
+    for (auto d : a["depths"]) m.depths.push_back(argumentText(d, "depths"));
+    m.rMax = argumentText(a["r_max"], "r_max");
+    m.zMax = argumentText(a["z_max"], "z_max");
+    m.bins = a["bins"].cast<uint32_t>();
+    const auto overrides = a["overrides"].cast<std::vector<std::string>>();
+    return transport::mcSetup(
+        m, optics::loadMediumOptics(path, overrides), [](const std::string& key) { return key; },
+        RunContext{});
 }
 
 py::dict mc(const std::string& path, const py::dict& arguments, const py::dict& settings,

@@ -5,8 +5,8 @@
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/text.h"
+#include "vpsim/exporters/export_file.h"
 #include "vpsim/pipeline/estimate.h"
-#include "vpsim/plan/machine/build_time.h"
 
 namespace vpsim::python {
 
@@ -73,10 +73,34 @@ void setMask(PlanObject& p, int k, const py::array_t<float, py::array::forcecast
         }
 }
 
+/// Replaces mask `index` of every layer by the stack's layer k, stack[k] as set_mask takes it;
+/// uint8 grey levels g give g / 255 of `fullDose`.
+void setMasks(PlanObject& p, const py::array& stack, const py::object& fullDose, int index) {
+    const py::ssize_t layers = py::ssize_t(p.plan.layers.size());
+    if (stack.ndim() != 3 || stack.shape(0) != layers)
+        throw InputError("expected an array (layers = " + std::to_string(layers) + ", nx, ny)", "",
+                         "masks");
+    py::object doses = stack;
+    if (stack.dtype().is(py::dtype::of<uint8_t>())) {
+        if (fullDose.is_none())
+            throw InputError("uint8 masks are grey levels: give full_dose, the dose of level 255",
+                             "", "full_dose");
+        const double full = quantity(fullDose, dim::DOSE, "full_dose");
+        if (!(full > 0 && std::isfinite(full))) throw InputError("must be > 0", "", "full_dose");
+        doses = stack.attr("astype")("float64") * py::float_(full / 255.0);
+    } else if (!fullDose.is_none()) {
+        throw InputError("full_dose is for uint8 grey levels; float masks are doses", "",
+                         "full_dose");
+    }
+    for (py::ssize_t k = 0; k < layers; ++k)
+        setMask(p, int(k), py::array_t<float, py::array::forcecast>::ensure(doses[py::int_(k)]),
+                index);
+}
+
 PlanObject planJob(const py::handle& jobArg, const std::string& baseDir,
-                   const std::vector<std::string>& overrides, const py::dict& settings,
-                   const py::object& progress) {
-    const pipeline::Job job = loadJob(jobArg, baseDir, overrides);
+                   const std::vector<std::string>& overrides, const py::handle& part,
+                   const py::dict& settings, const py::object& progress) {
+    const pipeline::Job job = loadJob(jobArg, baseDir, overrides, part);
     const RunContext context = runContext(settingsFrom(settings));
     return withoutGil(progress, [&] {
         JobFront f = jobFront(job, context, true, false);
@@ -95,57 +119,19 @@ PlanObject planFrom(const py::handle& source) {
     return PlanObject{plan::loadScanPlan(path), nlohmann::json::object(), "saved plan " + path};
 }
 
-std::string extensionOf(const std::string& path) {
-    const size_t dot = path.find_last_of('.'), slash = path.find_last_of('/');
-    return dot == std::string::npos || (slash != std::string::npos && dot < slash)
-               ? std::string()
-               : path.substr(dot);
-}
-
 /// As `vpsim export`: the named exporter, else the one whose default file has the path's
 /// extension; returns its summary.
 py::dict exportPlan(const PlanObject& p, const std::string& path, const std::string& name,
                     const py::handle& optionsArg) {
-    const nlohmann::json options =
-        optionsArg.is_none() ? nlohmann::json::object() : toJson(optionsArg, "options");
-    const auto& registry = builtins().exporters;
-    std::string chosen = name;
-    if (chosen.empty()) {
-        for (const auto& [entryName, entry] : registry.entries()) {
-            try {
-                auto exporter = registry.create(entryName, ConfigNode(options, "options"));
-                if (extensionOf(exporter->defaultFileName()) == extensionOf(path)) {
-                    chosen = entryName;
-                    break;
-                }
-            } catch (const InputError&) {}
-        }
-        if (chosen.empty())
-            throw InputError("no exporter writes '" + extensionOf(path) +
-                                 "' files with these options (give exporter= and options=)",
-                             path);
-    }
-    ConfigNode section(options, "options");
-    auto exporter = registry.create(chosen, section);
-    section.checkUnknownKeys();
-    std::string reason;
-    if (!exporter->accepts(p.plan, reason)) throw InputError(chosen + ": " + reason, path);
-    {
+    exporters::ExportRequest request;
+    request.path = path;
+    request.exporter = name;
+    if (!optionsArg.is_none()) request.options = toJson(optionsArg, "options");
+    request.hint = "exporter= and options=";
+    const nlohmann::json summary = [&] {
         py::gil_scoped_release release;
-        exporter->write(p.plan, path);
-    }
-    size_t vectors = 0;
-    bool dlp = false;
-    for (const auto& layer : p.plan.layers) {
-        vectors += layer.vectors.size();
-        dlp = dlp || !layer.masks.empty();
-    }
-    nlohmann::json summary = {{"file", path},
-                              {"exporter", chosen},
-                              {"options", options},
-                              {"layers", p.plan.layers.size()},
-                              {"vectors", vectors}};
-    if (!dlp) summary["build_time_s"] = plan::estimateBuildTime(p.plan, {}).toJson();
+        return exporters::exportToFile(builtins().exporters, p.plan, request);
+    }();
     return fromJson(summary);
 }
 
@@ -194,12 +180,18 @@ void bindPlan(py::module_& m) {
             py::arg("path"), "writes plan.json's format (atomic)")
         .def("set_mask", &setMask, py::arg("layer"), py::arg("dose"), py::arg("mask") = 0,
              "replaces a DLP mask's doses (mJ/mm^2, array[ix, iy] of the mask's shape)")
+        .def("set_masks", &setMasks, py::arg("masks"), py::arg("full_dose") = py::none(),
+             py::arg("mask") = 0,
+             "replaces every layer's DLP mask by a stack, masks[k, ix, iy] for layer k (bottom "
+             "up): float doses in mJ/mm^2, or uint8 grey levels g giving g / 255 of full_dose")
+        .def(
+            "copy", [](const PlanObject& p) { return p; }, "an independent copy")
         .def("__repr__", [](const PlanObject& p) {
             return "<vpsim.Plan " + p.strategy + ": " + std::to_string(p.plan.layers.size()) +
                    " layers, " + formatQuantity(p.plan.totalEnergy()) + " mJ>";
         });
     m.def("_plan", &planJob, py::arg("job"), py::arg("base_dir"), py::arg("overrides"),
-          py::arg("settings"), py::arg("progress"));
+          py::arg("part"), py::arg("settings"), py::arg("progress"));
     m.def("_load_plan", &planFrom, py::arg("source"));
     m.def("_export", &exportPlan, py::arg("plan"), py::arg("path"), py::arg("exporter"),
           py::arg("options"));

@@ -12,9 +12,10 @@ namespace vpsim::python {
 namespace {
 
 py::dict run(const py::handle& jobArg, const std::string& baseDir, const std::string& out,
-             const std::vector<std::string>& overrides, const std::string& planFile, bool dryRun,
-             const py::dict& settings, const py::object& progress) {
-    const pipeline::Job job = loadJob(jobArg, baseDir, overrides);
+             const std::vector<std::string>& overrides, const py::handle& part,
+             const std::string& planFile, bool dryRun, const py::dict& settings,
+             const py::object& progress) {
+    const pipeline::Job job = loadJob(jobArg, baseDir, overrides, part);
     const Settings s = settingsFrom(settings);
     if (dryRun)  // the default memory budget: the library reads no environment
         return fromJson(pipeline::estimateJob(job, false, !planFile.empty(), s.backend != "cpu")
@@ -58,7 +59,8 @@ py::dict calibrate(const py::array_t<double, py::array::forcecast>& doses,
 
 void bindRun(py::module_& m) {
     m.def("_run", &run, py::arg("job"), py::arg("base_dir"), py::arg("out"), py::arg("overrides"),
-          py::arg("plan_file"), py::arg("dry_run"), py::arg("settings"), py::arg("progress"));
+          py::arg("part"), py::arg("plan_file"), py::arg("dry_run"), py::arg("settings"),
+          py::arg("progress"));
 }
 
 void bindComponents(py::module_& m) {

@@ -137,7 +137,7 @@ check_files "$work/phase.svg"
 
 # --- mc --------------------------------------------------------------------------------------------
 expect_error "thickness" mc --material "$materials/vandehulst-slab.json" --photons 1000 --thickness -1mm --json
-expect_error "--photons: expected a whole number" mc --material "$materials/vandehulst-slab.json" --photons abc --json
+expect_error "'--photons': expected a whole number" mc --material "$materials/vandehulst-slab.json" --photons abc --json
 expect_error "nonexistent.json: cannot read" mc --material "$data/nonexistent.json" --photons 1000 --json
 # Van de Hulst's matched slab (mua 1/mm, mus 9/mm, g 0.75, optical thickness 2): Rd 0.09739,
 # Tt 0.66096 (Prahl's MCML tables); 4 standard errors at 20000 photons.

@@ -73,3 +73,50 @@ def close(a, b, rel=1e-6):
         assert a == pytest.approx(b, rel=rel, abs=1e-12)
     else:
         assert a == b
+
+
+def small_dlp_job(**changes):
+    """A DLP job of a few seconds: 1 mm L-shape, 4 layers of uniform masks."""
+    job = {
+        "name": "py-small-dlp",
+        "cure": {"model": "fpp", "K": "0.0052808 cm^2/mJ", "gel_point": 0.276,
+                 "penetration_depth": "0.36594 mm"},
+        "part": {"test_part": "l-shape", "size": "1 mm", "height": "0.2 mm"},
+        "machine": {"process": "dlp", "pixel_pitch": "62.5 um", "blur_radius": "40 um",
+                    "layer_thickness": "50 um"},
+        "plan": {"strategy": "uniform-mask", "dose": "78 mJ/cm^2"},
+        "simulation": {"voxel": "31.25 um", "slices_per_layer": 2, "write_vdb": False},
+    }
+    job.update(changes)
+    return job
+
+
+def step_mesh():
+    """A closed two-step block (an L in x-z), coordinates exact in float32 so that an STL file
+    holds them unchanged: (vertices (N, 3) mm, triangles (M, 3))."""
+    import numpy as np
+    # profile in x-z, extruded along y from 0 to 0.75 mm
+    profile = [(0, 0), (1, 0), (1, 0.125), (0.5, 0.125), (0.5, 0.25), (0, 0.25)]
+    n = len(profile)
+    vertices = [(x, 0.0, z) for x, z in profile] + [(x, 0.75, z) for x, z in profile]
+    triangles = []
+    for i in range(n):  # side walls, outward
+        j = (i + 1) % n
+        triangles += [(i, n + j, j), (i, n + i, n + j)]
+    # the caps: the profile split into two convex quadrilaterals; y = 0 faces -y
+    for a, b, c, d in [(0, 1, 2, 3), (0, 3, 4, 5)]:
+        triangles += [(a, b, c), (a, c, d), (n + a, n + c, n + b), (n + a, n + d, n + c)]
+    return np.array(vertices, dtype=float), np.array(triangles)
+
+
+def write_stl(path, vertices, triangles):
+    """A binary STL of the mesh (float32, as vpsim writes them)."""
+    import struct
+    with open(path, "wb") as f:
+        f.write(b"\0" * 80 + struct.pack("<I", len(triangles)))
+        for t in triangles:
+            f.write(struct.pack("<3f", 0, 0, 0))
+            for k in t:
+                f.write(struct.pack("<3f", *vertices[k]))
+            f.write(b"\0\0")
+    return str(path)

@@ -201,6 +201,12 @@ def test_errors(tmp_path):
     with pytest.raises(vpsim.InputError) as error:
         vpsim.mc(SLAB, photons=10, w0="5 mW")
     assert error.value.key == "w0"
+    # the kernel's arguments are checked as `vpsim kernel` checks its options
+    for arguments, key in [({"thickness": "-1 mm"}, "thickness"), ({"photons": "1.5"}, "photons"),
+                           ({"power": 0}, "power"), ({"bins": 2}, "bins")]:
+        with pytest.raises(vpsim.InputError) as error:
+            vpsim.kernel(MATERIAL, **arguments)
+        assert error.value.key == key
     with pytest.raises(vpsim.InputError):
         vpsim.run(small_job(plan={"strategy": "no-such-planner"}))
     with pytest.raises(vpsim.InputError):

@@ -15,6 +15,7 @@
 #include "vpsim/core/error.h"
 #include "vpsim/core/text.h"
 #include "vpsim/core/units.h"
+#include "vpsim/exporters/export_file.h"
 #include "vpsim/pipeline/builtins.h"
 #include "vpsim/plan/machine/build_time.h"
 #include "vpsim/plan/machine/scan_report.h"
@@ -31,13 +32,6 @@ struct ExportCliOptions {
     bool trajectories = false, json = false;
 };
 
-std::string extensionOf(const std::string& path) {
-    const size_t dot = path.find_last_of('.'), slash = path.find_last_of('/');
-    return dot == std::string::npos || (slash != std::string::npos && dot < slash)
-               ? std::string()
-               : path.substr(dot);
-}
-
 /// The exporter's section from --option, --format and --units.
 nlohmann::json exporterSection(const ExportCliOptions& o) {
     nlohmann::json section = nlohmann::json::object();
@@ -45,29 +39,6 @@ nlohmann::json exporterSection(const ExportCliOptions& o) {
     if (!o.format.empty()) section["format"] = o.format;
     if (!o.units.empty()) section["units"] = o.units;
     return section;
-}
-
-/// --exporter, else the exporter whose default file has `out`'s extension (its accepts() then
-/// says why it cannot write this plan); an exporter that cannot be created from the options says
-/// why in the error when none matches.
-std::string chooseExporter(const ExportCliOptions& o, const exporters::ExporterRegistry& registry,
-                           const nlohmann::json& section) {
-    if (!o.exporter.empty()) return o.exporter;
-    std::string reasons;
-    for (const auto& [name, entry] : registry.entries()) {
-        try {
-            auto exporter = registry.create(name, ConfigNode(section, "command line"));
-            if (extensionOf(exporter->defaultFileName()) == extensionOf(o.out)) return name;
-        } catch (const InputError& e) {
-            reasons +=
-                "; " + name + ": " + (e.key().empty() ? "" : "key '" + e.key() + "' ") + e.reason();
-        }
-    }
-    throw InputError("no exporter writes '" + extensionOf(o.out) +
-                         "' files with these options (give --exporter NAME and its --option "
-                         "KEY=VALUE)" +
-                         reasons,
-                     o.out);
 }
 
 void runExport(const ExportCliOptions& o, const cli::Globals& globals) {
@@ -97,25 +68,19 @@ void runExport(const ExportCliOptions& o, const cli::Globals& globals) {
                                       "scan path of layer " + std::to_string(k));
         }
     }
-    const pipeline::Builtins builtins = pipeline::makeBuiltins();
-    const nlohmann::json options = exporterSection(o);
-    const std::string name = chooseExporter(o, builtins.exporters, options);
-    ConfigNode section(options, "command line");
-    auto exporter = builtins.exporters.create(name, section);
-    section.checkUnknownKeys();
-    std::string reason;
-    if (!exporter->accepts(scanPlan, reason)) throw InputError(name + ": " + reason, o.plan);
-    exporter->write(scanPlan, o.out);
-    size_t vectors = 0;
-    for (const auto& layer : scanPlan.layers) vectors += layer.vectors.size();
-    nlohmann::json summary = {{"file", o.out},
-                              {"exporter", name},
-                              {"options", options},
-                              {"layers", scanPlan.layers.size()},
-                              {"vectors", vectors}};
-    bool dlp = false;
-    for (const auto& layer : scanPlan.layers) dlp = dlp || !layer.masks.empty();
-    if (!dlp) summary["build_time_s"] = plan::estimateBuildTime(scanPlan, timing).toJson();
+    exporters::ExportRequest request;
+    request.path = o.out;
+    request.exporter = o.exporter;
+    request.options = exporterSection(o);
+    request.optionsSource = "command line";
+    request.hint = "--exporter NAME and its --option KEY=VALUE";
+    request.planSource = o.plan;
+    request.timing = timing;
+    nlohmann::json summary =
+        exporters::exportToFile(pipeline::makeBuiltins().exporters, scanPlan, request);
+    const std::string name = summary["exporter"];
+    const size_t vectors = summary["vectors"];
+    const bool dlp = !summary.contains("build_time_s");
     if (!order.is_null()) summary["scan_order"] = order;
     if (o.json)
         cli::printJson(summary);

@@ -16,6 +16,7 @@
 #include "vpsim/core/text.h"
 #include "vpsim/core/units.h"
 #include "vpsim/kernel/beam_kernel.h"
+#include "vpsim/kernel/kernel_arguments.h"
 #include "vpsim/kernel/kernel_cache.h"
 #include "vpsim/kernel/kernel_summary.h"
 #include "vpsim/transport/photon_mc.h"
@@ -27,44 +28,13 @@ using namespace vpsim::transport;
 using namespace vpsim::kernel;
 
 struct KernelCliOptions {
-    std::string material, power = "10 mW", w0 = "50 um", out;
-    std::string photons = "1000000";
-    uint32_t seed = 1;
-    std::string thickness;  ///< empty = semi-infinite
-    double nOutside = 1.0;
-    std::string rMax, zMax;  ///< empty = chosen from W0 and mua
-    uint32_t bins = 80;
-    std::string estimator = "track-length";
+    std::string material, out;
+    KernelArguments arguments;
     bool json = false;
 };
 
-double quantity(const std::string& text, vpsim::Dimension dimension, const std::string& option) {
-    double v = vpsim::parseQuantity(text, dimension, option);
-    if (!(v > 0)) throw InputError(option + ": must be > 0, got '" + text + "'");
-    return v;
-}
-
 void runKernel(const KernelCliOptions& o, const vpsim::cli::Globals& g) {
-    const double power = quantity(o.power, vpsim::dim::POWER, "--power");
-    const double thickness =
-        o.thickness.empty() ? 0.0 : quantity(o.thickness, vpsim::dim::LENGTH, "--thickness");
-    const double w0 = quantity(o.w0, vpsim::dim::LENGTH, "--w0");
-    if (!(w0 > 0.0 && w0 <= 100.0))
-        throw vpsim::InputError("must be in (0, 100] mm, got " + vpsim::quoteUser(o.w0), "",
-                                "--w0");
-    if (o.bins < 4 || o.bins > 1000)
-        throw InputError("--bins: expected 4..1000, got " + std::to_string(o.bins));
-    KernelOptions options;
-    options.power = power;
-    options.w0 = w0;
-    options.photons = vpsim::cli::parseCount(o.photons, MAX_PHOTONS, "--photons");
-    options.seed = o.seed;
-    options.thickness = thickness;
-    options.nOutside = o.nOutside;
-    if (!o.rMax.empty()) options.rMax = quantity(o.rMax, vpsim::dim::LENGTH, "--r-max");
-    if (!o.zMax.empty()) options.zMax = quantity(o.zMax, vpsim::dim::LENGTH, "--z-max");
-    options.bins = o.bins;
-    options.estimator = parseEstimator(o.estimator, "--estimator");
+    const KernelOptions options = kernelOptions(o.arguments, vpsim::cli::optionName);
     KernelRequest request = kernelRequest(o.material, options, g.overrides);
     const McSetup& s = request.setup;
 
@@ -106,18 +76,22 @@ vpsim::cli::CommandRegistration registerKernel{
             "kernel", "Beam kernel I(r,z) of a material by photon Monte Carlo (Eq. 11-12)");
         auto o = std::make_shared<KernelCliOptions>();
         cmd->add_option("--material", o->material, "material JSON file")->required();
-        cmd->add_option("--power", o->power, "laser power, e.g. 10mW");
-        cmd->add_option("--w0", o->w0, "Gaussian beam 1/e^2 intensity radius W0, e.g. 50um");
+        cmd->add_option("--power", o->arguments.power, "laser power, e.g. 10mW");
+        cmd->add_option("--w0", o->arguments.w0,
+                        "Gaussian beam 1/e^2 intensity radius W0, e.g. 50um");
         cmd->add_option("--out", o->out, "output directory")->required();
-        cmd->add_option("--photons", o->photons, "photons to launch (e.g. 1e6)");
-        cmd->add_option("--seed", o->seed, "random seed");
-        cmd->add_option("--thickness", o->thickness, "slab thickness (default: semi-infinite)");
-        cmd->add_option("--n-outside", o->nOutside,
+        cmd->add_option("--photons", o->arguments.photons, "photons to launch (e.g. 1e6)");
+        cmd->add_option("--seed", o->arguments.seed, "random seed");
+        cmd->add_option("--thickness", o->arguments.thickness,
+                        "slab thickness (default: semi-infinite)");
+        cmd->add_option("--n-outside", o->arguments.nOutside,
                         "refractive index above (and below) the medium");
-        cmd->add_option("--r-max", o->rMax, "radius of the tabulated kernel (default 4 W0)");
-        cmd->add_option("--z-max", o->zMax, "depth of the tabulated kernel (default 3/mua)");
-        cmd->add_option("--bins", o->bins, "bins along r and along z");
-        cmd->add_option("--estimator", o->estimator,
+        cmd->add_option("--r-max", o->arguments.rMax,
+                        "radius of the tabulated kernel (default 4 W0)");
+        cmd->add_option("--z-max", o->arguments.zMax,
+                        "depth of the tabulated kernel (default 3/mua)");
+        cmd->add_option("--bins", o->arguments.bins, "bins along r and along z");
+        cmd->add_option("--estimator", o->arguments.estimator,
                         "absorption estimator: collision (default), track-length, implicit-track, "
                         "implicit or analog")
             ->check(CLI::IsMember(estimatorNames()));

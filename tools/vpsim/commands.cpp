@@ -67,13 +67,11 @@ std::shared_ptr<gpu::Context> Globals::gpu() const {
     return mGpu;
 }
 
-uint64_t parseCount(const std::string& text, uint64_t max, const std::string& option) {
-    // Decimal only ("1e6" is fine; "0x10", "inf" and "nan" are not counts).
-    const std::optional<double> n = parseDecimal(text);
-    if (!n || !(*n >= 1) || *n > double(max) || *n != std::floor(*n))
-        throw InputError(option + ": expected a whole number from 1 to " + std::to_string(max) +
-                         ", got " + quoteUser(text));
-    return uint64_t(*n);
+std::string optionName(const std::string& key) {
+    std::string name = "--" + key;
+    for (char& c : name)
+        if (c == '_') c = '-';
+    return name;
 }
 
 void printJson(const nlohmann::json& value) {

@@ -71,9 +71,9 @@ struct CommandRegistration {
 /// All registered setups, in registration order.
 std::vector<std::pair<std::string, CommandSetup>>& commandRegistry();
 
-/// A whole count written as an integer or in exponent form ("1e6"), from 1 to `max`.
-/// @throw InputError naming the option
-uint64_t parseCount(const std::string& text, uint64_t max, const std::string& option);
+/// A command's option name for a library argument's key: "r_max" -> "--r-max" (the name
+/// transport::mcSetup and kernel::kernelOptions give it in messages).
+std::string optionName(const std::string& key);
 
 /// Prints JSON to stdout with 2-space indentation.
 void printJson(const nlohmann::json& value);

@@ -63,7 +63,9 @@ Job loadJob(const std::string& path, const Builtins& builtins,
             const std::vector<std::string>& overrides = {});
 /// The same from a document already read (the Python module's job dicts): `root.file()` names
 /// it in messages and its directory resolves the relative paths inside ("" = the working
-/// directory). @throw InputError naming root.file() and the key
-Job loadJob(const ConfigNode& root, const Builtins& builtins);
+/// directory). `part`, a mesh made in code (the module's arrays), replaces the part section,
+/// which must then be absent. @throw InputError naming root.file() and the key
+Job loadJob(const ConfigNode& root, const Builtins& builtins,
+            std::shared_ptr<const geometry::Mesh> part = nullptr);
 
 }  // namespace vpsim::pipeline

@@ -11,6 +11,11 @@ workers too). The GIL is released during the work.
 Errors are ``vpsim.Error`` and its subclasses ``InputError`` (``.file``, ``.key``, ``.reason``),
 ``ResourceError`` and ``GpuError``.
 
+numpy arrays go in where the CLI reads a file: a part as ``part=(vertices, triangles)`` instead
+of the job's STL (plan, expose, run, validate, slice), a DLP mask stack ``masks[k, ix, iy]``
+(Plan.set_masks, expose, run) instead of a plan.json, a working curve's dose and depth arrays
+(calibrate, and its result as cure()'s law) instead of a CSV.
+
 Arrays of the exposure are float32 in C order with axes (x, y, z): ``array[ix, iy, iz]`` is
 ``exposure.vdb``'s voxel (ix, iy, iz), whose cell starts at ``origin + (ix, iy, iz) *
 voxel_size`` (mm; centre at + voxel_size / 2). 2D maps (masks, slices) are ``array[ix, iy]``.
@@ -131,22 +136,51 @@ class JobResult(Record):
         object.__setattr__(self, "_keep", keep)
 
 
+def _with_masks(job, plan, masks, full_dose, part, overrides, settings, progress):
+    """``plan`` (else the job's) with its DLP masks replaced by the stack ``masks``."""
+    if masks is None:
+        if full_dose is not None:
+            raise InputError("full_dose goes with masks")
+        return plan
+    if plan is None:
+        source, base = _job(job)
+        plan = _vpsim._plan(source, base, list(overrides), part, _settings(**settings), progress)
+    elif not isinstance(plan, Plan):
+        plan = load_plan(plan)
+    plan = plan.copy()
+    plan.set_masks(masks, full_dose)
+    return plan
+
+
 def run(job, out=None, overrides=(), backend=None, progress=None, plan=None, dry_run=False,
-        device=None, cache_dir=None):
+        device=None, cache_dir=None, part=None, masks=None, full_dose=None):
     """The main job, as ``vpsim run JOB --out OUT``: returns report.json as a JobResult.
 
     ``job`` a path or a dict (relative paths in a dict from the working directory); ``out``
     None writes into a temporary directory removed with the result; ``overrides`` are
-    "key.path=value" (the CLI's --set); ``plan`` a saved plan.json (the CLI's --plan);
+    "key.path=value" (the CLI's --set); ``plan`` a saved plan.json or a Plan (the CLI's
+    --plan); ``part`` (vertices (N, 3) mm, triangles (M, 3)) instead of the job's part section;
+    ``masks`` a DLP mask stack for the plan (Plan.set_masks, with ``full_dose``);
     ``dry_run`` returns the estimate (memory, files, time) and computes nothing."""
+    settings = {"backend": backend, "device": device, "cache_dir": cache_dir}
+    plan = _with_masks(job, plan, masks, full_dose, part, overrides, settings, progress)
     job, base = _job(job)
     keep = None
     if out is None and not dry_run:
         keep = tempfile.TemporaryDirectory(prefix="vpsim-")
         out = keep.name
-    document = _vpsim._run(job, base, os.fspath(out) if out else "", list(overrides),
-                           os.fspath(plan) if plan else "", dry_run,
-                           _settings(backend, device, cache_dir), progress)
+    saved = None
+    if isinstance(plan, Plan):  # through plan.json, as the CLI's --plan
+        saved = tempfile.TemporaryDirectory(prefix="vpsim-plan-")
+        plan.save(os.path.join(saved.name, "plan.json"))
+        plan = os.path.join(saved.name, "plan.json")
+    try:
+        document = _vpsim._run(job, base, os.fspath(out) if out else "", list(overrides), part,
+                               os.fspath(plan) if plan else "", dry_run,
+                               _settings(backend, device, cache_dir), progress)
+    finally:
+        if saved:
+            saved.cleanup()
     if dry_run:
         return Record(document)
     return JobResult(document, os.fspath(out), keep)
@@ -209,7 +243,7 @@ def mc(material, photons=100000, seed=1, thickness=None, beam="pencil", w0="50 u
     absorbed with standard errors, absorbed_within for ``depths``), plus absorbed_rz, the
     absorbed fraction per (r, z) bin as array[ir, iz]."""
     arguments = {
-        "photons": float(photons), "seed": int(seed), "thickness": thickness, "beam": beam,
+        "photons": photons, "seed": int(seed), "thickness": thickness, "beam": beam,
         "w0": w0, "depths": list(depths), "estimator": estimator or "collision",
         "n_outside": float(n_outside), "r_max": r_max, "z_max": z_max, "bins": int(bins),
         "roulette": 0.001 if roulette is None else float(roulette),
@@ -229,7 +263,7 @@ def kernel(material, power="10 mW", w0="50 um", photons=1000000, seed=1, thickne
     ``r`` and ``z`` (mm), and the per-depth fits depth_amplitude, depth_radius. Uses the same
     kernel cache as the CLI; ``out`` also writes the CLI's files there."""
     arguments = {
-        "power": power, "w0": w0, "photons": float(photons), "seed": int(seed),
+        "power": power, "w0": w0, "photons": photons, "seed": int(seed),
         "thickness": thickness, "n_outside": float(n_outside), "r_max": r_max, "z_max": z_max,
         "bins": int(bins), "estimator": estimator,
         "out": os.fspath(out) if out is not None else None, "overrides": list(overrides),
@@ -253,11 +287,12 @@ def slice(part, layer_thickness, pitch=None, plane=0.5, z_start=None, layers=Non
     return Record(_vpsim._slice(part, layer_thickness, arguments, progress))
 
 
-def plan(job, overrides=(), backend=None, progress=None, device=None, cache_dir=None):
+def plan(job, overrides=(), backend=None, progress=None, device=None, cache_dir=None, part=None):
     """The job's scan plan (the stages up to the plan, as ``vpsim plan``; nothing written):
-    a Plan with layers as arrays, to_json() in plan.json's format, save(path), set_mask()."""
+    a Plan with layers as arrays, to_json() in plan.json's format, save(path), set_mask(),
+    set_masks(), copy(). ``part`` (vertices, triangles) replaces the job's part section."""
     job, base = _job(job)
-    return _vpsim._plan(job, base, list(overrides), _settings(backend, device, cache_dir),
+    return _vpsim._plan(job, base, list(overrides), part, _settings(backend, device, cache_dir),
                         progress)
 
 
@@ -304,38 +339,48 @@ class Exposure:
 
 
 def expose(job, plan=None, max_bytes=DEFAULT_MAX_EXPOSURE_BYTES, overrides=(), backend=None,
-           progress=None, device=None, cache_dir=None):
-    """The job's exposure (of ``plan``, else of the job's planner) as an Exposure: the whole
-    3D array when it takes at most ``max_bytes``, else a slice iterator."""
+           progress=None, device=None, cache_dir=None, part=None, masks=None, full_dose=None):
+    """The job's exposure (of ``plan``, a Plan or a saved plan's path, else of the job's
+    planner) as an Exposure: the whole 3D array when it takes at most ``max_bytes``, else a
+    slice iterator. ``part`` (vertices, triangles) replaces the job's part section; ``masks``
+    a DLP mask stack replacing the plan's masks (Plan.set_masks, with ``full_dose``)."""
+    settings = {"backend": backend, "device": device, "cache_dir": cache_dir}
+    plan = _with_masks(job, plan, masks, full_dose, part, overrides, settings, progress)
+    if plan is not None and not isinstance(plan, Plan):
+        plan = load_plan(plan)
     job, base = _job(job)
-    return Exposure(_vpsim._expose(job, base, list(overrides), plan, float(max_bytes),
+    return Exposure(_vpsim._expose(job, base, list(overrides), part, plan, float(max_bytes),
                                    _settings(backend, device, cache_dir), progress))
 
 
 def cure(law, exposure):
     """A cure law (a cure section dict, e.g. {"model": "threshold", "critical_dose":
-    "10 mJ/cm^2"}) applied to an exposure (an Exposure or an array of mJ/mm^2): ``cured``
-    (uint8, same shape), ``conversion`` (float32, laws with conversion kinetics),
-    ``critical_dose`` (mJ/mm^2)."""
+    "10 mJ/cm^2"}, or calibrate()'s result: its cure_model) applied to an exposure (an Exposure
+    or an array of mJ/mm^2): ``cured`` (uint8, same shape), ``conversion`` (float32, laws with
+    conversion kinetics), ``critical_dose`` (mJ/mm^2)."""
+    if isinstance(law, Record) and "cure_model" in law:
+        law = law.to_dict()["cure_model"]
     dose = exposure.array if isinstance(exposure, Exposure) else exposure
     if dose is None:
         raise InputError("the exposure was streamed as slices: cure each slice's values")
     return Record(_vpsim._cure(law, dose))
 
 
-def validate(job, exposure, overrides=(), progress=None):
-    """The slice validation of an Exposure against the job's part, as report.json's
-    "validation" (iou, overcure below down-facing surfaces, XY contour error per layer)."""
+def validate(job, exposure, overrides=(), progress=None, part=None):
+    """The slice validation of an Exposure against the job's part (or ``part``, vertices and
+    triangles), as report.json's "validation" (iou, overcure below down-facing surfaces, XY
+    contour error per layer)."""
     if exposure.array is None:
         raise InputError("validate needs the exposure as an array (raise max_bytes)")
     job, base = _job(job)
-    return Record(_vpsim._validate(job, base, list(overrides), exposure.array, exposure.grid,
-                                   progress))
+    return Record(_vpsim._validate(job, base, list(overrides), part, exposure.array,
+                                   exposure.grid, progress))
 
 
 def calibrate(doses, depths, gel_point=None):
-    """Working-curve calibration (``vpsim calibrate --json``'s figures): ``doses`` (mJ/mm^2)
-    and cured ``depths`` (mm) as arrays; ``gel_point`` adds the FPP rate constant K."""
+    """Working-curve calibration (``vpsim calibrate --working-curve CSV --json``'s figures):
+    ``doses`` (mJ/mm^2) and cured ``depths`` (mm) as arrays; ``gel_point`` adds the FPP rate
+    constant K. The result's ``cure_model`` is a cure section; cure() takes the result as law."""
     import numpy as np
     return Record(_vpsim._calibrate(np.asarray(doses, dtype=float),
                                     np.asarray(depths, dtype=float), gel_point))
