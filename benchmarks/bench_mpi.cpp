@@ -1,7 +1,7 @@
 // `vpsim run` and `vpsim batch` over MPI ranks (issue 22 item 3) against one plain process, all
 // measured in this run: the small laser job with a Monte Carlo kernel of many photons (the work
-// the ranks split) under `mpirun --oversubscribe -np 1, 2, 4`, and a batch of 4 jobs over the
-// same ranks. Prints JSON: wall seconds and the kernel stage's seconds per rank count, the
+// the ranks split) under `mpirun --oversubscribe --bind-to none -np 1, 2, 4`, and a batch of 4 jobs
+// over the same ranks. Prints JSON: wall seconds and the kernel stage's seconds per rank count, the
 // speed-up against 1 rank, whether every report.json's figures equal the plain process's, the
 // machine's cores and load (ranks share the cores: beyond the core count nothing is gained).
 // Usage: bench_mpi [--photons N (default 400000)]
@@ -88,7 +88,8 @@ int main(int argc, char** argv) {
     // One job: a fresh kernel cache per run, so every run computes its kernel.
     const auto run = [&](const std::string& name, int ranks) {
         const std::string launcher =
-            ranks > 0 ? "mpirun --oversubscribe -np " + std::to_string(ranks) + " " : "";
+            ranks > 0 ? "mpirun --oversubscribe --bind-to none -np " + std::to_string(ranks) + " "
+                      : "";
         const std::string command = "VPSIM_CACHE_DIR=" + (work / ("cache-" + name)).string() + " " +
                                     launcher + vpsim + " -q run " + job + " --out " +
                                     (work / name).string() + set + " >/dev/null 2>&1";
@@ -126,7 +127,7 @@ int main(int argc, char** argv) {
     for (int ranks : {1, 2, 4}) {
         const std::string dir = (work / ("batch" + std::to_string(ranks))).string();
         batchSeconds[std::to_string(ranks)] =
-            timed("VPSIM_CACHE_DIR=" + dir + "-cache mpirun --oversubscribe -np " +
+            timed("VPSIM_CACHE_DIR=" + dir + "-cache mpirun --oversubscribe --bind-to none -np " +
                   std::to_string(ranks) + " " + vpsim + " -q batch --sweep " +
                   (work / "sweep.json").string() + " --out " + dir + " >/dev/null 2>&1");
         for (int d = 0; d < 4; ++d) {

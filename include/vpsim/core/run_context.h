@@ -34,7 +34,7 @@ struct RunContext {
     uint64_t memoryLimit = 0;
     /// The ranks that share the run's work (the beam kernel's photons) when started by
     /// mpirun/srun; nullptr or one rank: this process does everything (cluster/communicator.h).
-    std::shared_ptr<cluster::Communicator> cluster;
+    std::shared_ptr<cluster::Communicator> cluster = nullptr;
 };
 
 }  // namespace vpsim
