@@ -19,3 +19,16 @@ find_package(OpenVDB REQUIRED)
 
 add_library(vpsim_warnings INTERFACE)
 target_compile_options(vpsim_warnings INTERFACE -Wall -Wextra -Wpedantic -Wshadow -Wno-unused-parameter)
+
+# Open MPI (Debian's libopenmpi-dev) is optional: with it, mpirun/srun spread a job's Monte Carlo
+# and a batch's jobs over ranks (src/cluster); without it vpsim is one process. On where found.
+option(VPSIM_MPI "Use MPI where found" ON)
+set(VPSIM_WITH_MPI OFF)
+if(VPSIM_MPI)
+  enable_language(C)  # FindMPI's C component compiles a C test program
+  find_package(MPI COMPONENTS C)
+  if(MPI_C_FOUND)
+    set(VPSIM_WITH_MPI ON)
+  endif()
+endif()
+message(STATUS "vpsim: MPI ${VPSIM_WITH_MPI}")

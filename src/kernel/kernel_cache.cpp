@@ -3,14 +3,17 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
+#include "vpsim/cluster/communicator.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
 #include "vpsim/core/log.h"
 #include "vpsim/gpu/context.h"
 #include "vpsim/optics/material.h"
+#include "vpsim/transport/mc_split.h"
 
 namespace vpsim::kernel {
 namespace {
@@ -46,6 +49,18 @@ std::string cacheKey(const KernelRequest& r) {
     return name;
 }
 
+/// The kernel stored at `path`, or nothing when there is none (or it cannot be read: recomputed).
+std::optional<BeamKernel> loadCached(const std::string& path) {
+    std::error_code unreadable;
+    if (path.empty() || !std::filesystem::exists(path, unreadable)) return std::nullopt;
+    try {
+        return BeamKernel::load(path);
+    } catch (const Error& e) {
+        logWarn("ignoring unreadable cached kernel " + path + ": " + e.what());
+        return std::nullopt;
+    }
+}
+
 }  // namespace
 
 KernelRequest kernelRequest(const std::string& materialFile, double power, double w0,
@@ -72,21 +87,24 @@ BeamKernel cachedKernel(const KernelRequest& request, const RunContext& context,
                          request.materialFile, "mua");
     const std::string dir = context.cacheDirectory;
     const std::string path = dir.empty() ? "" : dir + "/" + cacheKey(request);
-    fromCache = false;
-    std::error_code unreadable;
-    if (!path.empty() && std::filesystem::exists(path, unreadable)) {
-        try {
-            BeamKernel cached = BeamKernel::load(path);
-            fromCache = true;
-            return cached;
-        } catch (const Error& e) {
-            logWarn("ignoring unreadable cached kernel " + path + ": " + e.what());
-        }
+    cluster::SingleProcess single;
+    cluster::Communicator& comm = context.cluster ? *context.cluster : single;
+    // Rank 0 reads the cache and the other ranks take its kernel, so that all make the same
+    // collective calls (the Monte Carlo below, or none) and hold the same kernel.
+    std::optional<BeamKernel> cached;
+    if (comm.isRoot()) cached = loadCached(path);
+    if (comm.ranks() > 1) {
+        const std::string text = comm.broadcastBytes(cached ? cached->toJson().dump() : "");
+        if (!comm.isRoot() && !text.empty())
+            cached = BeamKernel::fromJson(nlohmann::json::parse(text), path);
     }
-    transport::McResult mc = transport::runPhotonMc(request.setup, gpu::shaderContext(context));
+    fromCache = cached.has_value();
+    if (cached) return *cached;
+    transport::McResult mc =
+        transport::runPhotonMcSplit(request.setup, gpu::shaderContext(context), comm);
     BeamKernel beam = kernelFromMonteCarlo(mc, request.power);
     if (monteCarlo) *monteCarlo = mc;
-    if (path.empty()) return beam;
+    if (path.empty() || !comm.isRoot()) return beam;
     try {
         createDirectories(dir);
         beam.save(path);

@@ -13,6 +13,7 @@
 #include "vpsim/exposure/dose_volume.h"
 #include "vpsim/geometry/stl_io.h"
 #include "vpsim/gpu/context.h"
+#include "vpsim/pipeline/cluster_run.h"
 #include "vpsim/pipeline/estimate.h"
 #include "vpsim/report/deviation_map.h"
 #include "vpsim/report/figures.h"
@@ -92,6 +93,7 @@ Front runFront(const Job& job, geometry::Mesh part, const std::string& outDir,
     timer.finish("part");
 
     f.beam = beamStage(job, context);
+    result.mpi = clusterSummary(f.beam, context);
     if (f.beam.monteCarlo) {
         const kernel::BeamKernel& k = *f.beam.monteCarlo;
         createDirectories(outDir + "/kernel");

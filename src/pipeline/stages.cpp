@@ -45,10 +45,9 @@ BeamResult beamStage(const Job& job, const RunContext& context) {
         return result;
     }
     result.beam = laserBeam(job, job.kernel, context, result.monteCarlo, result.fromCache);
-    if (job.kernel.plan) {
-        bool cached = false;
-        result.planBeam = laserBeam(job, *job.kernel.plan, context, result.planMonteCarlo, cached);
-    }
+    if (job.kernel.plan)
+        result.planBeam =
+            laserBeam(job, *job.kernel.plan, context, result.planMonteCarlo, result.planFromCache);
     return result;
 }
 

@@ -40,6 +40,7 @@ nlohmann::json toJson(const JobResult& r) {
                             {"De3D_um", e.beam.attenuationLength * 1e3},
                             {"efficiency", e.beam.efficiency}}}};
     report["cured_volume_mm3"] = r.curedVolume;
+    if (!r.mpi.is_null()) report["mpi"] = r.mpi;
     const ValidationReport& v = r.validation;
     report["iou"] = v.slices.iou;
     report["surface_deviation_mm"] = v.deviation.toJson();

@@ -5,10 +5,10 @@
 
 #include <algorithm>
 #include <chrono>
-#include <thread>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/info.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -122,8 +122,9 @@ McResult runPhotonMcCpu(const McSetup& setup, int threads) {
     tbb::enumerable_thread_specific<LocalTally> locals(
         [&] { return LocalTally(rzWords, voxels, controlled); });
     Progress progress("photon Monte Carlo (CPU)", setup.photons);
-    // More threads than cores would only make TBB warn: clamp.
-    const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
+    // More threads than cores would only make TBB warn: clamp. TBB's count respects the CPU
+    // affinity mask (an MPI rank bound to its cores), the hardware count would not.
+    const int cores = std::max(1, tbb::info::default_concurrency());
     threads = threads > 0 ? std::min(threads, cores) : cores;
     tbb::task_arena arena(threads);
     // With a copy of the bins per batch, a task traces at least 512 photons of each batch, so

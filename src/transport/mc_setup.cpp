@@ -211,6 +211,10 @@ uint64_t photonsInBatch(uint64_t first, uint64_t photons, int batch, int batches
 }
 
 void setBins(McResult& result, std::vector<uint64_t> words, const glsl::PhotonParams& params) {
+    if (result.setup.unscaledBins) {  // a rank's share: mc_split.cpp adds and scales
+        result.absorbedRZ = std::move(words);
+        return;
+    }
     if ((params.estimator & 255u) == glsl::PHOTON_ESTIMATOR_COLLISION) {
         const double mut = double(params.mua) + double(params.mus);
         const double quanta =

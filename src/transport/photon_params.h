@@ -44,7 +44,8 @@ std::vector<float> makePhaseTable(const McSetup& setup);
 uint64_t photonsInBatch(uint64_t first, uint64_t photons, int batch, int batches = MC_BATCHES);
 /// Stores the (r,z) tally words of a run of `params`: one copy, or MC_BATCHES copies when
 /// result.setup.binsPerBatch (then absorbedRZ is their sum). The collision estimator's words are
-/// interaction counts, turned into quanta here (photon_types.glsl).
+/// interaction counts, turned into quanta here (photon_types.glsl); kept as they are when
+/// result.setup.unscaledBins (a rank's share, scaled after the ranks are added).
 void setBins(McResult& result, std::vector<uint64_t> words, const glsl::PhotonParams& params);
 /// Photon-weighted mean of per-batch fractions, with the standard error of their spread.
 Fraction fractionOfBatches(const McResult& result, const std::array<double, MC_BATCHES>& values);

@@ -1,9 +1,11 @@
 // `vpsim run JOB.json --out DIR [--plan FILE]`: the main job (material -> kernel -> slice ->
 // plan -> expose -> cure -> validate) with a report, grids, the cured mesh and pictures in DIR;
-// `vpsim expose` is the same command, named for runs that start from a saved plan.
+// `vpsim expose` is the same command, named for runs that start from a saved plan. Under
+// mpirun/srun the ranks share the beam kernel's Monte Carlo and rank 0 writes DIR.
 #include <iostream>
 
 #include "commands.h"
+#include "vpsim/pipeline/cluster_run.h"
 #include "vpsim/pipeline/estimate.h"
 #include "vpsim/pipeline/run_job.h"
 
@@ -18,7 +20,11 @@ void runCommand(const RunOptions& options, const vpsim::cli::Globals& globals) {
     using namespace vpsim;
     const pipeline::Builtins builtins = pipeline::makeBuiltins();
     const pipeline::Job job = pipeline::loadJob(options.job, builtins, globals.overrides);
+    // Under mpirun/srun every rank computes its share of the beam kernel's photons and rank 0
+    // the rest (pipeline/cluster_run.h); a plain run is one process.
+    const std::shared_ptr<cluster::Communicator> comm = globals.communicator();
     if (options.dryRun) {  // the estimate only: nothing computed, nothing written
+        if (!comm->isRoot()) return;
         const pipeline::JobEstimate estimate =
             pipeline::estimateJob(job, false, !options.plan.empty(), globals.backend != "cpu");
         if (options.json) return cli::printJson(estimate.toJson(globals.hostContext()));
@@ -27,7 +33,10 @@ void runCommand(const RunOptions& options, const vpsim::cli::Globals& globals) {
     }
     pipeline::RunOptions run;
     run.planFile = options.plan;
-    const report::JobResult r = pipeline::runJob(job, options.out, globals.runContext(), run);
+    RunContext context = globals.runContext();
+    context.cluster = comm;
+    if (!comm->isRoot()) return pipeline::runJobOnWorkerRank(job, context);
+    const report::JobResult r = pipeline::runJob(job, options.out, context, run);
     if (options.json) {
         cli::printJson(report::toJson(r));
         return;

@@ -9,6 +9,7 @@
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/log.h"
+#include "vpsim/core/progress.h"
 #include "vpsim/core/resources.h"
 #include "vpsim/core/text.h"
 #include "vpsim/kernel/kernel_cache.h"
@@ -54,6 +55,22 @@ RunContext Globals::runContext() const {
     RunContext context = hostContext();
     context.gpu = gpu();
     return context;
+}
+
+std::shared_ptr<cluster::Communicator> Globals::communicator() const {
+    if (!mCommunicator) {
+        cluster::LaunchEnvironment launch;
+        launch.ompiWorldSize = std::getenv("OMPI_COMM_WORLD_SIZE");
+        launch.pmiSize = std::getenv("PMI_SIZE");
+        launch.pmixRank = std::getenv("PMIX_RANK");
+        mCommunicator = cluster::startCommunicator(launch);
+        if (!mCommunicator->isRoot()) Progress::setEnabled(false);  // one progress display
+    }
+    return mCommunicator;
+}
+
+void Globals::abortOtherRanks() const {
+    if (mCommunicator && mCommunicator->ranks() > 1) mCommunicator->abort(1);
 }
 
 std::shared_ptr<gpu::Context> Globals::gpu() const {

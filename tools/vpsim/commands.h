@@ -21,6 +21,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "vpsim/cluster/communicator.h"
 #include "vpsim/core/run_context.h"
 #include "vpsim/gpu/context.h"
 
@@ -57,7 +58,18 @@ struct Globals {
     /// puts the exposure shaders on a CPU driver (lavapipe), where they are slower.
     RunContext runContext() const;
 
+    /// This process's ranks: MPI when mpirun/srun started it (OMPI_COMM_WORLD_SIZE, PMI_SIZE,
+    /// PMIX_RANK), else one process; started on first use (`vpsim run`, `vpsim batch`), so
+    /// other commands never initialise MPI.
+    std::shared_ptr<cluster::Communicator> communicator() const;
+    /// After an error on this rank: ends the other ranks too, which would otherwise wait for it
+    /// in a collective call (nothing in one process).
+    void abortOtherRanks() const;
+    /// The exit status when the command returns normally (`vpsim batch` with a failed job).
+    mutable int exitStatus = 0;
+
 private:
+    mutable std::shared_ptr<cluster::Communicator> mCommunicator;
     mutable std::shared_ptr<gpu::Context> mGpu;
     mutable bool mGpuResolved = false;
 };

@@ -87,13 +87,16 @@ int main(int argc, char** argv) {
         return e.get_exit_code();
     } catch (const Error& e) {
         std::cerr << "vpsim: error: " << oneLine(e.what()) << std::endl;
+        globals.abortOtherRanks();
         return 1;
     } catch (const std::bad_alloc&) {
         std::cerr << "vpsim: error: out of memory" << std::endl;
+        globals.abortOtherRanks();
         return 1;
     } catch (const std::exception& e) {
         std::cerr << "vpsim: internal error: " << oneLine(e.what()) << std::endl;
+        globals.abortOtherRanks();
         return 2;
     }
-    return 0;
+    return globals.exitStatus;
 }

@@ -12,6 +12,9 @@
 namespace vpsim::gpu {
 class Context;
 }
+namespace vpsim::cluster {
+class Communicator;
+}
 
 namespace vpsim {
 
@@ -29,6 +32,9 @@ struct RunContext {
     /// 0: the default, half the physical memory, at most 16 GiB (core/resources.h memoryBudget).
     /// The CLI sets it from VPSIM_MEMORY_LIMIT.
     uint64_t memoryLimit = 0;
+    /// The ranks that share the run's work (the beam kernel's photons) when started by
+    /// mpirun/srun; nullptr or one rank: this process does everything (cluster/communicator.h).
+    std::shared_ptr<cluster::Communicator> cluster = nullptr;
 };
 
 }  // namespace vpsim

@@ -36,6 +36,7 @@ struct BeamResult {
     /// Carlo kernel when it has one; the exposure and validation use `beam`.
     std::optional<kernel::FittedBeam> planBeam;
     std::optional<kernel::BeamKernel> planMonteCarlo;
+    bool planFromCache = false;
     /// What the planner plans with: planBeam when there is one, else beam.
     const kernel::FittedBeam& planningBeam() const { return planBeam ? *planBeam : beam; }
 };

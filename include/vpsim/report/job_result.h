@@ -124,6 +124,9 @@ struct JobResult {
     double curedVolume = 0;            ///< mm^3 of the cured mesh
     ValidationReport validation;
     std::vector<std::pair<std::string, double>> stageSeconds;  ///< in run order
+    /// How the work was split over MPI ranks ({"ranks": N, "split": ...}); null in one process,
+    /// and then report.json has no "mpi".
+    nlohmann::json mpi;
     std::vector<ReportSection> sections;            ///< components' own parts of index.html
     std::optional<ViewerSummary> viewer;            ///< the 3D view, when written
     std::optional<SectionViewSummary> sectionView;  ///< its sections, when recorded

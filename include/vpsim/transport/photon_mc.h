@@ -110,6 +110,10 @@ struct McSetup {
     /// bins and the integer tallies are the same either way; the step costs about 50% more
     /// (bench_photon_mc), so runs that only need the bins (the beam kernel) switch it off.
     bool controlVariates = true;
+    /// Keep the (r,z) words as tallied (the collision estimator's are interaction counts,
+    /// scaled to quanta with rounding): set by runs split over ranks (transport/mc_split.h),
+    /// which add the words of all ranks and scale the sum once, as one process would.
+    bool unscaledBins = false;
 };
 
 /// Most photons one run may launch (64-bit indices; the launched weight, photons x 2^24

@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# vpsim under `mpirun --oversubscribe -np 2` and `-np 4` on this machine: the collectives and the
+# split Monte Carlo (mpi_check), `vpsim run` of a small job (the kernel's photons split over the
+# ranks) giving the single process's report.json figures plus "mpi", and a batch of 3 jobs over
+# 2 ranks giving the single process's per-job figures. Exits 77 (ctest: skipped) with a line
+# saying why when vpsim was built without MPI or mpirun is missing.
+# Usage: run_mpi_tests.sh VPSIM_BINARY MPI_CHECK_BINARY SOURCE_DIR WITH_MPI(ON|OFF)
+set -uo pipefail
+vpsim="$1"; check="$2"; source="$3"; with_mpi="$4"
+if [[ "$with_mpi" != ON ]]; then
+  echo "mpi: SKIPPED: vpsim was built without MPI (Open MPI's libopenmpi-dev not found by CMake)"
+  exit 77
+fi
+command -v mpirun >/dev/null || { echo "mpi: SKIPPED: mpirun not found (Debian's openmpi-bin)"; exit 77; }
+command -v jq >/dev/null || { echo "mpi: FAILED: jq is missing"; exit 1; }
+. "$source/tests/mpi/compare_reports.sh"
+# Open MPI refuses root without these; vader's single-copy (CMA) fails in containers.
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+export OMPI_MCA_btl_vader_single_copy_mechanism=none
+mpi() { local n="$1"; shift; mpirun --oversubscribe -np "$n" "$@"; }
+work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+failed=0
+fail() { failed=$((failed + 1)); echo "FAILED: $*"; }
+
+for n in 2 4; do
+  mpi "$n" "$check" >"$work/check$n.out" 2>&1 || { fail "mpi_check -np $n"; cat "$work/check$n.out"; }
+done
+
+job="$source/tests/cli/data/small_job.json"
+few="--set kernel.photons=6000"  # 6 rounds of 1024 control batches and a remainder
+# run_job NAME RANKS [ARGS...]: vpsim run into $work/NAME with a cache of its own (the kernel is
+# computed, not read); RANKS 0 = no mpirun at all.
+run_job() {
+  local name="$1" n="$2"; shift 2
+  local cmd=("$vpsim" -q run "$job" --out "$work/$name" $few "$@")
+  if [[ $n -eq 0 ]]; then VPSIM_CACHE_DIR="$work/cache-$name" "${cmd[@]}"
+  else VPSIM_CACHE_DIR="$work/cache-$name" mpi "$n" "${cmd[@]}"; fi >"$work/$name.log" 2>&1 ||
+    { fail "vpsim run $name ($n ranks)"; cat "$work/$name.log"; }
+}
+run_job one 0
+run_job two 2
+run_job collision-one 0 --set kernel.estimator=collision
+run_job collision-four 4 --set kernel.estimator=collision
+jq -e 'has("mpi") | not' "$work/one/report.json" >/dev/null || fail "a plain run wrote \"mpi\""
+for pair in "one two 2" "collision-one collision-four 4"; do
+  set -- $pair
+  [[ "$(figures "$work/$1/report.json")" == "$(figures "$work/$2/report.json")" ]] ||
+    { fail "$2: report figures differ from one process's"; diff <(figures "$work/$1/report.json") \
+        <(figures "$work/$2/report.json") | head -20; }
+  jq -e --argjson n "$3" '.mpi.ranks == $n and (.mpi.split[0].photon_ranges | length) == $n
+        and .mpi.split[0].photon_ranges[-1][1] == 6000 and .kernel.from_cache == false' \
+    "$work/$2/report.json" >/dev/null || fail "$2: mpi field $(jq -c .mpi "$work/$2/report.json")"
+done
+
+# A batch of 3 jobs over 2 ranks: the same per-job figures as one process.
+cat >"$work/sweep.json" <<JSON
+{"job": "$job", "runs": [
+  {"name": "a", "set": ["cure.critical_dose=8 mJ/cm^2"]},
+  {"name": "b", "set": ["cure.critical_dose=10 mJ/cm^2"]},
+  {"name": "c", "set": ["cure.critical_dose=12 mJ/cm^2"]}]}
+JSON
+VPSIM_CACHE_DIR="$work/cache-b1" "$vpsim" -q batch --sweep "$work/sweep.json" \
+  --out "$work/batch1" $few >"$work/batch1.log" 2>&1 || { fail "batch, one process"; cat "$work/batch1.log"; }
+VPSIM_CACHE_DIR="$work/cache-b2" mpi 2 "$vpsim" -q batch --sweep "$work/sweep.json" \
+  --out "$work/batch2" $few >"$work/batch2.log" 2>&1 || { fail "batch, 2 ranks"; cat "$work/batch2.log"; }
+jobs() { jq -S '.jobs | map({name, status, figures})' "$1"; }
+[[ "$(jobs "$work/batch1/batch.json")" == "$(jobs "$work/batch2/batch.json")" ]] ||
+  fail "batch over 2 ranks: per-job figures differ from one process's"
+jq -e '.mpi.ranks == 2 and (.jobs | map(.rank)) == [0, 1, 0] and .failed == 0' \
+  "$work/batch2/batch.json" >/dev/null || fail "batch.json over 2 ranks: $(jq -c '.mpi, (.jobs | map(.rank))' "$work/batch2/batch.json")"
+for name in a b c; do
+  [[ "$(figures "$work/batch1/$name/report.json")" == "$(figures "$work/batch2/$name/report.json")" ]] ||
+    fail "batch job $name: report figures differ between 1 and 2 ranks"
+done
+
+[[ $failed -eq 0 ]] || { echo "mpi: $failed check(s) FAILED"; exit 1; }
+echo "mpi: all checks passed (2 and 4 ranks)"
