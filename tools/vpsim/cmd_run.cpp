@@ -19,8 +19,8 @@ void runCommand(const RunOptions& options, const vpsim::cli::Globals& globals) {
     const pipeline::Builtins builtins = pipeline::makeBuiltins();
     const pipeline::Job job = pipeline::loadJob(options.job, builtins, globals.overrides);
     if (options.dryRun) {  // the estimate only: nothing computed, nothing written
-        const pipeline::JobEstimate estimate =
-            pipeline::estimateJob(job, false, !options.plan.empty(), globals.backend != "cpu");
+        const pipeline::JobEstimate estimate = pipeline::fitEstimate(
+            job, globals.hostContext(), false, !options.plan.empty(), globals.backend != "cpu");
         if (options.json) return cli::printJson(estimate.toJson(globals.hostContext()));
         std::cout << estimate.table(globals.hostContext());
         return;
