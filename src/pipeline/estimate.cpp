@@ -216,11 +216,12 @@ void exposureTerms(const Job& job, const Sizes& s, JobEstimate& e) {
     add(e, "slice validation", s.coreCells * 12.0, Stage::Expose, Stage::Validate,
         "a reference raster and per-column arrays of " + fmt(s.coreCells) + " cells" + tiled,
         COARSER, true);
-    add(e, "sections (pictures)", s.cells * 5.0 + s.nx * s.slices * 5.0, Stage::Expose,
-        Stage::Validate,
-        "an x-y map of " + fmt(s.cells) + " cells and an x-z section of " + fmt(s.slices) +
-            " slices",
-        COARSER);
+    if (job.simulation.writes("figures"))
+        add(e, "sections (pictures)", s.cells * 5.0 + s.nx * s.slices * 5.0, Stage::Expose,
+            Stage::Validate,
+            "an x-y map of " + fmt(s.cells) + " cells and an x-z section of " + fmt(s.slices) +
+                " slices",
+            COARSER);
     add(e, "streaming cured-surface mesher", s.windowCells * 22.0, Stage::Expose, Stage::Cure,
         "two padded slices with cured flags and two layers of vertex indices of " +
             fmt(s.windowCells) + " cells" + tiled,
@@ -380,10 +381,10 @@ JobEstimate fitEstimate(const Job& job, const geometry::Mesh& part, const RunCon
     const Sizes whole = sizesOf(job, part);
     for (double side = std::ceil(std::max(whole.nx, whole.ny) / 2.0) * pitch; side >= 64 * pitch;
          side = std::ceil(side / pitch / 2.0) * pitch) {
-        e = estimateWithTiles(job, part, planOnly, savedPlan, gpuDriver, side);
-        if (e.peakBytes() <= budget) break;
+        JobEstimate tiled = estimateWithTiles(job, part, planOnly, savedPlan, gpuDriver, side);
+        if (tiled.peakBytes() <= budget) return tiled;
     }
-    return e;
+    return e;  // no tile fits: the whole grid's estimate, which checkEstimate refuses
 }
 
 JobEstimate fitEstimate(const Job& job, const RunContext& context, bool planOnly, bool savedPlan,

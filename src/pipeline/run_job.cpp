@@ -233,15 +233,16 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     const bool keepMesh = sim.writes("figures") || sim.writes("viewer");
     cured->keepTriangles(keepMesh);
     const int middle = layers / 2;
-    report::SectionRecorder sections(f.part, grid, layers * job.simulation.slicesPerLayer, law,
-                                     middle,
-                                     report::busiestRow(f.layers.layers[middle].region, grid));
+    std::optional<report::SectionRecorder> sections;  // pictures: only for the output figures
+    if (sim.writes("figures"))
+        sections.emplace(f.part, grid, layers * job.simulation.slicesPerLayer, law, middle,
+                         report::busiestRow(f.layers.layers[middle].region, grid));
     validate::FeatureProbes features(job.features, grid, law, voxelHeight);
     auto sink = [](auto& consumer) {
         return [&consumer](const exposure::ExposureSlice& s) { consumer.add(s); };
     };
-    std::vector<exposure::SliceSink> sinks{sink(validator), sink(*cured), sink(sections),
-                                           sink(features)};
+    std::vector<exposure::SliceSink> sinks{sink(validator), sink(*cured), sink(features)};
+    if (sections) sinks.push_back(sink(*sections));
     if (volume) sinks.push_back(sink(*volume));
     const std::vector<exposure::Tile> tiles = exposureTiles(*model, tileSide);
     result.exposure = exposeStage(job, *model, tiles, planned.plan, sinks, f.beam, layers, context);
@@ -277,7 +278,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     result.sections = review.sections;
     timer.finish("review");
 
-    if (sim.writes("figures")) sections.write(outDir);
+    if (sections) sections->write(outDir);
     // The report's pictures and 3D view need the cured triangles, which the mesher kept (memory
     // grows with the surface, not the volume); cured.stl was written as they were made.
     const geometry::Mesh curedMesh = keepMesh ? cured->mesh() : geometry::Mesh{};

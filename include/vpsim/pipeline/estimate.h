@@ -88,8 +88,8 @@ JobEstimate estimateJob(const Job& job, bool planOnly = false, bool savedPlan = 
 
 /// The estimate with the x-y tiles that fit memoryBudget(context): the job's simulation.tile
 /// when set; otherwise the whole grid when it fits, else the largest tile (halving the side)
-/// whose run fits, else the smallest tile tried (checkEstimate then refuses: nothing that tiles
-/// can shrink is the cause).
+/// whose run fits, else the whole grid's (checkEstimate then refuses: what does not fit is not
+/// what tiles shrink).
 JobEstimate fitEstimate(const Job& job, const geometry::Mesh& part, const RunContext& context,
                         bool planOnly = false, bool savedPlan = false, bool gpuDriver = false);
 /// The same, loading the part first (partStage). @throw InputError for an unreadable part
