@@ -212,7 +212,7 @@ void exposureTerms(const Job& job, const Sizes& s, JobEstimate& e) {
             fmt(s.activeVoxels) + " stored voxels of " + fmt(s.voxels) + " (" + gridText(job, s) +
                 "), 4.5 B each, and an 8-slice buffer (only for simulation.write_vdb; tiles do "
                 "not shrink it)",
-            "simulation.outputs without exposure.vdb, or " + std::string(COARSER));
+            std::string(COARSER) + ", or simulation.outputs without exposure.vdb");
     add(e, "slice validation", s.coreCells * 12.0, Stage::Expose, Stage::Validate,
         "a reference raster and per-column arrays of " + fmt(s.coreCells) + " cells" + tiled,
         COARSER, true);
@@ -258,7 +258,7 @@ void validateTerms(const Job& job, const geometry::Mesh& part, const Sizes& s, J
     // keeps for it (2 per surface voxel, 12 B), then copies into a mesh (vertices 24 B, triangles
     // 24 B) and encodes for the viewer; the plotting library's images are a few tens of MiB.
     // Only for the outputs figures and viewer (simulation.outputs).
-    const char* FEWER = "simulation.outputs without figures and viewer, or a coarser grid";
+    const char* FEWER = "simulation.outputs without figures and viewer, or a smaller part";
     if (sim.writes("figures") || sim.writes("viewer")) {
         add(e, "cured triangles kept for the report", s.surfaceVoxels * 24.0, Stage::Expose,
             Stage::Validate, fmt(2 * s.surfaceVoxels) + " triangles", FEWER);
