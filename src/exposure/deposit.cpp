@@ -8,15 +8,20 @@
 namespace vpsim::exposure {
 namespace {
 
-/// Rows [jLo, jHi) of the grid: a band that one thread owns.
+/// Rows [jLo, jHi) of the grid: a band that one thread owns (indices of the grid's own cells).
 struct Rows {
     int lo, hi;
 };
+
+// Positions are turned into cells of the whole grid (from its origin) and then shifted to the
+// window's (firstI, firstJ), so a tile's cells get exactly the additions the whole grid's do.
 
 void depositPoint(SurfaceGrid& grid, double x, double y, double energy, Rows rows) {
     double fx = (x - grid.originX) / grid.pitch - 0.5, fy = (y - grid.originY) / grid.pitch - 0.5;
     int i = int(std::floor(fx)), j = int(std::floor(fy));
     double ax = fx - i, ay = fy - j;
+    i -= grid.firstI;
+    j -= grid.firstJ;
     const double perArea = energy / (grid.pitch * grid.pitch);
     const double weights[4] = {(1 - ax) * (1 - ay), ax * (1 - ay), (1 - ax) * ay, ax * ay};
     const int di[4] = {0, 1, 0, 1}, dj[4] = {0, 0, 1, 1};
@@ -36,9 +41,13 @@ void depositSegment(SurfaceGrid& grid, double x0, double y0, double x1, double y
     double length = std::hypot(x1 - x0, y1 - y0);
     if (length <= 0 || q <= 0) return;
     // A sample at fy splats rows floor(fy) and floor(fy) + 1: skip a segment outside the band.
-    const double fy0 = (std::min(y0, y1) - grid.originY) / grid.pitch - 0.5,
-                 fy1 = (std::max(y0, y1) - grid.originY) / grid.pitch - 0.5;
+    // The same for columns: a tile's deposit skips the vectors beside it.
+    const double fy0 = (std::min(y0, y1) - grid.originY) / grid.pitch - 0.5 - grid.firstJ,
+                 fy1 = (std::max(y0, y1) - grid.originY) / grid.pitch - 0.5 - grid.firstJ;
     if (std::floor(fy1) + 1 < rows.lo || std::floor(fy0) >= rows.hi) return;
+    const double fx0 = (std::min(x0, x1) - grid.originX) / grid.pitch - 0.5 - grid.firstI,
+                 fx1 = (std::max(x0, x1) - grid.originX) / grid.pitch - 0.5 - grid.firstI;
+    if (std::floor(fx1) + 1 < 0 || std::floor(fx0) >= grid.nx) return;
     long samples = std::max(1L, long(std::ceil(length / (0.25 * grid.pitch))));
     double energy = q * length / double(samples);
     for (long s = 0; s < samples; ++s) {
@@ -47,16 +56,17 @@ void depositSegment(SurfaceGrid& grid, double x0, double y0, double x1, double y
     }
 }
 
-/// Overlap lengths of the interval [a, a + size) with the grid cells along one axis.
+/// Overlap lengths of the interval [a, a + size) with the window's cells [offset, offset +
+/// count) along one axis (cells of the whole grid from `origin`; returned as the window's).
 std::vector<std::pair<int, double>> overlaps(double a, double size, double origin, double pitch,
-                                             int count) {
+                                             int offset, int count) {
     std::vector<std::pair<int, double>> result;
     int first = int(std::floor((a - origin) / pitch)),
         last = int(std::floor((a + size - origin) / pitch));
-    for (int c = std::max(first, 0); c <= std::min(last, count - 1); ++c) {
+    for (int c = std::max(first, offset); c <= std::min(last, offset + count - 1); ++c) {
         double lo = std::max(a, origin + c * pitch),
                hi = std::min(a + size, origin + (c + 1) * pitch);
-        if (hi > lo) result.emplace_back(c, hi - lo);
+        if (hi > lo) result.emplace_back(c - offset, hi - lo);
     }
     return result;
 }
@@ -65,12 +75,12 @@ void depositMask(SurfaceGrid& grid, const plan::MaskImage& mask) {
     const double cellArea = grid.pitch * grid.pitch;
     for (int v = 0; v < mask.height; ++v) {
         auto rows = overlaps(mask.originY + v * mask.pixelPitch, mask.pixelPitch, grid.originY,
-                             grid.pitch, grid.ny);
+                             grid.pitch, grid.firstJ, grid.ny);
         for (int u = 0; u < mask.width; ++u) {
             float dose = mask.dose[size_t(v) * mask.width + u];
             if (dose <= 0) continue;
             auto cols = overlaps(mask.originX + u * mask.pixelPitch, mask.pixelPitch, grid.originX,
-                                 grid.pitch, grid.nx);
+                                 grid.pitch, grid.firstI, grid.nx);
             for (const auto& [j, ly] : rows)
                 for (const auto& [i, lx] : cols) grid.at(i, j) += float(dose * lx * ly / cellArea);
         }

@@ -23,14 +23,15 @@ struct DoseVolume::Impl {
     double voxelHeight, zBottom;
     float threshold;
     int nx = 0, ny = 0;
+    CellWindow core;            ///< the cells buffered (a tile's core, or the whole grid)
     int block = INT32_MIN;      ///< index (k / 8) of the buffered block
-    std::vector<float> buffer;  ///< nx * ny * 8 values, x fastest, then y, then z
+    std::vector<float> buffer;  ///< core cells * 8 values, x fastest, then y, then z
     bool dirty = false;
 
     void flush() {
         if (!dirty) return;
-        openvdb::CoordBBox box(openvdb::Coord(0, 0, block * BLOCK),
-                               openvdb::Coord(nx - 1, ny - 1, block * BLOCK + BLOCK - 1));
+        openvdb::CoordBBox box(openvdb::Coord(core.i0, core.j0, block * BLOCK),
+                               openvdb::Coord(core.i1 - 1, core.j1 - 1, block * BLOCK + BLOCK - 1));
         openvdb::tools::Dense<const float, openvdb::tools::LayoutXYZ> dense(box, buffer.data());
         openvdb::tools::copyFromDense(dense, *grid, threshold);
         std::fill(buffer.begin(), buffer.end(), 0.0f);
@@ -56,7 +57,6 @@ DoseVolume::DoseVolume(const ExposureGrid& grid, double voxelHeight, double zBot
     mImpl->grid->insertMeta("units", openvdb::StringMetadata("mJ/mm^2, world coordinates in mm"));
     mImpl->nx = grid.nx;
     mImpl->ny = grid.ny;
-    mImpl->buffer.assign(size_t(grid.nx) * grid.ny * BLOCK, 0.0f);
     mImpl->voxelHeight = voxelHeight;
     mImpl->zBottom = zBottom;
     mImpl->threshold = threshold;
@@ -67,17 +67,29 @@ DoseVolume::~DoseVolume() = default;
 void DoseVolume::add(const ExposureSlice& slice) {
     const SurfaceGrid& values = *slice.values;
     Impl& m = *mImpl;
-    if (values.nx != m.nx || values.ny != m.ny)
+    const CellWindow core = slice.owned();
+    if (core.i0 < values.firstI || core.j0 < values.firstJ || core.i1 > values.firstI + values.nx ||
+        core.j1 > values.firstJ + values.ny || core.i1 > m.nx || core.j1 > m.ny)
         throw ResourceError("exposure slice does not match the dose volume");
     int k = int(std::lround((slice.z - m.zBottom) / m.voxelHeight - 0.5));
     int block = k >= 0 ? k / BLOCK : -((-k + BLOCK - 1) / BLOCK);
-    if (block != m.block) {
+    const bool newCore = core.i0 != m.core.i0 || core.j0 != m.core.j0 || core.i1 != m.core.i1 ||
+                         core.j1 != m.core.j1;
+    if (block != m.block || newCore) {
         m.flush();
         m.block = block;
     }
+    if (newCore) {  // a tile's core: its cells only, so each voxel is stored once
+        m.core = core;
+        m.buffer.assign(size_t(core.width()) * core.height() * BLOCK, 0.0f);
+    }
     // Values within `threshold` of the background 0 stay inactive when the block is copied.
-    std::copy(values.values.begin(), values.values.end(),
-              m.buffer.begin() + size_t(k - block * BLOCK) * m.nx * m.ny);
+    float* target = m.buffer.data() + size_t(k - block * BLOCK) * core.width() * core.height();
+    for (int j = core.j0; j < core.j1; ++j) {
+        const float* row =
+            &values.values[size_t(j - values.firstJ) * values.nx + size_t(core.i0 - values.firstI)];
+        target = std::copy(row, row + core.width(), target);
+    }
     m.dirty = true;
 }
 

@@ -22,6 +22,15 @@ ExposureGrid ExposureGrid::covering(double xmin, double ymin, double xmax, doubl
     return grid;
 }
 
+ExposureGrid ExposureGrid::window(const CellWindow& w) const {
+    ExposureGrid out = *this;
+    out.firstI = w.i0;
+    out.firstJ = w.j0;
+    out.nx = w.width();
+    out.ny = w.height();
+    return out;
+}
+
 double ExposureModel::forward(int layers, const std::function<void(int, SurfaceGrid&)>& fill,
                               const std::function<double(int)>& top, const SliceSink& sink) {
     SurfaceGrid deposit = grid().surface();
@@ -43,6 +52,15 @@ double ExposureModel::run(const plan::ScanPlan& plan, const SliceSink& sink) {
         int(plan.layers.size()),
         [&](int k, SurfaceGrid& deposit) { depositLayer(plan.layers[k], deposit); },
         [&](int k) { return plan.layers[k].z; }, sink);
+}
+
+double ExposureModel::run(const plan::ScanPlan& plan, const CellWindow& core,
+                          const SliceSink& sink) {
+    return run(plan, [&](const ExposureSlice& slice) {
+        ExposureSlice owned = slice;
+        owned.core = core;
+        sink(owned);
+    });
 }
 
 ExposureField ExposureModel::stack(const std::vector<SurfaceGrid>& deposits) {

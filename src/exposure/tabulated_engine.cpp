@@ -285,6 +285,12 @@ void TabulatedExposureEngine::emitLayer(int source, double top, const SliceSink&
     }
 }
 
+int TabulatedExposureEngine::reachCells() const {
+    int reach = 0;
+    for (const DepthStencil& st : mStencils) reach = std::max(reach, st.halfWidth);
+    return reach;
+}
+
 int TabulatedExposureEngine::stencilIndexAt(double depth) const {
     if (!(depth >= 0)) throw InputError("exposure depth must be >= 0");
     int m = int(std::floor(depth * mGrid.slicesPerLayer / mLayerThickness));

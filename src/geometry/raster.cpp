@@ -35,28 +35,33 @@ RasterGrid RasterGrid::covering(const glm::dvec2& lo, const glm::dvec2& hi, doub
 }
 
 std::vector<uint8_t> rasterizeBinary(const PolygonSet& region, const RasterGrid& grid) {
-    std::vector<uint8_t> mask(grid.pixelCount(), 0);
+    return rasterizeBinary(region, grid, 0, 0, grid.width, grid.height);
+}
+
+std::vector<uint8_t> rasterizeBinary(const PolygonSet& region, const RasterGrid& grid, int x0,
+                                     int y0, int width, int height) {
+    std::vector<uint8_t> mask(size_t(width) * size_t(height), 0);
     // Crossings of each contour edge with the rows' centre lines (half-open in y: an edge counts
     // at row centre yc when min(y) <= yc < max(y), so shared vertices are counted once).
-    std::vector<std::vector<double>> rows(size_t(grid.height));
+    std::vector<std::vector<double>> rows(static_cast<size_t>(height));
     for (const auto& contour : region.contours()) {
         for (size_t e = 0, n = contour.size(); e < n; ++e) {
             const glm::dvec2 a = (contour[e] - grid.origin) / grid.pitch - 0.5;
             const glm::dvec2 b = (contour[(e + 1) % n] - grid.origin) / grid.pitch - 0.5;
             if (a.y == b.y) continue;
-            const int jLo = std::max(0, int(std::ceil(std::min(a.y, b.y))));
-            const int jHi = std::min(grid.height - 1, int(std::ceil(std::max(a.y, b.y))) - 1);
+            const int jLo = std::max(y0, int(std::ceil(std::min(a.y, b.y))));
+            const int jHi = std::min(y0 + height - 1, int(std::ceil(std::max(a.y, b.y))) - 1);
             for (int j = jLo; j <= jHi; ++j)
-                rows[size_t(j)].push_back(a.x + (j - a.y) * (b.x - a.x) / (b.y - a.y));
+                rows[size_t(j - y0)].push_back(a.x + (j - a.y) * (b.x - a.x) / (b.y - a.y));
         }
     }
-    for (int j = 0; j < grid.height; ++j) {
+    for (int j = 0; j < height; ++j) {
         auto& xs = rows[size_t(j)];
         std::sort(xs.begin(), xs.end());
         for (size_t k = 0; k + 1 < xs.size(); k += 2) {  // clean region: even-odd pairs
-            const int iLo = std::max(0, int(std::ceil(xs[k])));
-            const int iHi = std::min(grid.width - 1, int(std::ceil(xs[k + 1])) - 1);
-            for (int i = iLo; i <= iHi; ++i) mask[size_t(j) * grid.width + i] = 1;
+            const int iLo = std::max(x0, int(std::ceil(xs[k])));
+            const int iHi = std::min(x0 + width - 1, int(std::ceil(xs[k + 1])) - 1);
+            for (int i = iLo; i <= iHi; ++i) mask[size_t(j) * width + (i - x0)] = 1;
         }
     }
     return mask;

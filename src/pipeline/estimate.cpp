@@ -5,6 +5,7 @@
 #include <thread>
 
 #include "vpsim/core/error.h"
+#include "vpsim/core/resources.h"
 #include "vpsim/core/text.h"
 #include "vpsim/geometry/level_set.h"
 #include "vpsim/geometry/slicer.h"
@@ -62,6 +63,9 @@ struct Sizes {
     double beamRadius = 0;  ///< upper guess of the fitted We3D (mm)
     double nx = 0, ny = 0, cells = 0, slices = 0, voxels = 0, voxelHeight = 0;
     double activeVoxels = 0, surfaceVoxels = 0;
+    // x-y tiles: core side (cells; 0 = one tile), count, the largest core and window, and the
+    // windows' cells summed over the tiles (what the engine computes).
+    double tileCells = 0, tiles = 1, coreCells = 0, windowCells = 0, computedCells = 0;
 };
 
 /// The exposure grid as stages.cpp's exposureGrid() will make it. The Monte Carlo kernel's
@@ -94,6 +98,26 @@ void gridSizes(const Job& job, Sizes& s) {
     s.surfaceVoxels = 2.0 * s.area / (sim.voxel * std::min(sim.voxel, s.voxelHeight));
 }
 
+/// Tiles of `side` mm (0: one) as stages.cpp's exposureTiles() lays them out; the halo is the
+/// fitted blur's half-width (1.75 W, the radius guessed as above) plus the mesher's cell.
+void tileSizes(const Job& job, double side, Sizes& s) {
+    const double pitch = job.simulation.voxel;
+    const double halo = std::ceil(1.75 * s.beamRadius / pitch) + 1;
+    s.tileCells = side > 0 ? std::ceil(side / pitch - 1e-9) : 0;
+    const double t = s.tileCells > 0 ? s.tileCells : std::max(s.nx, s.ny);
+    const double across = std::ceil(s.nx / t), down = std::ceil(s.ny / t);
+    s.tiles = across * down;
+    const double coreX = std::min(t, s.nx), coreY = std::min(t, s.ny);
+    s.coreCells = coreX * coreY;
+    if (s.tiles == 1) {
+        s.windowCells = s.computedCells = s.cells;
+        return;
+    }
+    s.windowCells = std::min(s.nx, coreX + 2 * halo) * std::min(s.ny, coreY + 2 * halo);
+    s.computedCells = std::min(s.nx + 2 * halo * (across - 1), across * (coreX + 2 * halo)) *
+                      std::min(s.ny + 2 * halo * (down - 1), down * (coreY + 2 * halo));
+}
+
 Sizes sizesOf(const Job& job, const geometry::Mesh& part) {
     Sizes s;
     s.bounds = part.bounds();
@@ -109,8 +133,9 @@ Sizes sizesOf(const Job& job, const geometry::Mesh& part) {
 }
 
 void add(JobEstimate& e, std::string name, double bytes, Stage first, Stage last,
-         std::string detail, std::string hint = "") {
-    e.items.push_back({std::move(name), bytes, first, last, std::move(detail), std::move(hint)});
+         std::string detail, std::string hint = "", bool perTile = false) {
+    e.items.push_back(
+        {std::move(name), bytes, first, last, std::move(detail), std::move(hint), perTile});
 }
 
 void frontTerms(const Job& job, const geometry::Mesh& part, const Sizes& s, JobEstimate& e) {
@@ -165,39 +190,51 @@ const char* COARSER =
     "a coarser simulation.voxel, fewer simulation.slices_per_layer, thicker layers or a "
     "smaller part";
 
+std::string tileText(const Sizes& s) {
+    if (s.tiles == 1) return "";
+    return ", per tile of " + fmt(s.tiles) + " (" + fmt(s.coreCells) + " cells and a halo)";
+}
+
 void exposureTerms(const Job& job, const Sizes& s, JobEstimate& e) {
     const int n = job.simulation.slicesPerLayer;
+    const std::string tiled = tileText(s);
     if (job.kernel.tabulated && job.machine.process == plan::Process::Laser) {
         // The kernel's depth (3/mua) is not known before the Monte Carlo run: at most every layer.
         const double inFlight = double(s.layers) * n + 1;
-        add(e, "tabulated exposure engine", s.cells * 4.0 * inFlight, Stage::Expose, Stage::Expose,
-            fmt(s.cells) + " cells x " + fmt(inFlight) + " slices in flight",
-            "a coarser simulation.voxel or kernel.use = fitted");
+        add(e, "tabulated exposure engine", s.windowCells * 4.0 * inFlight, Stage::Expose,
+            Stage::Expose,
+            fmt(s.windowCells) + " cells x " + fmt(inFlight) + " slices in flight" + tiled,
+            "a coarser simulation.voxel or kernel.use = fitted", true);
     } else {
-        add(e, "exposure engine (2D grids)", s.cells * 4.0 * 5.0, Stage::Expose, Stage::Expose,
-            fmt(s.nx) + " x " + fmt(s.ny) + " cells, 5 float grids", COARSER);
+        add(e, "exposure engine (2D grids)", s.windowCells * 4.0 * 5.0, Stage::Expose,
+            Stage::Expose, fmt(s.windowCells) + " cells, 5 float grids" + tiled, COARSER, true);
     }
     if (job.simulation.writeVdb)
         add(e, "exposure dose volume (OpenVDB)",
-            s.activeVoxels * VDB_BYTES_PER_VOXEL + s.cells * 32.0, Stage::Expose, Stage::Expose,
+            s.activeVoxels * VDB_BYTES_PER_VOXEL + s.coreCells * 32.0, Stage::Expose, Stage::Expose,
             fmt(s.activeVoxels) + " stored voxels of " + fmt(s.voxels) + " (" + gridText(job, s) +
-                "), 4.5 B each, and an 8-slice buffer (only for simulation.write_vdb)",
+                "), 4.5 B each, and an 8-slice buffer (only for simulation.write_vdb; tiles do "
+                "not shrink it)",
+            std::string(COARSER) + ", or simulation.outputs without exposure.vdb");
+    add(e, "slice validation", s.coreCells * 12.0, Stage::Expose, Stage::Validate,
+        "a reference raster and per-column arrays of " + fmt(s.coreCells) + " cells" + tiled,
+        COARSER, true);
+    if (job.simulation.writes("figures"))
+        add(e, "sections (pictures)",
+            s.cells * 5.0 + s.nx * s.slices * 5.0 +
+                double(report::layerSectionBytes(int(s.nx), int(s.ny), int(s.layers))),
+            Stage::Expose, Stage::Validate,
+            "an x-y map of " + fmt(s.cells) + " cells, an x-z section of " + fmt(s.slices) +
+                " slices and the 3D page's per-layer sections",
             COARSER);
-    add(e, "slice validation and sections",
-        s.cells * 17.0 + s.nx * s.slices * 5.0 +
-            double(report::layerSectionBytes(int(s.nx), int(s.ny), int(s.layers))),
-        Stage::Expose, Stage::Validate,
-        "rasters and per-column arrays of " + fmt(s.cells) + " cells, an x-z section of " +
-            fmt(s.slices) + " slices",
-        COARSER);
-    add(e, "streaming cured-surface mesher", s.cells * 22.0, Stage::Expose, Stage::Cure,
-        "two padded slices with cured flags and two layers of vertex indices of " + fmt(s.cells) +
-            " cells",
-        COARSER);
+    add(e, "streaming cured-surface mesher", s.windowCells * 22.0, Stage::Expose, Stage::Cure,
+        "two padded slices with cured flags and two layers of vertex indices of " +
+            fmt(s.windowCells) + " cells" + tiled,
+        COARSER, true);
     add(e, "cured-surface vertices and deviations", s.surfaceVoxels * 16.0, Stage::Expose,
         Stage::Validate, fmt(s.surfaceVoxels) + " vertices (the triangles stream to cured.stl)",
         COARSER);
-    e.stageSeconds.emplace_back("expose", 15e-9 * s.voxels);
+    e.stageSeconds.emplace_back("expose", 15e-9 * s.computedCells * s.slices);
     e.stageSeconds.emplace_back("cure", 1e-7 * s.surfaceVoxels);  // the mesher runs in expose
 }
 
@@ -211,12 +248,13 @@ void validateTerms(const Job& job, const geometry::Mesh& part, const Sizes& s, J
     // is built only to be written as reference.vdb.
     add(e, "part BVH (exact distances)", 400.0 * double(part.triangles.size()), Stage::Expose,
         Stage::Cure, fmt(double(part.triangles.size())) + " triangles");
-    if (job.simulation.writeVdb) {
+    const SimulationSpec& sim = job.simulation;
+    if (sim.writes("reference.vdb")) {
         const double bytes = geometry::LevelSet::estimateBytes(part, options);
         referenceVoxels = bytes / 32.0;
         add(e, "reference level set", bytes, Stage::Validate, Stage::Validate,
             "narrow band of " + fmt(referenceVoxels) + " voxels at " +
-                fmt(options.voxelSize * 1e3) + " um (only for simulation.write_vdb)",
+                fmt(options.voxelSize * 1e3) + " um (only for the output reference.vdb)",
             "a smaller part (the reference level set uses max(simulation.voxel, 20 um))");
     }
     add(e, "surface deviations", s.surfaceVoxels * 8.0, Stage::Validate, Stage::Validate,
@@ -224,11 +262,15 @@ void validateTerms(const Job& job, const geometry::Mesh& part, const Sizes& s, J
     // The report draws the top view and the 3D view from the cured triangles, which the mesher
     // keeps for it (2 per surface voxel, 12 B), then copies into a mesh (vertices 24 B, triangles
     // 24 B) and encodes for the viewer; the plotting library's images are a few tens of MiB.
-    add(e, "cured triangles kept for the report", s.surfaceVoxels * 24.0, Stage::Expose,
-        Stage::Validate, fmt(2 * s.surfaceVoxels) + " triangles", COARSER);
-    add(e, "report: cured mesh, 3D view data, pictures", s.surfaceVoxels * 120.0 + 32.0 * MIB,
-        Stage::Validate, Stage::Validate,
-        "a mesh copy and its encoded 3D view, and the picture buffers", COARSER);
+    // Only for the outputs figures and viewer (simulation.outputs).
+    const char* FEWER = "simulation.outputs without figures and viewer, or a smaller part";
+    if (sim.writes("figures") || sim.writes("viewer")) {
+        add(e, "cured triangles kept for the report", s.surfaceVoxels * 24.0, Stage::Expose,
+            Stage::Validate, fmt(2 * s.surfaceVoxels) + " triangles", FEWER);
+        add(e, "report: cured mesh, 3D view data, pictures", s.surfaceVoxels * 120.0 + 32.0 * MIB,
+            Stage::Validate, Stage::Validate,
+            "a mesh copy and its encoded 3D view, and the picture buffers", FEWER);
+    }
     e.stageSeconds.emplace_back("validate", 2e-8 * s.surfaceVoxels + 1e-7 * referenceVoxels);
 }
 
@@ -248,12 +290,13 @@ void outputTerms(const Job& job, const geometry::Mesh& part, const Sizes& s,
         out(file, cli ? plan.planBytes * 0.2 : plan.maskPixels + 4096.0 * s.layers);
     }
     if (e.planOnly) return;
-    if (job.simulation.writeVdb) {
-        out("exposure.vdb", s.activeVoxels * 4.2 + 4096.0);
-        out("reference.vdb", referenceVoxels * 4.2 + 4096.0);
-    }
-    out("cured.stl", 84.0 + 50.0 * 2.0 * s.surfaceVoxels);
-    out("pictures (*.png, *.svg)", s.nx * s.slices * 4.0 + s.cells * 4.0 + MIB);
+    const SimulationSpec& sim = job.simulation;
+    if (sim.writes("exposure.vdb")) out("exposure.vdb", s.activeVoxels * 4.2 + 4096.0);
+    if (sim.writes("reference.vdb")) out("reference.vdb", referenceVoxels * 4.2 + 4096.0);
+    if (sim.writes("cured.stl")) out("cured.stl", 84.0 + 50.0 * 2.0 * s.surfaceVoxels);
+    if (sim.writes("figures"))
+        out("pictures (*.png, *.svg)", s.nx * s.slices * 4.0 + s.cells * 4.0 + MIB);
+    if (sim.writes("viewer")) out("3D view (viewer3d data and scripts)", 20.0 * s.surfaceVoxels);
     out("report.json, index.html", 0.2 * MIB);
 }
 
@@ -281,12 +324,17 @@ double contourVertexCount(const geometry::Mesh& part, int layers, double thickne
     return std::max(total, 0.0);
 }
 
-JobEstimate estimateJob(const Job& job, const geometry::Mesh& part, bool planOnly, bool savedPlan,
-                        bool gpuDriver) {
+namespace {
+
+JobEstimate estimateWithTiles(const Job& job, const geometry::Mesh& part, bool planOnly,
+                              bool savedPlan, bool gpuDriver, double tileSide) {
     JobEstimate e;
     e.job = job.name;
     e.planOnly = planOnly;
-    const Sizes s = sizesOf(job, part);
+    Sizes s = sizesOf(job, part);
+    tileSizes(job, tileSide, s);
+    e.tileSide = s.tiles > 1 ? tileSide : 0.0;
+    e.tileCount = int(s.tiles);
     e.figures = {{"layers", s.layers},
                  {"contour_vertices", s.contourVertices},
                  {"grid_cells", {s.nx, s.ny}},
@@ -306,11 +354,47 @@ JobEstimate estimateJob(const Job& job, const geometry::Mesh& part, bool planOnl
         validateTerms(job, part, s, e, referenceVoxels);
     }
     outputTerms(job, part, s, plan, referenceVoxels, e);
+    for (const EstimateItem& item : e.items)
+        if (item.perTile) e.tileBytes += item.bytes;
+    if (s.tiles > 1)
+        e.figures["tiles"] = {{"side_mm", tileSide},
+                              {"count", s.tiles},
+                              {"core_cells", s.coreCells},
+                              {"window_cells", s.windowCells}};
     return e;
+}
+
+}  // namespace
+
+JobEstimate estimateJob(const Job& job, const geometry::Mesh& part, bool planOnly, bool savedPlan,
+                        bool gpuDriver) {
+    return estimateWithTiles(job, part, planOnly, savedPlan, gpuDriver, job.simulation.tile);
 }
 
 JobEstimate estimateJob(const Job& job, bool planOnly, bool savedPlan, bool gpuDriver) {
     return estimateJob(job, partStage(job), planOnly, savedPlan, gpuDriver);
+}
+
+JobEstimate fitEstimate(const Job& job, const geometry::Mesh& part, const RunContext& context,
+                        bool planOnly, bool savedPlan, bool gpuDriver) {
+    JobEstimate e = estimateJob(job, part, planOnly, savedPlan, gpuDriver);
+    const double budget = double(memoryBudget(context));
+    if (planOnly || job.simulation.tile > 0 || e.peakBytes() <= budget) return e;
+    // Halve the tile's side until the run fits, down to 64 cells (smaller tiles are mostly
+    // halo: what still does not fit is not the tiles' to shrink).
+    const double pitch = job.simulation.voxel;
+    const Sizes whole = sizesOf(job, part);
+    for (double side = std::ceil(std::max(whole.nx, whole.ny) / 2.0) * pitch; side >= 64 * pitch;
+         side = std::ceil(side / pitch / 2.0) * pitch) {
+        JobEstimate tiled = estimateWithTiles(job, part, planOnly, savedPlan, gpuDriver, side);
+        if (tiled.peakBytes() <= budget) return tiled;
+    }
+    return e;  // no tile fits: the whole grid's estimate, which checkEstimate refuses
+}
+
+JobEstimate fitEstimate(const Job& job, const RunContext& context, bool planOnly, bool savedPlan,
+                        bool gpuDriver) {
+    return fitEstimate(job, partStage(job), context, planOnly, savedPlan, gpuDriver);
 }
 
 }  // namespace vpsim::pipeline

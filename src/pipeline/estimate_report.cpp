@@ -1,6 +1,7 @@
 // JobEstimate's sums, its JSON and table forms, and the refusal of a job that does not fit.
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 
 #include "vpsim/core/error.h"
@@ -77,18 +78,20 @@ nlohmann::json JobEstimate::toJson(const RunContext& context) const {
     nlohmann::json stages = nlohmann::json::object(), seconds = nlohmann::json::object();
     for (Stage s : STAGES) stages[stageName(s)] = bytesAt(s);
     for (const auto& [stage, s] : stageSeconds) seconds[stage] = s;
-    return {{"job", job},
-            {"plan_only", planOnly},
-            {"peak_bytes", peakBytes()},
-            {"peak_stage", stageName(peakStage())},
-            {"budget_bytes", double(memoryBudget(context))},
-            {"bytes_by_stage", stages},
-            {"memory", memory},
-            {"outputs", files},
-            {"output_bytes", outputBytes()},
-            {"seconds", this->seconds()},
-            {"stage_seconds", seconds},
-            {"figures", figures}};
+    return {
+        {"job", job},
+        {"plan_only", planOnly},
+        {"peak_bytes", peakBytes()},
+        {"peak_stage", stageName(peakStage())},
+        {"budget_bytes", double(memoryBudget(context))},
+        {"bytes_by_stage", stages},
+        {"memory", memory},
+        {"outputs", files},
+        {"output_bytes", outputBytes()},
+        {"seconds", this->seconds()},
+        {"stage_seconds", seconds},
+        {"figures", figures},
+        {"tiles", {{"side_mm", tileSide}, {"count", tileCount}, {"bytes_per_tile", tileBytes}}}};
 }
 
 std::string JobEstimate::table(const RunContext& context) const {
@@ -96,7 +99,15 @@ std::string JobEstimate::table(const RunContext& context) const {
     out << "estimate of " << job << (planOnly ? " (vpsim plan)" : "") << ": peak "
         << formatBytes(peakBytes()) << " in the " << stageName(peakStage()) << " stage (budget "
         << formatBytes(double(memoryBudget(context))) << "), " << formatBytes(outputBytes())
-        << " of files, about " << formatNumber(seconds(), 2) << " s\n\nmemory\n";
+        << " of files, about " << formatNumber(seconds(), 2) << " s\n";
+    if (!planOnly)
+        out << (tileCount > 1 ? "tiles: " + std::to_string(tileCount) + " x-y tiles of " +
+                                    formatNumber(tileSide, 4) +
+                                    " mm (and a halo), one after "
+                                    "another, " +
+                                    formatBytes(tileBytes) + " per tile\n"
+                              : std::string("tiles: one (the whole grid)\n"));
+    out << "\nmemory\n";
     for (const EstimateItem& item : items)
         out << "  " << padded(item.name, 40) << padded(formatBytes(item.bytes), 10)
             << padded(std::string(stageName(item.first)) + ".." + stageName(item.last), 16)
@@ -133,6 +144,21 @@ void checkEstimate(const JobEstimate& e, const RunContext& context) {
                         memoryBudgetOrigin(context) + "): use " +
                         (hint.empty() ? std::string("a smaller job") : hint) +
                         " (--dry-run prints the whole estimate)");
+}
+
+void checkDisk(const JobEstimate& e, const std::string& outDir) {
+    std::filesystem::path dir = std::filesystem::absolute(outDir);
+    while (!std::filesystem::exists(dir) && dir.has_parent_path() && dir != dir.parent_path())
+        dir = dir.parent_path();
+    std::error_code error;
+    const std::filesystem::space_info space = std::filesystem::space(dir, error);
+    if (error) return;  // nothing to judge by: the writes report their own failure
+    const double needed = e.outputBytes();
+    if (needed <= double(space.available)) return;
+    throw ResourceError("job '" + e.job + "' would write " + formatBytes(needed) + " into " +
+                        outDir + ", more than the " + formatBytes(double(space.available)) +
+                        " free there (tiles do not shrink files): write fewer outputs or a "
+                        "smaller job (--dry-run prints the files' sizes)");
 }
 
 }  // namespace vpsim::pipeline

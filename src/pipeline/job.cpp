@@ -1,5 +1,6 @@
 #include "vpsim/pipeline/job.h"
 
+#include <algorithm>
 #include <filesystem>
 
 #include "vpsim/core/checks.h"
@@ -9,6 +10,10 @@
 #include "vpsim/core/text.h"
 
 namespace vpsim::pipeline {
+
+const std::vector<std::string> OUTPUT_NAMES{"cured.stl", "exposure.vdb", "reference.vdb", "figures",
+                                            "viewer"};
+
 namespace {
 
 SimulationSpec simulationFromConfig(const ConfigNode& sim) {
@@ -19,6 +24,28 @@ SimulationSpec simulationFromConfig(const ConfigNode& sim) {
         throw sim.error("slices_per_layer", "expected 1 .. 100");
     spec.margin = sim.quantity("margin", dim::LENGTH, -1.0);
     spec.writeVdb = sim.boolean("write_vdb", true);
+    if (!spec.writeVdb) {
+        spec.outputs.erase("exposure.vdb");
+        spec.outputs.erase("reference.vdb");
+    }
+    if (sim.has("outputs")) {
+        if (sim.has("write_vdb"))
+            throw sim.error("write_vdb", "give either write_vdb or outputs, not both");
+        const nlohmann::json& list = sim.raw("outputs");
+        if (!list.is_array()) throw sim.error("outputs", "expected a list of output names");
+        spec.outputs.clear();
+        for (const nlohmann::json& name : list) {
+            if (!name.is_string() || std::find(OUTPUT_NAMES.begin(), OUTPUT_NAMES.end(),
+                                               name.get<std::string>()) == OUTPUT_NAMES.end())
+                throw sim.error("outputs", "unknown output " + name.dump() + "; expected " +
+                                               "cured.stl, exposure.vdb, reference.vdb, "
+                                               "figures or viewer");
+            spec.outputs.insert(name.get<std::string>());
+        }
+        spec.writeVdb = spec.writes("exposure.vdb");
+    }
+    if (sim.has("tile") && !(sim.raw("tile").is_string() && sim.string("tile") == "auto"))
+        spec.tile = positiveQuantity(sim, "tile", dim::LENGTH, 0.0);
     return spec;
 }
 

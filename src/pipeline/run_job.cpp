@@ -173,8 +173,12 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     std::optional<plan::ScanPlan> saved;
     if (!options.planFile.empty()) saved = plan::loadScanPlan(options.planFile);
     geometry::Mesh part = checkedPart(job);
-    checkEstimate(estimateJob(job, part, false, saved.has_value(), context.gpu != nullptr),
-                  context);
+    // The x-y tiles are chosen here to fit the budget; what no tiling fits is refused.
+    const JobEstimate estimate =
+        fitEstimate(job, part, context, false, saved.has_value(), context.gpu != nullptr);
+    checkEstimate(estimate, context);
+    checkDisk(estimate, outDir);
+    const double tileSide = estimate.tileSide;
     // From here the directory is untrusted until manifest.json, written last, lists every file
     // of this run with its size and SHA-256 (core/output_directory.h).
     const auto runStart = std::filesystem::file_time_type::clock::now();
@@ -225,23 +229,34 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
         volume = std::make_unique<exposure::DoseVolume>(grid, voxelHeight, 0.0,
                                                         float(0.02 * law.criticalDose()));
     validate::SliceValidator validator(f.part, grid, law, voxelHeight);
-    std::unique_ptr<validate::StreamingCuredSurface> cured =
-        curedSurfaceSink(job, grid, voxelHeight, f.part, outDir + "/cured.stl");
-    cured->keepTriangles(true);  // for the report's top view and 3D viewer
+    const SimulationSpec& sim = job.simulation;
+    std::unique_ptr<validate::StreamingCuredSurface> cured = curedSurfaceSink(
+        job, grid, voxelHeight, f.part, sim.writes("cured.stl") ? outDir + "/cured.stl" : "");
+    // The report's top view and 3D viewer need the cured triangles (their memory grows with
+    // the surface): kept only for those outputs.
+    const bool keepMesh = sim.writes("figures") || sim.writes("viewer");
+    cured->keepTriangles(keepMesh);
     const int middle = layers / 2;
     std::vector<geometry::PolygonSet> regions;
     for (const auto& layer : f.layers.layers) regions.push_back(layer.region);
-    report::SectionRecorder sections(f.part, grid, layers * job.simulation.slicesPerLayer, law,
-                                     middle, report::busiestRow(regions, grid));
+    std::optional<report::SectionRecorder> sections;  // pictures: only for the output figures
+    if (sim.writes("figures"))
+        sections.emplace(f.part, grid, layers * job.simulation.slicesPerLayer, law, middle,
+                         report::busiestRow(regions, grid));
     validate::FeatureProbes features(job.features, grid, law, voxelHeight);
-    report::LayerSectionRecorder layerSections(f.layers, grid, law);  // the 3D view's sections
     auto sink = [](auto& consumer) {
         return [&consumer](const exposure::ExposureSlice& s) { consumer.add(s); };
     };
-    std::vector<exposure::SliceSink> sinks{sink(validator), sink(*cured), sink(sections),
-                                           sink(features), sink(layerSections)};
+    std::vector<exposure::SliceSink> sinks{sink(validator), sink(*cured), sink(features)};
+    if (sections) sinks.push_back(sink(*sections));
+    std::optional<report::LayerSectionRecorder> layerSections;  // the 3D view's sections
+    if (sim.writes("viewer")) {
+        layerSections.emplace(f.layers, grid, law);
+        sinks.push_back(sink(*layerSections));
+    }
     if (volume) sinks.push_back(sink(*volume));
-    result.exposure = exposeStage(*model, planned.plan, sinks, f.beam, layers);
+    const std::vector<exposure::Tile> tiles = exposureTiles(*model, tileSide);
+    result.exposure = exposeStage(job, *model, tiles, planned.plan, sinks, f.beam, layers, context);
     if (model->usesGpu()) result.exposure.backend = deviceName(context);
     {
         const validate::SliceValidationSummary seen = validator.summary();
@@ -258,7 +273,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     timer.finish("cure");
 
     result.validation = validateStage(job, f.part, *cured, validator.summary(), features.result(),
-                                      job.simulation.writeVdb ? outDir + "/reference.vdb" : "");
+                                      sim.writes("reference.vdb") ? outDir + "/reference.vdb" : "");
     timer.finish("validate");
     if (f.beam.planBeam) {
         result.plan.planner["kernel_mismatch"] =
@@ -275,23 +290,28 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     timer.finish("review");
 
     Progress progress("report: section, deviation, 3D view and layer error figures", 4);
-    sections.write(outDir);
+    if (sections) sections->write(outDir);
     progress.advance();
     // The report's pictures and 3D view need the cured triangles, which the mesher kept (memory
     // grows with the surface, not the volume); cured.stl was written as they were made.
-    const geometry::Mesh curedMesh = cured->mesh();
-    const report::DeviationScale scale = report::writeDeviationFigures(
-        outDir, curedMesh, result.validation.vertexDeviations, f.part);
+    const geometry::Mesh curedMesh = keepMesh ? cured->mesh() : geometry::Mesh{};
+    const report::DeviationScale scale =
+        sim.writes("figures") ? report::writeDeviationFigures(
+                                    outDir, curedMesh, result.validation.vertexDeviations, f.part)
+                              : report::deviationScale(result.validation.vertexDeviations);
     result.deviationLimit = scale.limit;
     result.beyondDeviationLimit = scale.beyond;
     progress.advance();
-    result.viewer = report::writeViewer3d(outDir, curedMesh, result.validation.vertexDeviations,
-                                          f.part, scale.limit, job.machine.layerThickness);
+    if (sim.writes("viewer"))
+        result.viewer = report::writeViewer3d(outDir, curedMesh, result.validation.vertexDeviations,
+                                              f.part, scale.limit, job.machine.layerThickness);
     progress.advance();
-    report::writeLayerErrorPlot(outDir + "/xy_error_per_layer", result.validation.slices);
+    if (sim.writes("figures"))
+        report::writeLayerErrorPlot(outDir + "/xy_error_per_layer", result.validation.slices);
     progress.advance();
-    result.sectionView =
-        layerSections.write(outDir, f.beam.monteCarlo ? &*f.beam.monteCarlo : nullptr);
+    if (layerSections)
+        result.sectionView =
+            layerSections->write(outDir, f.beam.monteCarlo ? &*f.beam.monteCarlo : nullptr);
     progress.finish();
     timer.finish("report");
     result.inputs = jobInputs(job);

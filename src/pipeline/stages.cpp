@@ -134,17 +134,37 @@ std::unique_ptr<exposure::ExposureModel> exposureModel(const Job& job,
     return std::make_unique<exposure::ExposureEngine>(grid, beam.beam, h, gpu);
 }
 
-report::ExposureSummary exposeStage(exposure::ExposureModel& model, const plan::ScanPlan& plan,
+std::vector<exposure::Tile> exposureTiles(const exposure::ExposureModel& model, double tileSide) {
+    const exposure::ExposureGrid& g = model.grid();
+    const int cells = tileSide > 0 ? std::max(1, int(std::ceil(tileSide / g.pitch - 1e-9))) : 0;
+    return exposure::tileLayout(g, cells, model.reachCells() + 1);
+}
+
+report::ExposureSummary exposeStage(const Job& job, exposure::ExposureModel& model,
+                                    const std::vector<exposure::Tile>& tiles,
+                                    const plan::ScanPlan& plan,
                                     const std::vector<exposure::SliceSink>& consumers,
-                                    const BeamResult& beam, int layers) {
+                                    const BeamResult& beam, int layers, const RunContext& context) {
     report::ExposureSummary summary;
     double sinkSeconds = 0;
-    summary.engineSeconds = model.run(plan, [&](const exposure::ExposureSlice& slice) {
+    auto sink = [&](const exposure::ExposureSlice& slice) {
         auto start = std::chrono::steady_clock::now();
         for (const auto& consumer : consumers) consumer(slice);
         sinkSeconds +=
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    });
+    };
+    if (tiles.size() == 1) {
+        summary.engineSeconds = model.run(plan, sink);
+    } else {
+        for (const exposure::Tile& tile : tiles) {
+            logInfo("tile " + std::to_string(tile.index + 1) + " of " +
+                    std::to_string(tiles.size()) + ": cells [" + std::to_string(tile.core.i0) +
+                    ", " + std::to_string(tile.core.i1) + ") x [" + std::to_string(tile.core.j0) +
+                    ", " + std::to_string(tile.core.j1) + ")");
+            auto tileModel = exposureModel(job, model.grid().window(tile.window), beam, context);
+            summary.engineSeconds += tileModel->run(plan, tile.core, sink);
+        }
+    }
     const exposure::ExposureGrid& g = model.grid();
     summary.model = model.name();
     summary.backend = model.usesGpu() ? "gpu" : "cpu";

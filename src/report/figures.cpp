@@ -66,21 +66,39 @@ SectionRecorder::SectionRecorder(const geometry::Mesh& part, const exposure::Exp
       mSectionInside(size_t(totalSlices) * grid.nx, 0) {}
 
 void SectionRecorder::add(const exposure::ExposureSlice& slice) {
-    if (mFilled >= mTotalSlices) return;
-    if (mFilled == 0) mTopZ = slice.z;
-    mBottomZ = slice.z;
-    geometry::PolygonSet region = geometry::sliceAt(mPart, slice.z);
+    // The slice's place from the top, whatever tile it belongs to: layers arrive top down.
+    const int layers = mTotalSlices / mGrid.slicesPerLayer;
+    const int index = (layers - 1 - slice.layer) * mGrid.slicesPerLayer + slice.slice;
+    if (index < 0 || index >= mTotalSlices) return;
+    if (index == 0) mTopZ = slice.z;
+    if (index + 1 >= mFilled) mBottomZ = slice.z;  // the deepest so far
+    mFilled = std::max(mFilled, index + 1);
+    const exposure::CellWindow core = slice.owned();
     const exposure::SurfaceGrid& values = *slice.values;
-    for (int i = 0; i < mGrid.nx; ++i) {
-        mSection[size_t(mFilled) * mGrid.nx + i] = values.at(i, mRow);
-        mSectionInside[size_t(mFilled) * mGrid.nx + i] =
-            region.contains({values.centreX(i), values.centreY(mRow)});
-    }
-    ++mFilled;
-    if (slice.layer == mMapLayer && slice.slice == mGrid.slicesPerLayer / 2) {
-        mMapInside = geometry::flipRows(geometry::rasterizeBinary(region, mGrid.raster()), mGrid.nx,
-                                        mGrid.ny);
-        mMap = geometry::flipRows(values.values, mGrid.nx, mGrid.ny);  // image rows run top-down
+    const bool rowHere = mRow >= core.j0 && mRow < core.j1;
+    const bool mapHere = slice.layer == mMapLayer && slice.slice == mGrid.slicesPerLayer / 2;
+    if (!rowHere && !mapHere) return;
+    geometry::PolygonSet region = geometry::sliceAt(mPart, slice.z);
+    if (rowHere)
+        for (int i = core.i0; i < core.i1; ++i) {
+            mSection[size_t(index) * mGrid.nx + i] =
+                values.at(i - values.firstI, mRow - values.firstJ);
+            mSectionInside[size_t(index) * mGrid.nx + i] = region.contains(
+                {values.centreX(i - values.firstI), values.centreY(mRow - values.firstJ)});
+        }
+    if (mapHere) {  // image rows run top-down
+        if (mMap.empty()) {
+            mMap.assign(size_t(mGrid.nx) * mGrid.ny, 0.0f);
+            mMapInside.assign(mMap.size(), 0);
+        }
+        const std::vector<uint8_t> inside = geometry::rasterizeBinary(
+            region, mGrid.raster(), core.i0, core.j0, core.width(), core.height());
+        for (int j = core.j0; j < core.j1; ++j)
+            for (int i = core.i0; i < core.i1; ++i) {
+                const size_t image = size_t(mGrid.ny - 1 - j) * mGrid.nx + i;
+                mMap[image] = values.at(i - values.firstI, j - values.firstJ);
+                mMapInside[image] = inside[size_t(j - core.j0) * core.width() + (i - core.i0)];
+            }
     }
 }
 

@@ -84,7 +84,7 @@ SectionSampling sectionSampling(int nx, int ny, int layers) {
 uint64_t layerSectionBytes(int nx, int ny, int layers) {
     const SectionSampling s = sectionSampling(nx, ny, layers);
     const uint64_t kept = uint64_t(ceilDiv(layers, s.stride)) + 1;
-    return kept * uint64_t(s.width) * uint64_t(s.height) * 5;  // float exposure, cured byte
+    return kept * uint64_t(s.width) * uint64_t(s.height) * 8;  // float sum, cured count
 }
 
 LayerSectionRecorder::LayerSectionRecorder(const geometry::LayerStack& stack,
@@ -110,23 +110,29 @@ void LayerSectionRecorder::add(const exposure::ExposureSlice& slice) {
     if (slice.layer < 0 || slice.layer >= int(mSlot.size()) || mSlot[slice.layer] < 0) return;
     const int slot = mSlot[slice.layer];
     mZ[slot] = slice.z;
+    // Sums over the cells this slice owns, in whole-grid cells: a tiled run adds each tile's
+    // share of a pixel's block; write() divides by the block's cell count.
     const exposure::SurfaceGrid& values = *slice.values;
-    const int f = mSampling.factor, w = mSampling.width, h = mSampling.height;
-    const size_t base = size_t(slot) * w * h;
-    for (int pj = 0; pj < h; ++pj)
-        for (int pi = 0; pi < w; ++pi) {
-            double sum = 0;
-            int cells = 0, cured = 0;
-            for (int j = pj * f; j < std::min(values.ny, (pj + 1) * f); ++j)
-                for (int i = pi * f; i < std::min(values.nx, (pi + 1) * f); ++i) {
-                    const float v = values.at(i, j);
-                    sum += v;
-                    cured += mLaw.isCured(v);
-                    ++cells;
-                }
-            mExposure[base + size_t(pj) * w + pi] = cells ? float(sum / cells) : 0.0f;
-            mCured[base + size_t(pj) * w + pi] = 2 * cured >= cells && cells > 0;
+    const exposure::CellWindow owned = slice.owned();
+    const int f = mSampling.factor, w = mSampling.width;
+    const size_t base = size_t(slot) * w * mSampling.height;
+    for (int j = owned.j0; j < owned.j1; ++j)
+        for (int i = owned.i0; i < owned.i1; ++i) {
+            const float v = values.at(i - values.firstI, j - values.firstJ);
+            const size_t pixel = base + size_t(j / f) * w + size_t(i / f);
+            mExposure[pixel] += v;
+            mCured[pixel] += mLaw.isCured(v) ? 1 : 0;
         }
+}
+
+std::vector<float> LayerSectionRecorder::blockCells() const {
+    const int f = mSampling.factor, w = mSampling.width, h = mSampling.height;
+    std::vector<float> cells(size_t(w) * h);
+    for (int pj = 0; pj < h; ++pj)
+        for (int pi = 0; pi < w; ++pi)
+            cells[size_t(pj) * w + pi] = float(std::min(f, mGrid.nx - pi * f) *
+                                               std::min(f, mGrid.ny - pj * f));
+    return cells;
 }
 
 SectionViewSummary LayerSectionRecorder::write(const std::string& outDir,
@@ -137,30 +143,39 @@ SectionViewSummary LayerSectionRecorder::write(const std::string& outDir,
     s.width = mSampling.width;
     s.height = mSampling.height;
     s.pixelMm = mGrid.pitch * mSampling.factor;
+    // Block means and the majority rule from the sums add() gathered.
+    const std::vector<float> cellsPerPixel = blockCells();
+    std::vector<float> exposure(mExposure.size());
+    std::vector<uint8_t> curedPixel(mExposure.size());
+    for (size_t p = 0; p < exposure.size(); ++p) {
+        const float cells = cellsPerPixel[p % cellsPerPixel.size()];
+        exposure[p] = mExposure[p] / cells;
+        curedPixel[p] = 2.0f * float(mCured[p]) >= cells;
+    }
     // One linear scale for every layer, as the exposure figures choose theirs (mJ/cm^2).
     const double critical = mLaw.criticalDose() * 100;
     std::vector<float> sample;
-    const size_t step = std::max<size_t>(1, mExposure.size() / (1u << 20));
-    for (size_t i = 0; i < mExposure.size(); i += step) sample.push_back(mExposure[i] * 100.0f);
+    const size_t step = std::max<size_t>(1, exposure.size() / (1u << 20));
+    for (size_t i = 0; i < exposure.size(); i += step) sample.push_back(exposure[i] * 100.0f);
     double top = 2 * critical;
     if (!sample.empty()) {
         std::nth_element(sample.begin(), sample.begin() + sample.size() * 99 / 100, sample.end());
         top = std::max(top, double(sample[sample.size() * 99 / 100]));
     }
     s.scaleMax = top;
-    std::vector<uint8_t> quantised(mExposure.size());
+    std::vector<uint8_t> quantised(exposure.size());
     std::vector<uint8_t> curedBits;
     const size_t perLayer = size_t(s.width) * s.height, bytesPerLayer = (perLayer + 7) / 8;
     curedBits.assign(mKept.size() * bytesPerLayer, 0);
     size_t above = 0;
-    for (size_t i = 0; i < mExposure.size(); ++i) {
-        const double t = mExposure[i] * 100.0 / top;
+    for (size_t i = 0; i < exposure.size(); ++i) {
+        const double t = exposure[i] * 100.0 / top;
         above += t > 1;
         quantised[i] = uint8_t(std::lround(std::clamp(t, 0.0, 1.0) * 255));
         const size_t layer = i / perLayer, bit = i % perLayer;
-        if (mCured[i]) curedBits[layer * bytesPerLayer + bit / 8] |= uint8_t(1u << (bit % 8));
+        if (curedPixel[i]) curedBits[layer * bytesPerLayer + bit / 8] |= uint8_t(1u << (bit % 8));
     }
-    s.aboveScale = mExposure.empty() ? 0.0 : double(above) / double(mExposure.size());
+    s.aboveScale = exposure.empty() ? 0.0 : double(above) / double(exposure.size());
     std::vector<uint32_t> counts;
     std::vector<float> xy;
     outlines(mStack, mKept, s.pixelMm / 2, counts, xy);

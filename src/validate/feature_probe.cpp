@@ -53,7 +53,9 @@ void FeatureProbes::add(const exposure::ExposureSlice& slice) {
         if (slice.z < p.zMin || slice.z > p.zMax) continue;
         int i = int((p.x - mGrid.originX) / mGrid.pitch),
             j = int((p.y - mGrid.originY) / mGrid.pitch);
-        bool cured = mLaw->isCured(slice.values->at(i, j));
+        if (!slice.owned().contains(i, j)) continue;  // another tile's cell
+        const exposure::SurfaceGrid& values = *slice.values;
+        bool cured = mLaw->isCured(values.at(i - values.firstI, j - values.firstJ));
         if (cured != p.gap) mLength[n] += mVoxelHeight;
     }
 }

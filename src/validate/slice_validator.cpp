@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <map>
 #include <mutex>
 
 #include <tbb/blocked_range.h>
@@ -21,12 +22,20 @@ double LayerComparison::xyContourError() const {
     return symmetricDifference / referencePerimeter;
 }
 
+/// One layer's mid-plane counts, summed over the tiles.
+struct LayerCounts {
+    double z = 0, perimeter = 0;
+    uint64_t reference = 0, cured = 0, intersection = 0;
+};
+
 struct SliceValidator::State {
     const geometry::Mesh& part;
     exposure::ExposureGrid grid;
     const cure::CureLaw& law;
     double voxelHeight;
     geometry::RasterGrid raster;
+    // Per column of the current tile's core (the whole grid when untiled):
+    exposure::CellWindow core;
     std::vector<uint8_t> referenceAbove;  ///< reference solid in the slice above, per column
     std::vector<uint8_t> inRun;           ///< column is in cured resin directly below the reference
     std::vector<float> run;               ///< depth of that run so far (mm)
@@ -36,25 +45,29 @@ struct SliceValidator::State {
     uint64_t exposed = 0;
     double maxDose = 0;
     std::mutex runsMutex;
-    std::vector<LayerComparison> layers;
+    std::map<int, LayerCounts> layers;  ///< by layer index, bottom first
 
     State(const geometry::Mesh& mesh, const exposure::ExposureGrid& g, const cure::CureLaw& l,
           double dz)
-        : part(mesh), grid(g), law(l), voxelHeight(dz) {
-        raster.origin = {g.originX, g.originY};
-        raster.pitch = g.pitch;
-        raster.width = g.nx;
-        raster.height = g.ny;
-        size_t cells = size_t(g.nx) * g.ny;
+        : part(mesh), grid(g), law(l), voxelHeight(dz), raster(g.raster()) {}
+
+    /// Columns for a tile's core: the runs still open in the previous tile reach its bottom.
+    void startTile(const exposure::CellWindow& w) {
+        finishOpenRuns();
+        core = w;
+        const size_t cells = size_t(w.width()) * w.height();
         referenceAbove.assign(cells, 0);
         inRun.assign(cells, 0);
         run.assign(cells, 0.0f);
     }
 
-    void finishRun(size_t c) {
-        runs.push_back(run[c]);
-        inRun[c] = 0;
-        run[c] = 0;
+    void finishOpenRuns() {
+        for (size_t c = 0; c < inRun.size(); ++c)
+            if (inRun[c]) {
+                runs.push_back(run[c]);
+                inRun[c] = 0;
+                run[c] = 0;
+            }
     }
 };
 
@@ -68,14 +81,20 @@ SliceValidator::~SliceValidator() = default;
 
 void SliceValidator::add(const exposure::ExposureSlice& slice) {
     State& s = *mState;
-    const std::vector<float>& dose = slice.values->values;
-    if (dose.size() != s.referenceAbove.size())
+    const exposure::SurfaceGrid& values = *slice.values;
+    const exposure::CellWindow w = slice.owned();
+    if (w.i0 < values.firstI || w.j0 < values.firstJ || w.i1 > values.firstI + values.nx ||
+        w.j1 > values.firstJ + values.ny || w.i1 > s.grid.nx || w.j1 > s.grid.ny)
         throw ResourceError("exposure slice does not match the validation grid");
+    if (w.i0 != s.core.i0 || w.j0 != s.core.j0 || w.i1 != s.core.i1 || w.j1 != s.core.j1)
+        s.startTile(w);
     geometry::PolygonSet region = geometry::sliceAt(s.part, slice.z);
-    std::vector<uint8_t> reference = geometry::rasterizeBinary(region, s.raster);
+    std::vector<uint8_t> reference =
+        geometry::rasterizeBinary(region, s.raster, w.i0, w.j0, w.width(), w.height());
     // Rows in parallel, each with its own counts, added in row order afterwards; the finished
-    // over-cure runs are only sorted and summed in order later, so nothing depends on threads.
-    const int nx = s.grid.nx, ny = s.grid.ny;
+    // over-cure runs are only sorted and summed in order later, so nothing depends on threads
+    // (or on the tiles: counts are integers, the maximum is exact, the runs are sorted).
+    const int nx = w.width(), ny = w.height();
     const double criticalDose = s.law.criticalDose();             // isCured(): dose >= Ec in double
     const float storeLevel = float(0.02 * s.law.criticalDose());  // as the DoseVolume keeps
     const float dz = float(s.voxelHeight);
@@ -89,8 +108,10 @@ void SliceValidator::add(const exposure::ExposureSlice& slice) {
         std::vector<float> finished;
         for (int j = range.begin(); j < range.end(); ++j) {
             RowCounts& row = rows[j];
+            const float* dose = &values.values[size_t(w.j0 + j - values.firstJ) * values.nx +
+                                               size_t(w.i0 - values.firstI)];
             for (size_t c = size_t(j) * nx, end = c + nx; c < end; ++c) {
-                const float d = dose[c];
+                const float d = *dose++;
                 const bool r = reference[c] != 0, cu = double(d) >= criticalDose;
                 row.maxDose = std::max(row.maxDose, d);
                 row.exposed += d > storeLevel;
@@ -136,22 +157,20 @@ void SliceValidator::add(const exposure::ExposureSlice& slice) {
     s.cured += curedHere;
     s.reference += referenceHere;
     if (slice.slice == s.grid.slicesPerLayer / 2) {
-        const double cellArea = s.grid.pitch * s.grid.pitch;
-        LayerComparison layer;
-        layer.layer = slice.layer;
-        layer.z = slice.z;
-        layer.referenceArea = double(referenceHere) * cellArea;
-        layer.curedArea = double(curedHere) * cellArea;
-        layer.intersectionArea = double(inter) * cellArea;
-        layer.referencePerimeter = region.perimeter();
-        s.layers.push_back(layer);
+        auto [layer, first] = s.layers.try_emplace(slice.layer);
+        if (first) {
+            layer->second.z = slice.z;
+            layer->second.perimeter = region.perimeter();
+        }
+        layer->second.reference += referenceHere;
+        layer->second.cured += curedHere;
+        layer->second.intersection += inter;
     }
 }
 
 SliceValidationSummary SliceValidator::summary() const {
     State& s = *mState;
-    for (size_t c = 0; c < s.inRun.size(); ++c)
-        if (s.inRun[c]) s.finishRun(c);  // runs reaching the bottom of the simulated volume
+    s.finishOpenRuns();  // runs reaching the bottom of the simulated volume
     SliceValidationSummary out;
     const double voxelVolume = s.grid.pitch * s.grid.pitch * s.voxelHeight;
     out.iou = s.unionCount ? double(s.intersection) / double(s.unionCount) : 0.0;
@@ -169,7 +188,17 @@ SliceValidationSummary SliceValidator::summary() const {
         out.overcureBelowDownFacingMedian = runs[runs.size() / 2];
         out.overcureBelowDownFacingMax = runs.back();
     }
-    out.layers.assign(s.layers.rbegin(), s.layers.rend());
+    const double cellArea = s.grid.pitch * s.grid.pitch;
+    for (const auto& [index, counts] : s.layers) {
+        LayerComparison layer;
+        layer.layer = index;
+        layer.z = counts.z;
+        layer.referenceArea = double(counts.reference) * cellArea;
+        layer.curedArea = double(counts.cured) * cellArea;
+        layer.intersectionArea = double(counts.intersection) * cellArea;
+        layer.referencePerimeter = counts.perimeter;
+        out.layers.push_back(layer);
+    }
     int counted = 0;
     for (const auto& layer : out.layers)
         if (layer.referencePerimeter > 0) {

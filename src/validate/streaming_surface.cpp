@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <unordered_map>
 
 #include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
@@ -18,6 +19,7 @@ namespace vpsim::validate {
 namespace {
 
 constexpr uint32_t NONE = UINT32_MAX;
+constexpr uint32_t HALO = 0x80000000u;  ///< a vertex index into the halo's vertices
 
 /// A slice padded with one zero cell on every side: (nx + 2) x (ny + 2) values and cured flags.
 struct PaddedSlice {
@@ -33,12 +35,23 @@ struct StreamingCuredSurface::State {
     double voxelHeight, iso, band;
     std::unique_ptr<geometry::MeshDistance> distance;
     std::unique_ptr<AtomicFileStream> stl;
-    int nx, ny, P, Q;  ///< grid cells; padded width and height
+    int nx, ny, P, Q;  ///< whole grid's cells; its padded width and height
+    // The current tile, in padded samples of the whole grid: it owns the samples (and the edges
+    // and cubes that start there) in [own.i0, own.i1) x [own.j0, own.j1) and holds the samples
+    // in [sx0, sx0 + W) x [sy0, sy0 + H): one more on each side, for the cubes its edges join.
+    exposure::CellWindow core{0, 0, -1, -1}, own;
+    int sx0 = 0, sy0 = 0, W = 0, H = 0;
+    int step = 0;  ///< cube layers made in this tile (every tile makes the same layers)
     PaddedSlice above, below;
-    bool started = false, finished = false;
-    std::vector<uint32_t> layerAbove, layerBelow;  ///< global vertex per cube, (nx+1) x (ny+1)
-    std::vector<glm::vec3> vertices;
+    bool started = false, finished = false, referenceSet = false;
+    std::vector<uint32_t> layerAbove, layerBelow;  ///< vertex per cube, (W - 1) x (H - 1)
+    std::vector<glm::vec3> vertices;               ///< of the cubes the tiles own
     std::vector<float> deviations;
+    /// Cubes beside the tile that another tile owns: their vertices are made again (from the
+    /// same values, so at the same positions) and referred to as HALO | index.
+    std::vector<glm::vec3> haloVertices;
+    std::vector<uint64_t> haloKeys;  ///< cube keys of haloVertices (when triangles are kept)
+    std::unordered_map<uint64_t, uint32_t> seamVertices;  ///< owned cubes a neighbour makes too
     std::vector<std::vector<std::pair<int, glm::vec3>>> rowVertices;
     std::vector<std::vector<std::array<uint32_t, 3>>> rowTriangles;
     std::vector<double> rowVolume;
@@ -49,31 +62,70 @@ struct StreamingCuredSurface::State {
     glm::dvec3 reference{0.0};  ///< volume moments are taken about this point (less rounding)
     std::vector<char> buffer;
 
-    size_t sample(int pi, int pj) const { return size_t(pj) * P + pi; }
-    size_t cube(int ci, int cj) const { return size_t(cj) * (nx + 1) + ci; }
+    size_t sample(int li, int lj) const { return size_t(lj) * W + li; }
+    size_t cube(int li, int lj) const { return size_t(lj) * (W - 1) + li; }
+    /// Position of the whole grid's padded sample (pi, pj).
     glm::dvec3 position(int pi, int pj, double z) const {
         return {grid.originX + (pi - 0.5) * grid.pitch, grid.originY + (pj - 0.5) * grid.pitch, z};
+    }
+    const glm::vec3& vertex(uint32_t index) const {
+        return index & HALO ? haloVertices[index & ~HALO] : vertices[index];
+    }
+    uint64_t cubeKey(int ci, int cj) const {
+        return (uint64_t(step) * uint64_t(Q - 1) + uint64_t(cj)) * uint64_t(P - 1) + uint64_t(ci);
+    }
+
+    /// Starts the tile whose core cells are `w` (the whole grid when untiled).
+    void startTile(const exposure::CellWindow& w) {
+        if (started) closeTile();
+        core = w;
+        own = {w.i0 == 0 ? 0 : w.i0 + 1, w.j0 == 0 ? 0 : w.j0 + 1, w.i1 == nx ? P : w.i1 + 1,
+               w.j1 == ny ? Q : w.j1 + 1};
+        sx0 = std::max(0, own.i0 - 1);
+        sy0 = std::max(0, own.j0 - 1);
+        W = std::min(P, own.i1 + 1) - sx0;
+        H = std::min(Q, own.j1 + 1) - sy0;
+        for (PaddedSlice* slice : {&above, &below}) {
+            slice->value.assign(size_t(W) * H, 0.0f);
+            slice->in.assign(size_t(W) * H, 0);
+        }
+        if (!keep) haloVertices.clear();  // only the kept triangles refer to earlier tiles'
+        layerAbove.assign(size_t(W - 1) * (H - 1), NONE);
+        layerBelow = layerAbove;
+        rowVertices.resize(H - 1);
+        rowTriangles.resize(H);
+        rowVolume.assign(H, 0.0);
+        step = 0;
+    }
+
+    /// The tile's bottom: the zero padding below its last slice closes its part of the mesh.
+    void closeTile() {
+        advance(nullptr, above.z - voxelHeight);
+        started = false;
     }
 
     void load(PaddedSlice& target, const exposure::SurfaceGrid* values, double z) {
         target.z = z;
-        tbb::parallel_for(0, Q, [&](int pj) {
-            float* v = &target.value[sample(0, pj)];
-            uint8_t* in = &target.in[sample(0, pj)];
-            if (!values || pj == 0 || pj == Q - 1) {
-                std::fill(v, v + P, 0.0f);
-                std::fill(in, in + P, uint8_t(0));
-                return;
+        // Samples of the whole grid's cells (pi - 1, pj - 1) come from the slice; the padding
+        // around the whole grid is zero.
+        const int liLo = std::max(0, 1 - sx0), liHi = std::min(W, nx + 1 - sx0);
+        tbb::parallel_for(0, H, [&](int lj) {
+            float* v = &target.value[sample(0, lj)];
+            uint8_t* in = &target.in[sample(0, lj)];
+            const int cj = sy0 + lj - 1;
+            std::fill(v, v + W, 0.0f);
+            if (values && cj >= 0 && cj < ny && liLo < liHi) {
+                const float* row = &values->values[size_t(cj - values->firstJ) * values->nx +
+                                                   size_t(sx0 + liLo - 1 - values->firstI)];
+                std::memcpy(v + liLo, row, sizeof(float) * size_t(liHi - liLo));
             }
-            const float* row = &values->values[size_t(pj - 1) * nx];
-            v[0] = v[P - 1] = 0.0f;
-            std::memcpy(v + 1, row, sizeof(float) * nx);
-            for (int pi = 0; pi < P; ++pi) in[pi] = double(v[pi]) >= iso;  // CureLaw::isCured
+            for (int li = 0; li < W; ++li) in[li] = double(v[li]) >= iso;  // CureLaw::isCured
         });
     }
 
-    /// The vertex of cube (ci, cj) between `above` and `below`: the mean of its edge crossings.
-    glm::dvec3 cubeVertex(int ci, int cj) const {
+    /// The vertex of local cube (li, lj) between `above` and `below`: the mean of its edge
+    /// crossings.
+    glm::dvec3 cubeVertex(int li, int lj) const {
         glm::dvec3 sum(0.0);
         int count = 0;
         auto edge = [&](const PaddedSlice& sa, size_t a, const PaddedSlice& sb, size_t b,
@@ -84,61 +136,88 @@ struct StreamingCuredSurface::State {
             sum += pa + t * (pb - pa);
             ++count;
         };
+        const int ci = sx0 + li, cj = sy0 + lj;
         for (int s = 0; s < 2; ++s) {
             const PaddedSlice& sl = s == 0 ? above : below;
             for (int dj = 0; dj < 2; ++dj)  // x edges
-                edge(sl, sample(ci, cj + dj), sl, sample(ci + 1, cj + dj),
+                edge(sl, sample(li, lj + dj), sl, sample(li + 1, lj + dj),
                      position(ci, cj + dj, sl.z), position(ci + 1, cj + dj, sl.z));
             for (int di = 0; di < 2; ++di)  // y edges
-                edge(sl, sample(ci + di, cj), sl, sample(ci + di, cj + 1),
+                edge(sl, sample(li + di, lj), sl, sample(li + di, lj + 1),
                      position(ci + di, cj, sl.z), position(ci + di, cj + 1, sl.z));
         }
         for (int dj = 0; dj < 2; ++dj)  // z edges
             for (int di = 0; di < 2; ++di)
-                edge(above, sample(ci + di, cj + dj), below, sample(ci + di, cj + dj),
+                edge(above, sample(li + di, lj + dj), below, sample(li + di, lj + dj),
                      position(ci + di, cj + dj, above.z), position(ci + di, cj + dj, below.z));
         return sum / double(std::max(count, 1));
+    }
+
+    bool ownsCube(int ci, int cj) const {
+        return ci >= own.i0 && ci < own.i1 && cj >= own.j0 && cj < own.j1;
     }
 
     /// Vertices of the cubes between `above` and `below` into layerBelow, rows in parallel and
     /// numbered in row order.
     void buildLayer() {
         std::fill(layerBelow.begin(), layerBelow.end(), NONE);
-        tbb::parallel_for(0, ny + 1, [&](int cj) {
-            auto& out = rowVertices[cj];
+        tbb::parallel_for(0, H - 1, [&](int lj) {
+            auto& out = rowVertices[lj];
             out.clear();
-            const uint8_t *a0 = &above.in[sample(0, cj)], *a1 = &above.in[sample(0, cj + 1)],
-                          *b0 = &below.in[sample(0, cj)], *b1 = &below.in[sample(0, cj + 1)];
-            for (int ci = 0; ci <= nx; ++ci) {
-                const int sum = a0[ci] + a0[ci + 1] + a1[ci] + a1[ci + 1] + b0[ci] + b0[ci + 1] +
-                                b1[ci] + b1[ci + 1];
+            const uint8_t *a0 = &above.in[sample(0, lj)], *a1 = &above.in[sample(0, lj + 1)],
+                          *b0 = &below.in[sample(0, lj)], *b1 = &below.in[sample(0, lj + 1)];
+            for (int li = 0; li < W - 1; ++li) {
+                const int sum = a0[li] + a0[li + 1] + a1[li] + a1[li + 1] + b0[li] + b0[li + 1] +
+                                b1[li] + b1[li + 1];
                 if (sum == 0 || sum == 8) continue;
-                out.emplace_back(ci, glm::vec3(cubeVertex(ci, cj)));
+                out.emplace_back(li, glm::vec3(cubeVertex(li, lj)));
             }
         });
-        std::vector<size_t> first(ny + 2, vertices.size());
-        for (int cj = 0; cj <= ny; ++cj) first[cj + 1] = first[cj] + rowVertices[cj].size();
-        vertices.resize(first[ny + 1]);
-        deviations.resize(first[ny + 1]);
-        tbb::parallel_for(0, ny + 1, [&](int cj) {
-            size_t v = first[cj];
-            for (const auto& [ci, p] : rowVertices[cj]) {
+        // Owned vertices are numbered in row order; the halo's are kept apart.
+        std::vector<size_t> first(H, vertices.size());
+        for (int lj = 0; lj < H - 1; ++lj) {
+            size_t owned = 0;
+            for (const auto& entry : rowVertices[lj])
+                owned += ownsCube(sx0 + entry.first, sy0 + lj);
+            first[lj + 1] = first[lj] + owned;
+        }
+        vertices.resize(first[H - 1]);
+        deviations.resize(first[H - 1]);
+        tbb::parallel_for(0, H - 1, [&](int lj) {
+            size_t v = first[lj];
+            for (const auto& [li, p] : rowVertices[lj]) {
+                if (!ownsCube(sx0 + li, sy0 + lj)) continue;
                 vertices[v] = p;
                 deviations[v] =
                     distance
                         ? float(std::clamp(distance->signedDistance(glm::dvec3(p)), -band, band))
                         : 0.0f;
-                layerBelow[cube(ci, cj)] = uint32_t(v);
+                layerBelow[cube(li, lj)] = uint32_t(v);
                 ++v;
             }
         });
+        for (int lj = 0; lj < H - 1; ++lj)
+            for (const auto& [li, p] : rowVertices[lj]) {
+                const int ci = sx0 + li, cj = sy0 + lj;
+                if (!ownsCube(ci, cj)) {
+                    layerBelow[cube(li, lj)] = HALO | uint32_t(haloVertices.size());
+                    haloVertices.push_back(p);
+                    if (keep) haloKeys.push_back(cubeKey(ci, cj));
+                } else if (keep &&
+                           ((ci == own.i1 - 1 && own.i1 < P) || (cj == own.j1 - 1 && own.j1 < Q))) {
+                    seamVertices.emplace(cubeKey(ci, cj), layerBelow[cube(li, lj)]);
+                }
+            }
     }
 
     /// Quads of the z edges between `above` and `below` and of the x and y edges in the plane of
-    /// `above` (its cubes above: layerAbove, below: layerBelow), each split in two triangles.
+    /// `above` (its cubes above: layerAbove, below: layerBelow), each split in two triangles:
+    /// those of the edges that start at a sample the tile owns.
     void emitQuads() {
-        tbb::parallel_for(0, Q - 1, [&](int pj) {
-            auto& out = rowTriangles[pj];
+        const int ljLo = own.j0 - sy0, ljHi = std::min(own.j1, Q - 1) - sy0;
+        const int liLo = own.i0 - sx0, liHi = std::min(own.i1, P - 1) - sx0;
+        tbb::parallel_for(ljLo, ljHi, [&](int lj) {
+            auto& out = rowTriangles[lj];
             out.clear();
             double moment = 0;
             auto quad = [&](uint32_t q0, uint32_t q1, uint32_t q2, uint32_t q3, bool flip) {
@@ -146,34 +225,36 @@ struct StreamingCuredSurface::State {
                 const std::array<uint32_t, 3> t[2] = {{q0, q1, q2}, {q0, q2, q3}};
                 for (const auto& tri : t) {
                     out.push_back(tri);
-                    const glm::dvec3 a = glm::dvec3(vertices[tri[0]]) - reference,
-                                     b = glm::dvec3(vertices[tri[1]]) - reference,
-                                     c = glm::dvec3(vertices[tri[2]]) - reference;
+                    const glm::dvec3 a = glm::dvec3(vertex(tri[0])) - reference,
+                                     b = glm::dvec3(vertex(tri[1])) - reference,
+                                     c = glm::dvec3(vertex(tri[2])) - reference;
                     moment += glm::dot(a, glm::cross(b, c));
                 }
             };
+            const int pj = sy0 + lj;
             const bool realRow = pj >= 1 && pj <= ny;
-            for (int pi = 0; pi < P - 1; ++pi) {
-                const size_t s = sample(pi, pj);
+            for (int li = liLo; li < liHi; ++li) {
+                const int pi = sx0 + li;
+                const size_t s = sample(li, lj);
                 const bool realColumn = pi >= 1 && pi <= nx;
                 if (realRow && realColumn && above.in[s] != below.in[s])  // z edge
-                    quad(layerBelow[cube(pi - 1, pj - 1)], layerBelow[cube(pi, pj - 1)],
-                         layerBelow[cube(pi, pj)], layerBelow[cube(pi - 1, pj)],
+                    quad(layerBelow[cube(li - 1, lj - 1)], layerBelow[cube(li, lj - 1)],
+                         layerBelow[cube(li, lj)], layerBelow[cube(li - 1, lj)],
                          !(below.in[s] && !above.in[s]));
                 if (realRow && above.in[s] != above.in[s + 1])  // x edge (pi, pi + 1)
-                    quad(layerBelow[cube(pi, pj - 1)], layerBelow[cube(pi, pj)],
-                         layerAbove[cube(pi, pj)], layerAbove[cube(pi, pj - 1)],
+                    quad(layerBelow[cube(li, lj - 1)], layerBelow[cube(li, lj)],
+                         layerAbove[cube(li, lj)], layerAbove[cube(li, lj - 1)],
                          !(above.in[s] && !above.in[s + 1]));
-                if (realColumn && above.in[s] != above.in[s + P])  // y edge (pj, pj + 1)
-                    quad(layerBelow[cube(pi - 1, pj)], layerAbove[cube(pi - 1, pj)],
-                         layerAbove[cube(pi, pj)], layerBelow[cube(pi, pj)],
-                         !(above.in[s] && !above.in[s + P]));
+                if (realColumn && above.in[s] != above.in[s + W])  // y edge (pj, pj + 1)
+                    quad(layerBelow[cube(li - 1, lj)], layerAbove[cube(li - 1, lj)],
+                         layerAbove[cube(li, lj)], layerBelow[cube(li, lj)],
+                         !(above.in[s] && !above.in[s + W]));
             }
-            rowVolume[pj] = moment;
+            rowVolume[lj] = moment;
         });
-        for (int pj = 0; pj < Q - 1; ++pj) {
-            volume += rowVolume[pj] / 6.0;
-            write(rowTriangles[pj]);
+        for (int lj = ljLo; lj < ljHi; ++lj) {
+            volume += rowVolume[lj] / 6.0;
+            write(rowTriangles[lj]);
         }
     }
 
@@ -184,7 +265,7 @@ struct StreamingCuredSurface::State {
         buffer.resize(triangles.size() * 50);
         char* p = buffer.data();
         for (const auto& tri : triangles) {
-            const glm::vec3 &a = vertices[tri[0]], &b = vertices[tri[1]], &c = vertices[tri[2]];
+            const glm::vec3 &a = vertex(tri[0]), &b = vertex(tri[1]), &c = vertex(tri[2]);
             glm::vec3 n = glm::cross(b - a, c - a);
             const float length = glm::length(n);
             n = length > 0 ? n / length : glm::vec3(0.0f);
@@ -196,10 +277,11 @@ struct StreamingCuredSurface::State {
         stl->stream().write(buffer.data(), std::streamsize(buffer.size()));
     }
 
-    void step(const exposure::SurfaceGrid* values, double z) {
+    void advance(const exposure::SurfaceGrid* values, double z) {
         if (!started) {
             load(above, nullptr, z + voxelHeight);
-            reference = position(0, 0, z);
+            if (!referenceSet) reference = position(0, 0, z);
+            referenceSet = true;
             started = true;
         }
         load(below, values, z);
@@ -207,6 +289,7 @@ struct StreamingCuredSurface::State {
         emitQuads();
         std::swap(above, below);
         std::swap(layerAbove, layerBelow);
+        ++step;
     }
 };
 
@@ -224,15 +307,6 @@ StreamingCuredSurface::StreamingCuredSurface(const exposure::ExposureGrid& grid,
     s.ny = grid.ny;
     s.P = grid.nx + 2;
     s.Q = grid.ny + 2;
-    for (PaddedSlice* slice : {&s.above, &s.below}) {
-        slice->value.assign(size_t(s.P) * s.Q, 0.0f);
-        slice->in.assign(size_t(s.P) * s.Q, 0);
-    }
-    s.layerAbove.assign(size_t(s.nx + 1) * (s.ny + 1), NONE);
-    s.layerBelow = s.layerAbove;
-    s.rowVertices.resize(s.ny + 1);
-    s.rowTriangles.resize(s.Q);
-    s.rowVolume.assign(s.Q, 0.0);
     if (part) s.distance = std::make_unique<geometry::MeshDistance>(*part);
     if (!stlPath.empty()) {
         s.stl = std::make_unique<AtomicFileStream>(stlPath);
@@ -248,15 +322,22 @@ StreamingCuredSurface::~StreamingCuredSurface() = default;
 void StreamingCuredSurface::add(const exposure::ExposureSlice& slice) {
     State& s = *mState;
     if (s.finished) throw InputError("the cured surface was already finished");
-    if (slice.values->nx != s.nx || slice.values->ny != s.ny)
+    const exposure::SurfaceGrid& values = *slice.values;
+    const exposure::CellWindow w = slice.owned();
+    // The tile's core and one cell around it (inside the whole grid) must be in the slice.
+    if (std::max(0, w.i0 - 1) < values.firstI || std::max(0, w.j0 - 1) < values.firstJ ||
+        std::min(s.nx, w.i1 + 1) > values.firstI + values.nx ||
+        std::min(s.ny, w.j1 + 1) > values.firstJ + values.ny || w.i1 > s.nx || w.j1 > s.ny)
         throw ResourceError("exposure slice does not match the cured-surface grid");
-    s.step(slice.values, slice.z);
+    if (w.i0 != s.core.i0 || w.j0 != s.core.j0 || w.i1 != s.core.i1 || w.j1 != s.core.j1)
+        s.startTile(w);
+    s.advance(&values, slice.z);
 }
 
 void StreamingCuredSurface::finish() {
     State& s = *mState;
     if (s.finished) return;
-    if (s.started) s.step(nullptr, s.above.z - s.voxelHeight);
+    if (s.started) s.closeTile();
     s.finished = true;
     if (s.triangleCount == 0)
         throw InputError("nothing cured: the exposure never reaches the critical dose (" +
@@ -288,10 +369,17 @@ void StreamingCuredSurface::keepTriangles(bool keep) {
 }
 
 geometry::Mesh StreamingCuredSurface::mesh() const {
+    const State& s = *mState;
     geometry::Mesh mesh;
-    mesh.vertices.reserve(mState->vertices.size());
-    for (const auto& v : mState->vertices) mesh.vertices.emplace_back(v);
-    mesh.triangles = mState->kept;
+    mesh.vertices.reserve(s.vertices.size());
+    for (const auto& v : s.vertices) mesh.vertices.emplace_back(v);
+    // A halo vertex is the owning tile's vertex of the same cube: one watertight mesh.
+    mesh.triangles.reserve(s.kept.size());
+    for (std::array<uint32_t, 3> tri : s.kept) {
+        for (uint32_t& index : tri)
+            if (index & HALO) index = s.seamVertices.at(s.haloKeys[index & ~HALO]);
+        mesh.triangles.push_back(tri);
+    }
     return mesh;
 }
 

@@ -25,8 +25,8 @@ void runCommand(const RunOptions& options, const vpsim::cli::Globals& globals) {
     const std::shared_ptr<cluster::Communicator> comm = globals.communicator();
     if (options.dryRun) {  // the estimate only: nothing computed, nothing written
         if (!comm->isRoot()) return;
-        const pipeline::JobEstimate estimate =
-            pipeline::estimateJob(job, false, !options.plan.empty(), globals.backend != "cpu");
+        const pipeline::JobEstimate estimate = pipeline::fitEstimate(
+            job, globals.hostContext(), false, !options.plan.empty(), globals.backend != "cpu");
         if (options.json) return cli::printJson(estimate.toJson(globals.hostContext()));
         std::cout << estimate.table(globals.hostContext());
         return;

@@ -43,6 +43,7 @@ public:
     const ExposureGrid& grid() const override { return mGrid; }
     double layerThickness() const override { return mLayerThickness; }
     bool usesGpu() const override { return mGpu != nullptr; }
+    int reachCells() const override { return blurHalfWidth(mBeam.radius, mGrid.pitch); }
     const kernel::FittedBeam& beam() const { return mBeam; }
 
     /// One layer's surface exposure map B = G_W * S (exposed on its own, no print-through):

@@ -22,18 +22,39 @@
 
 namespace vpsim::exposure {
 
+/// A rectangle of a grid's cells, [i0, i1) x [j0, j1).
+struct CellWindow {
+    int i0 = 0, j0 = 0, i1 = 0, j1 = 0;
+    int width() const { return i1 - i0; }
+    int height() const { return j1 - j0; }
+    bool contains(int i, int j) const { return i >= i0 && i < i1 && j >= j0 && j < j1; }
+};
+
 /// The build-volume grid the exposure is computed on.
 struct ExposureGrid {
     int nx = 0, ny = 0;               ///< cells in x and y
-    double originX = 0, originY = 0;  ///< mm, corner of cell (0, 0)
+    double originX = 0, originY = 0;  ///< mm, corner of cell (0, 0) of the whole grid
     double pitch = 0.01;              ///< mm, cell size in x and y
     int slicesPerLayer = 1;           ///< voxel slices per layer thickness (voxel z size h / n)
+    /// A tile's window of the whole grid starts at the whole grid's cell (firstI, firstJ)
+    /// (SurfaceGrid::firstI); 0 for the whole grid.
+    int firstI = 0, firstJ = 0;
+    /// The cells of the whole grid this grid holds.
+    CellWindow cells() const { return {firstI, firstJ, firstI + nx, firstJ + ny}; }
+    /// The window `w` (cells of the whole grid) of this grid, as a grid of its own.
+    ExposureGrid window(const CellWindow& w) const;
     /// Cells needed to cover [xmin, xmax] x [ymin, ymax] plus `margin` (mm) on every side.
     static ExposureGrid covering(double xmin, double ymin, double xmax, double ymax, double margin,
                                  double pitch, int slicesPerLayer);
     /// An empty (all-zero) 2D grid on this grid's cells.
-    SurfaceGrid surface() const { return SurfaceGrid(nx, ny, originX, originY, pitch); }
-    /// The same cells as a raster for the geometry module's rasterisers.
+    SurfaceGrid surface() const {
+        SurfaceGrid s(nx, ny, originX, originY, pitch);
+        s.firstI = firstI;
+        s.firstJ = firstJ;
+        return s;
+    }
+    /// The same cells as a raster for the geometry module's rasterisers (whole grids only: a
+    /// raster's origin is its own first cell's corner).
     geometry::RasterGrid raster() const {
         geometry::RasterGrid r;
         r.origin = {originX, originY};
@@ -45,12 +66,22 @@ struct ExposureGrid {
 };
 
 /// One finished voxel slice: layer index, slice index within the layer (0 = top), the height of
-/// the slice centre (mm) and the exposure (mJ/mm^2) on the x-y grid, row-major.
+/// the slice centre (mm) and the exposure (mJ/mm^2) on the x-y grid, row-major. In a tiled run
+/// `values` covers a tile with its halo (values->firstI, firstJ) and `core` names the cells of
+/// the whole grid that this tile owns: consumers count those only, so every cell is counted
+/// once over the tiles. An empty core means all of `values`.
 struct ExposureSlice {
     int layer = 0;
     int slice = 0;
     double z = 0;
     const SurfaceGrid* values = nullptr;
+    CellWindow core;
+    /// The cells this slice's consumer owns: `core`, or all of `values` when it is empty.
+    CellWindow owned() const {
+        if (core.width() > 0) return core;
+        return {values->firstI, values->firstJ, values->firstI + values->nx,
+                values->firstJ + values->ny};
+    }
 };
 using SliceSink = std::function<void(const ExposureSlice&)>;
 
@@ -67,11 +98,17 @@ public:
     virtual bool usesGpu() const = 0;
     /// Fraction of the kernel's energy the engine keeps after truncating it (1: none dropped).
     virtual double keptEnergyFraction() const { return 1.0; }
+    /// How far (cells) a deposit reaches in x or y: a tile's halo at least this wide gives its
+    /// core cells the same exposure, bit for bit, as the whole grid gives them.
+    virtual int reachCells() const = 0;
 
     /// Forward, whole plan: deposits every layer of `plan` (layer k's top at plan.layers[k].z) and
     /// calls `sink` for each voxel slice from the top of the part down (top layer first, slice 0
     /// first). Returns the seconds spent in the engine (GPU time on the shader path).
     double run(const plan::ScanPlan& plan, const SliceSink& sink);
+    /// The same on a tile: the model's grid is the tile's window of the whole grid (with a halo
+    /// of at least reachCells()) and `core` the cells the tile owns, passed on in each slice.
+    double run(const plan::ScanPlan& plan, const CellWindow& core, const SliceSink& sink);
 
     /// Forward, one layer alone (no print-through): the exposure at `depth` (mm, >= 0) below the
     /// top of the layer that received `deposit`. The fitted kernel is exact at any depth; the

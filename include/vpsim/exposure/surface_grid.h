@@ -10,9 +10,12 @@ namespace vpsim::exposure {
 
 struct SurfaceGrid {
     int nx = 0, ny = 0;
-    double originX = 0, originY = 0;  ///< mm, corner of cell (0, 0)
+    double originX = 0, originY = 0;  ///< mm, corner of cell (0, 0) of the whole grid
     double pitch = 0;                 ///< mm, cell size in x and y
     std::vector<float> values;        ///< row-major, values[j * nx + i]; mJ/mm^2
+    /// A tile's window of a larger grid holds that grid's cells from (firstI, firstJ) on; the
+    /// origin stays the larger grid's, so positions are computed the same way in every tile.
+    int firstI = 0, firstJ = 0;
 
     SurfaceGrid() = default;
     SurfaceGrid(int nx_, int ny_, double originX_, double originY_, double pitch_)
@@ -22,8 +25,8 @@ struct SurfaceGrid {
           originY(originY_),
           pitch(pitch_),
           values(size_t(nx_) * ny_, 0.0f) {}
-    double centreX(int i) const { return originX + (i + 0.5) * pitch; }
-    double centreY(int j) const { return originY + (j + 0.5) * pitch; }
+    double centreX(int i) const { return originX + (firstI + i + 0.5) * pitch; }
+    double centreY(int j) const { return originY + (firstJ + j + 0.5) * pitch; }
     float& at(int i, int j) { return values[size_t(j) * nx + i]; }
     float at(int i, int j) const { return values[size_t(j) * nx + i]; }
     /// Sum of values x cell area: the energy on the grid in mJ.

@@ -85,6 +85,8 @@ public:
     /// Fraction of the kernel's energy (summed over the slice depths inside the table) that the
     /// truncated stencils keep.
     double keptEnergyFraction() const override { return mKeptEnergyFraction; }
+    /// The widest stencil's half-width.
+    int reachCells() const override;
 
 private:
     struct GpuState;

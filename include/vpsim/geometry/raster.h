@@ -37,6 +37,11 @@ struct RasterGrid {
 /// 1 where the pixel centre is inside the region (a centre exactly on an edge is resolved by a
 /// consistent half-open rule), else 0.
 std::vector<uint8_t> rasterizeBinary(const PolygonSet& region, const RasterGrid& grid);
+/// The same for the pixels [x0, x0 + width) x [y0, y0 + height) of `grid` only (row-major,
+/// width x height), computed in the whole grid's coordinates: a tile's pixels equal the whole
+/// grid's bit for bit.
+std::vector<uint8_t> rasterizeBinary(const PolygonSet& region, const RasterGrid& grid, int x0,
+                                     int y0, int width, int height);
 
 /// Exact fraction of each pixel covered by the region, in [0, 1]: the polygon-pixel intersection
 /// area divided by p^2 (edges are clipped into pixel rows and columns and their signed areas

@@ -33,8 +33,9 @@ struct EstimateItem {
     std::string name;                                   ///< e.g. "exposure dose volume (OpenVDB)"
     double bytes = 0;                                   ///< upper estimate
     Stage first = Stage::Part, last = Stage::Validate;  ///< alive in [first, last]
-    std::string detail;  ///< how the figure follows from the job (sizes, bytes per element)
-    std::string hint;    ///< how to make it smaller (for refusals), "" when nothing helps
+    std::string detail;    ///< how the figure follows from the job (sizes, bytes per element)
+    std::string hint;      ///< how to make it smaller (for refusals), "" when nothing helps
+    bool perTile = false;  ///< held for one x-y tile at a time: what tiles shrink
 };
 
 /// One output file and its estimated size.
@@ -51,6 +52,13 @@ struct JobEstimate {
     std::vector<std::pair<std::string, double>> stageSeconds;  ///< rough time per stage
     /// Sizes the terms follow from: grid cells, voxels, layers, vectors, pixels.
     nlohmann::json figures = nlohmann::json::object();
+    /// The run's x-y tiles (simulation.tile, or chosen by fitEstimate): the side of a tile's
+    /// core (mm; 0: the whole grid in one tile), how many, and the bytes that one tile's
+    /// structures hold (what tiling bounds; the rest grows with the part's surface or is
+    /// whole-part output).
+    double tileSide = 0;
+    int tileCount = 1;
+    double tileBytes = 0;
 
     /// Bytes alive in `stage`: the sum of the items whose span contains it.
     double bytesAt(Stage stage) const;
@@ -77,6 +85,20 @@ JobEstimate estimateJob(const Job& job, const geometry::Mesh& part, bool planOnl
 /// The same, loading the part first (partStage). @throw InputError for an unreadable part
 JobEstimate estimateJob(const Job& job, bool planOnly = false, bool savedPlan = false,
                         bool gpuDriver = false);
+
+/// The estimate with the x-y tiles that fit memoryBudget(context): the job's simulation.tile
+/// when set; otherwise the whole grid when it fits, else the largest tile (halving the side)
+/// whose run fits, else the whole grid's (checkEstimate then refuses: what does not fit is not
+/// what tiles shrink).
+JobEstimate fitEstimate(const Job& job, const geometry::Mesh& part, const RunContext& context,
+                        bool planOnly = false, bool savedPlan = false, bool gpuDriver = false);
+/// The same, loading the part first (partStage). @throw InputError for an unreadable part
+JobEstimate fitEstimate(const Job& job, const RunContext& context, bool planOnly = false,
+                        bool savedPlan = false, bool gpuDriver = false);
+
+/// @throw ResourceError when the outputs the estimate lists do not fit the free space of the
+/// file system that `outDir` (or its nearest existing parent) is on.
+void checkDisk(const JobEstimate& estimate, const std::string& outDir);
 
 /// @throw ResourceError when the estimate's peak exceeds memoryBudget(context): the message names
 /// the job, the peak and its stage, the largest items with their sizes, the budget and how to fit.

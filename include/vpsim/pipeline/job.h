@@ -10,6 +10,7 @@
 /// anywhere stay errors that name the file and key.
 
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -32,7 +33,20 @@ struct SimulationSpec {
     int slicesPerLayer = 5;  ///< voxel slices per layer (1 .. 100)
     double margin = -1;      ///< mm around the part; < 0: 3 beam radii
     bool writeVdb = true;    ///< write exposure.vdb and reference.vdb
+    /// mm, the side of an x-y tile's core (simulation.tile); 0: chosen by the estimate to fit
+    /// the memory budget (the whole grid in one tile when it fits).
+    double tile = 0;
+    /// The optional files a run writes (simulation.outputs, from OUTPUT_NAMES); report.json,
+    /// index.html, part.stl, the plan and its exports are always written. Default: all, the
+    /// .vdb files only with write_vdb (which then follows "exposure.vdb").
+    std::set<std::string> outputs{"cured.stl", "exposure.vdb", "reference.vdb", "figures",
+                                  "viewer"};
+    bool writes(const std::string& output) const { return outputs.count(output) > 0; }
 };
+
+/// The names simulation.outputs accepts: cured.stl, exposure.vdb, reference.vdb, figures (the
+/// pictures), viewer (the 3D view).
+extern const std::vector<std::string> OUTPUT_NAMES;
 
 struct Job {
     std::string file;         ///< the job file itself

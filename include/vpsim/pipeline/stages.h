@@ -14,6 +14,7 @@
 #include "vpsim/cure/cure_law.h"
 #include "vpsim/exposure/dose_volume.h"
 #include "vpsim/exposure/exposure_model.h"
+#include "vpsim/exposure/tiles.h"
 #include "vpsim/geometry/layer_stack.h"
 #include "vpsim/geometry/mesh.h"
 #include "vpsim/kernel/beam_kernel.h"
@@ -89,10 +90,17 @@ std::unique_ptr<exposure::ExposureModel> exposureModel(const Job& job,
                                                        const exposure::ExposureGrid& grid,
                                                        const BeamResult& beam,
                                                        const RunContext& context);
-/// Exposes `plan`, streaming every slice to each of `consumers` in turn.
-report::ExposureSummary exposeStage(exposure::ExposureModel& model, const plan::ScanPlan& plan,
+/// The x-y tiles of `grid` for a core side of `tileSide` mm (0: one tile, the whole grid),
+/// with a halo of the model's reach plus the one cell the cured-surface mesher looks beside.
+std::vector<exposure::Tile> exposureTiles(const exposure::ExposureModel& model, double tileSide);
+/// Exposes `plan` tile after tile (in the tiles' order: consumers merge in that fixed order),
+/// streaming every slice to each of `consumers` in turn. `model` is the whole grid's; a tile
+/// runs on a model of its window (exposureModel), or on `model` itself when there is one tile.
+report::ExposureSummary exposeStage(const Job& job, exposure::ExposureModel& model,
+                                    const std::vector<exposure::Tile>& tiles,
+                                    const plan::ScanPlan& plan,
                                     const std::vector<exposure::SliceSink>& consumers,
-                                    const BeamResult& beam, int layers);
+                                    const BeamResult& beam, int layers, const RunContext& context);
 
 /// Half-width (mm) of the band within which surface deviations are measured (farther ones are
 /// clamped to it and counted as beyond the band): a few beam radii, 0.25 mm at least (print-through

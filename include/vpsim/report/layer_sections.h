@@ -60,8 +60,10 @@ private:
     std::vector<int> mSlot;        ///< per layer: its index among the kept ones, or -1
     std::vector<int> mKept;        ///< kept layer indices, bottom first
     std::vector<double> mZ;        ///< mm, height of each kept layer's recorded slice
-    std::vector<float> mExposure;  ///< [kept][row from y0][column], mJ/mm^2
-    std::vector<uint8_t> mCured;   ///< same cells: 1 when cured
+    std::vector<float> mExposure;  ///< [kept][row from y0][column]: sum over the block, mJ/mm^2
+    std::vector<uint32_t> mCured;  ///< same pixels: cured cells of the block
+    /// Cells of each pixel's block (edge blocks are cut by the grid), per layer.
+    std::vector<float> blockCells() const;
 };
 
 }  // namespace vpsim::report

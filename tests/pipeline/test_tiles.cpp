@@ -1,0 +1,142 @@
+// Tiled = untiled (issue 22 item 2): a small job run in forced small x-y tiles and in one tile
+// gives the same report figures (integers exactly, floating figures within 1e-6 relative) and
+// the same cured mesh (triangles, welded vertices, edges, volume): the tiles' seams leave no
+// trace.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "vpsim/core/io.h"
+#include "vpsim/geometry/mesh_check.h"
+#include "vpsim/geometry/stl_io.h"
+#include "vpsim/pipeline/estimate.h"
+#include "vpsim/pipeline/run_job.h"
+
+using namespace vpsim;
+
+namespace {
+
+nlohmann::json tileJob(const std::string& tile) {
+    nlohmann::json job = nlohmann::json::parse(R"({
+      "name": "tiles",
+      "cure": {"model": "threshold", "critical_dose": "10 mJ/cm^2"},
+      "part": {"test_part": "l-shape", "size": "1 mm", "height": "0.3 mm"},
+      "machine": {"process": "laser", "laser_power": "10 mW", "beam_radius": "50 um",
+                  "layer_thickness": "50 um"},
+      "kernel": {"source": "given", "We3D": "60 um", "De3D": "40 um"},
+      "plan": {"strategy": "aces", "edge": "cure-at-contour"},
+      "features": [{"name": "foot", "x": "0.25 mm", "y": "0.25 mm", "z_min": "0 mm",
+                    "z_max": "0.3 mm", "kind": "solid", "objective": "0.3 mm"}],
+      "simulation": {"voxel": "10 um", "slices_per_layer": 2, "write_vdb": true}})");
+    job["simulation"]["tile"] = tile;
+    return job;
+}
+
+report::JobResult runTiles(const std::string& name, const std::string& tile) {
+    const auto dir = std::filesystem::temp_directory_path() / ("vpsim_tiles_" + name);
+    const std::string file = dir.string() + ".json";
+    std::ofstream(file) << tileJob(tile).dump(1);
+    const pipeline::Job job = pipeline::loadJob(file, pipeline::makeBuiltins());
+    return pipeline::runJob(job, dir.string(), RunContext{nullptr, false, ""});
+}
+
+/// Keys that are not figures: timings, the job as given (it names the tile), the file list.
+bool skipped(const std::string& key) {
+    return key.find("seconds") != std::string::npos || key == "inputs" || key == "files" ||
+           key == "job_file" || key == "out_dir";
+}
+
+/// Every number of `a` against the same place in `b`; `path` names it in failures.
+void compareFigures(const nlohmann::json& a, const nlohmann::json& b, const std::string& path,
+                    int& compared) {
+    INFO(path);
+    REQUIRE(a.type() == b.type());
+    if (a.is_object()) {
+        REQUIRE(a.size() == b.size());
+        for (auto it = a.begin(); it != a.end(); ++it) {
+            if (skipped(it.key())) continue;
+            REQUIRE(b.contains(it.key()));
+            compareFigures(it.value(), b.at(it.key()), path + "." + it.key(), compared);
+        }
+    } else if (a.is_array()) {
+        REQUIRE(a.size() == b.size());
+        for (size_t i = 0; i < a.size(); ++i)
+            compareFigures(a[i], b[i], path + "[" + std::to_string(i) + "]", compared);
+    } else if (a.is_number_float()) {
+        const double x = a.get<double>(), y = b.get<double>();
+        CHECK(std::abs(x - y) <= 1e-6 * std::max(std::abs(x), std::abs(y)) + 1e-12);
+        ++compared;
+    } else if (a.is_number()) {
+        CHECK(a == b);  // integers: exactly
+        ++compared;
+    }
+}
+
+geometry::MeshReport curedMesh(const std::string& name) {
+    const auto dir = std::filesystem::temp_directory_path() / ("vpsim_tiles_" + name);
+    geometry::Mesh mesh = geometry::readStlSoup((dir / "cured.stl").string());
+    geometry::mergeDuplicateVertices(mesh);
+    geometry::MeshCheckOptions options;
+    options.repair = false;
+    options.throwOnProblem = false;
+    return geometry::checkMesh(mesh, "cured.stl", options);
+}
+
+}  // namespace
+
+TEST_CASE("a job in small x-y tiles gives the untiled figures and mesh", "[pipeline][tiles]") {
+    const report::JobResult whole = runTiles("whole", "auto");
+    const report::JobResult tiled = runTiles("tiled", "0.3 mm");
+    const auto dir = std::filesystem::temp_directory_path();
+    const nlohmann::json a = loadJsonFile((dir / "vpsim_tiles_whole/report.json").string());
+    const nlohmann::json b = loadJsonFile((dir / "vpsim_tiles_tiled/report.json").string());
+    int compared = 0;
+    compareFigures(a, b, "report", compared);
+    CHECK(compared > 100);
+    // The figures that tiles could most easily disturb, by name.
+    CHECK(tiled.exposure.maxDose == whole.exposure.maxDose);
+    CHECK(tiled.exposure.storedVoxels == whole.exposure.storedVoxels);
+    CHECK(tiled.validation.slices.iou == whole.validation.slices.iou);
+    CHECK(tiled.validation.features.simulated == whole.validation.features.simulated);
+    CHECK(tiled.curedVolume == Approx(whole.curedVolume).epsilon(1e-6));
+    CHECK(tiled.validation.vertexDeviations.size() == whole.validation.vertexDeviations.size());
+
+    // One mesh: the seams' vertices are the owning tile's, so welding by position gives the
+    // same vertices, edges and volume, with no open edge the untiled mesh does not have.
+    const geometry::MeshReport m = curedMesh("whole"), t = curedMesh("tiled");
+    CHECK(t.trianglesIn == m.trianglesIn);
+    CHECK(t.verticesIn - t.duplicateVerticesMerged == m.verticesIn - m.duplicateVerticesMerged);
+    CHECK(t.openEdges == m.openEdges);
+    CHECK(m.openEdges == 0);
+    CHECK(t.nonManifoldEdges == m.nonManifoldEdges);
+    CHECK(t.volume == Approx(m.volume).epsilon(1e-6));
+}
+
+TEST_CASE("the estimate tiles a job that does not fit in one piece", "[pipeline][tiles]") {
+    const auto file = (std::filesystem::temp_directory_path() / "vpsim_tiles_fit.json").string();
+    nlohmann::json spec = tileJob("auto");
+    // A wide margin: the exposure's grid (which tiles shrink) outweighs the cured surface.
+    spec["simulation"]["margin"] = "8 mm";
+    spec["simulation"]["write_vdb"] = false;
+    spec.erase("features");
+    std::ofstream(file) << spec.dump(1);
+    const pipeline::Job job = pipeline::loadJob(file, pipeline::makeBuiltins());
+    const pipeline::JobEstimate whole = pipeline::estimateJob(job);
+    CHECK(whole.tileCount == 1);
+    RunContext context{nullptr, false, ""};
+    context.memoryLimit = uint64_t(whole.peakBytes() - 0.5 * whole.tileBytes);
+    const pipeline::JobEstimate fitted = pipeline::fitEstimate(job, context);
+    CHECK(fitted.tileCount > 1);
+    CHECK(fitted.tileSide > 0);
+    CHECK(fitted.peakBytes() <= double(context.memoryLimit));
+    CHECK(fitted.tileBytes < whole.tileBytes);
+    CHECK_NOTHROW(pipeline::checkEstimate(fitted, context));
+    // What tiles cannot shrink is still refused.
+    context.memoryLimit = uint64_t(whole.peakBytes() - whole.tileBytes);
+    CHECK_THROWS_AS(pipeline::checkEstimate(pipeline::fitEstimate(job, context), context),
+                    ResourceError);
+}
