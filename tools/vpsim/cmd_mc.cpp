@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "vpsim/core/text.h"
 #include "vpsim/gpu/context.h"
 #include "vpsim/transport/beam_convolution.h"
 #include "vpsim/transport/mc_arguments.h"

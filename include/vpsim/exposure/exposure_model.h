@@ -71,6 +71,11 @@ struct ExposureGrid {
 /// the whole grid that this tile owns: consumers count those only, so every cell is counted
 /// once over the tiles. An empty core means all of `values`.
 struct ExposureSlice {
+    ExposureSlice() = default;
+    /// `core` empty: the slice's consumer owns all of `values` (an untiled run).
+    ExposureSlice(int layerIndex, int sliceIndex, double height, const SurfaceGrid* grid,
+                  CellWindow owner = {})
+        : layer(layerIndex), slice(sliceIndex), z(height), values(grid), core(owner) {}
     int layer = 0;
     int slice = 0;
     double z = 0;
