@@ -130,8 +130,8 @@ std::vector<float> LayerSectionRecorder::blockCells() const {
     std::vector<float> cells(size_t(w) * h);
     for (int pj = 0; pj < h; ++pj)
         for (int pi = 0; pi < w; ++pi)
-            cells[size_t(pj) * w + pi] = float(std::min(f, mGrid.nx - pi * f) *
-                                               std::min(f, mGrid.ny - pj * f));
+            cells[size_t(pj) * w + pi] =
+                float(std::min(f, mGrid.nx - pi * f) * std::min(f, mGrid.ny - pj * f));
     return cells;
 }
 
