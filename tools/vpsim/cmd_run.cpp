@@ -4,7 +4,10 @@
 // mpirun/srun the ranks share the beam kernel's Monte Carlo and rank 0 writes DIR.
 #include <iostream>
 
+#include <nlohmann/json.hpp>
+
 #include "commands.h"
+#include "vpsim/core/error.h"
 #include "vpsim/pipeline/cluster_run.h"
 #include "vpsim/pipeline/estimate.h"
 #include "vpsim/pipeline/run_job.h"
@@ -27,8 +30,20 @@ void runCommand(const RunOptions& options, const vpsim::cli::Globals& globals) {
         if (!comm->isRoot()) return;
         const pipeline::JobEstimate estimate = pipeline::fitEstimate(
             job, globals.hostContext(), false, !options.plan.empty(), globals.backend != "cpu");
-        if (options.json) return cli::printJson(estimate.toJson(globals.hostContext()));
-        std::cout << estimate.table(globals.hostContext());
+        // What `vpsim run` would do with this estimate: run, or refuse (memory or disk) and why.
+        std::string verdict = "runs within the memory budget and the free disk";
+        try {
+            pipeline::checkEstimate(estimate, globals.hostContext());
+            pipeline::checkDisk(estimate, options.out);
+        } catch (const ResourceError& refused) {
+            verdict = std::string("refused: ") + refused.what();
+        }
+        if (options.json) {
+            nlohmann::json out = estimate.toJson(globals.hostContext());
+            out["verdict"] = verdict;
+            return cli::printJson(out);
+        }
+        std::cout << estimate.table(globals.hostContext()) << "verdict: " << verdict << "\n";
         return;
     }
     pipeline::RunOptions run;
