@@ -21,7 +21,8 @@ namespace {
 
 std::string decodeBase64(const std::string& text) {
     std::string out;
-    int bits = 0, buffer = 0;
+    int bits = 0;
+    unsigned buffer = 0;  // holds at most 13 unread bits: masked after each byte
     for (char c : text) {
         int v = c >= 'A' && c <= 'Z'   ? c - 'A'
                 : c >= 'a' && c <= 'z' ? c - 'a' + 26
@@ -30,8 +31,12 @@ std::string decodeBase64(const std::string& text) {
                 : c == '/'             ? 63
                                        : -1;
         if (v < 0) continue;  // padding
-        buffer = (buffer << 6) | v, bits += 6;
-        if (bits >= 8) bits -= 8, out.push_back(char((buffer >> bits) & 0xff));
+        buffer = (buffer << 6) | unsigned(v), bits += 6;
+        if (bits >= 8) {
+            bits -= 8;
+            out.push_back(char((buffer >> bits) & 0xffu));
+            buffer &= (1u << bits) - 1;
+        }
     }
     return out;
 }
