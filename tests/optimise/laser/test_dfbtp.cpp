@@ -165,3 +165,29 @@ TEST_CASE("the plan exposure error adds what the layers above transmit", "[optim
     CHECK(json["layers"][0]["sse_mJ2_per_mm4"].get<double>() == Approx(sseLow).epsilon(1e-3));
     CHECK(json["sse_mJ2_per_mm4"].get<double>() == Approx(sseTop + sseLow).epsilon(1e-3));
 }
+
+// An edge's rows run serpentine (each a scan line on the machine): consecutive rows of one edge
+// (parallel, the same length, one dot pitch or more apart across) run in opposite directions,
+// so the scanner reverses beside the last row's end instead of flying back along the edge.
+TEST_CASE("DFBTP scans an edge's rows serpentine", "[optimise][dfbtp]") {
+    Setup s;
+    const auto region = geometry::PolygonSet::rectangle({0, 0}, {1.0, 0.6});
+    optimise::DfbtpResult r = optimise::planDfbtp({region}, {0.05}, s.p, s.beam);
+    const auto& v = r.plan.layers[0].vectors;
+    int pairs = 0;
+    for (size_t k = 1; k < v.size(); ++k) {
+        const double ax = v[k - 1].x1 - v[k - 1].x0, ay = v[k - 1].y1 - v[k - 1].y0;
+        const double bx = v[k].x1 - v[k].x0, by = v[k].y1 - v[k].y0;
+        const double la = std::hypot(ax, ay), lb = std::hypot(bx, by);
+        const bool parallel = std::abs(ax * by - ay * bx) < 1e-9 * la * lb;
+        const double across =
+            std::abs((v[k].x0 - v[k - 1].x0) * ay - (v[k].y0 - v[k - 1].y0) * ax) / la;
+        // Rows of one edge: parallel, as long, and apart across by a whole number of pitches.
+        if (!parallel || std::abs(la - lb) > 1e-9 || across < 0.5 * s.p.dotPitch) continue;
+        const double steps = across / s.p.dotPitch;
+        if (std::abs(steps - std::round(steps)) > 1e-6) continue;
+        ++pairs;
+        CHECK(ax * bx + ay * by < 0);  // opposite directions
+    }
+    CHECK(pairs >= 4);  // at least one pair of rows on each of the four edges
+}
