@@ -12,7 +12,9 @@ namespace vpsim::planners {
 
 KeyTable dfbtpKeyTable() {
     KeyTable table = laserPlanKeyTable();
-    table.add(laserOptimiserKeyTable("corner dot grid and edge row spacing"));
+    table.add(laserOptimiserKeyTable(
+        "corner dot grid and edge row spacing (each row a scan line: it sets the build time)",
+        "40 um"));
     table.add({{
         numberKey("lift_outside", 0.15, "a_i outside the part, fraction of Etar").in(0, 10),
         numberKey("lift_edge", 0.25, "a_i in the under-exposed band inside the contour").in(0, 10),

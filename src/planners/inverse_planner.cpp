@@ -7,6 +7,7 @@
 #include "vpsim/core/text.h"
 #include "vpsim/optimise/laser/inverse.h"
 #include "vpsim/optimise/laser/inverse_shape.h"
+#include "vpsim/plan/aces/aces.h"
 #include "vpsim/planners/aces_planner.h"
 #include "vpsim/planners/laser_layers.h"
 #include "vpsim/planners/laser_plan_options.h"
@@ -40,6 +41,11 @@ KeyTable inverseKeyTable() {
             .in(0, 100000),
         integerKey("shape_slices_per_layer", 5, "shape: objective voxel slices per layer")
             .in(1, 50),
+        quantityKey("row_spacing", dim::LENGTH, "40 um",
+                    "shape: the dots lie on rows this far apart (at most ACES's hatch spacing), "
+                    "rounded down to whole dot pitches; each row is one scan line, so this "
+                    "sets the build time (0: rows one dot pitch apart)")
+            .in(0, 1.0),
     }});
     return table;
 }
@@ -74,6 +80,7 @@ public:
         : mOptions(readLaserPlanOptions(keys)),
           mP(readInverseParameters(keys)),
           mShape(readShapeParameters(keys)),
+          mRowSpacing(keys.quantity("row_spacing")),
           mShapeObjective(keys.choice("objective") == "shape") {}
     plan::Process process() const override { return plan::Process::Laser; }
     plan::OrderMethod partOrder() const override { return mOptions.order; }
@@ -123,8 +130,13 @@ private:
         const plan::AcesParameters aces =
             acesParameters(mOptions, in.beam, in.machine, in.criticalDose);
         checkLaserDose(aces, in.machine);
+        optimise::ShapeParameters shape = mShape;
+        // Rows 60 um apart (ACES's spacing) on laser-l-shape (We3D 63 um) gave IoU 0.9751 and
+        // RMS 7.6 um against ACES's 0.9755 / 7.5; 40 um rows 0.9762 / 7.2 at 1.7x its build time.
+        shape.rowSpacing =
+            std::min(mRowSpacing, plan::acesHatchRatio(aces.homogeneity) * aces.beamRadius);
         plan::ScanPlan start = acesStackPlan(in, mOptions);
-        const int n = mShape.slicesPerLayer;
+        const int n = shape.slicesPerLayer;
         const double h = in.machine.layerThickness;
         const std::vector<geometry::PolygonSet> slices = shapeSlices(in, start, n);
         // The dots lie on every stride-th cell of the planning grid; on the machine they become
@@ -137,7 +149,7 @@ private:
         };
         optimise::ShapeResult r =
             optimise::planInverseShape(layerRegions(in), slices, start, mP.base.gridPitch,
-                                       mP.dotPitch, mShape, in.beam, h, in.criticalDose, toMachine);
+                                       mP.dotPitch, shape, in.beam, h, in.criticalDose, toMachine);
         if (r.keptStart) toMachine(r.plan);  // the ACES start, fitted already: its summary
         logInfo("inverse (shape objective): J of the ACES start " +
                 formatNumber(r.objectiveStart, 6) + " mm^3, gathered onto the dots " +
@@ -154,6 +166,7 @@ private:
                       {"iterations", r.iterations},
                       {"dots", r.dots},
                       {"dot_pitch_um", mP.dotPitch * 1e3},
+                      {"row_spacing_um", shape.rowSpacing * 1e3},
                       {"margin", mShape.margin},
                       {"slices_per_layer", n},
                       {"part_sliced_per_voxel_slice", in.part != nullptr}}}};
@@ -164,6 +177,7 @@ private:
     LaserPlanOptions mOptions;
     optimise::InverseParameters mP;
     optimise::ShapeParameters mShape;
+    double mRowSpacing = 0;  ///< mm, `row_spacing`
     bool mShapeObjective = true;
     nlohmann::json mSummary = nlohmann::json::object();
 };

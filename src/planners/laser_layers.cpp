@@ -48,9 +48,9 @@ nlohmann::json compensationJson(const std::vector<optimise::LayerCompensation>& 
             {"uncompensable_layers", where}};
 }
 
-KeyTable laserOptimiserKeyTable(const std::string& dotPitchDoc) {
+KeyTable laserOptimiserKeyTable(const std::string& dotPitchDoc, const char* dotPitchDefault) {
     return {{
-        quantityKey("dot_pitch", dim::LENGTH, "20 um", dotPitchDoc).in(1e-4, 1.0),
+        quantityKey("dot_pitch", dim::LENGTH, dotPitchDefault, dotPitchDoc).in(1e-4, 1.0),
         quantityKey("grid_pitch", dim::LENGTH, "10 um",
                     "planning grid: exposure maps and evaluation points")
             .in(1e-4, 1.0),

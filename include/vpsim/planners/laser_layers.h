@@ -25,7 +25,9 @@ std::vector<geometry::PolygonSet> shapeSlices(const PlannerInputs& inputs,
 ///  "transmitted_cures_outside_area_mm2", "uncompensable_layers": [...]}
 nlohmann::json compensationJson(const std::vector<optimise::LayerCompensation>& layers);
 
-/// The planning-grid keys of the laser optimisers: dot_pitch, grid_pitch, compensate.
-KeyTable laserOptimiserKeyTable(const std::string& dotPitchDoc);
+/// The planning-grid keys of the laser optimisers: dot_pitch (default `dotPitchDefault`),
+/// grid_pitch, compensate.
+KeyTable laserOptimiserKeyTable(const std::string& dotPitchDoc,
+                                const char* dotPitchDefault = "20 um");
 
 }  // namespace vpsim::planners

@@ -86,11 +86,14 @@ void planEdge(const plan::EdgeBlock& e, const LayerContext& c, plan::LayerPlan& 
     }
     LsqQpResult qp = solveLsqQp(K, b, K, d, 1e-12 * K.squaredNorm() / n);
     const double power = p.aces.laserPower;
+    bool backwards = false;  // serpentine: the next row starts where this one ends
     for (int j = 0; j < n; ++j) {
         double lambda = qp.x(j);
         if (!(lambda > 1e-9 * c.etar * c.w)) continue;
         glm::dvec2 a = e.a + e.start * e.tangent + rows[j] * e.normal,
                    z = e.a + e.end * e.tangent + rows[j] * e.normal;
+        if (backwards) std::swap(a, z);
+        backwards = !backwards;
         out.vectors.push_back({a.x, a.y, z.x, z.y, power, power / lambda});
     }
 }

@@ -18,20 +18,76 @@ namespace {
 using exposure::ExposureField;
 using exposure::SurfaceGrid;
 
-/// Dots of one layer: every stride-th cell centre within half a dot pitch of the region (and,
-/// with an edge band, not deeper inside than the band).
-std::vector<size_t> layerDots(const geometry::PolygonSet& region, const exposure::ExposureGrid& g,
-                              int stride, double dotPitch, double edgeBand) {
+/// Where one layer's dots lie on the planning grid: every `stride`-th cell from stride / 2 along
+/// its rows, and every `rowStride`-th from `firstRow` across them (rows along x or y).
+struct Lattice {
+    int stride = 1, rowStride = 1, firstRow = 0;
+    bool alongX = true;
+    int strideX() const { return alongX ? stride : rowStride; }
+    int strideY() const { return alongX ? rowStride : stride; }
+    int firstX() const { return alongX ? stride / 2 : firstRow; }
+    int firstY() const { return alongX ? firstRow : stride / 2; }
+};
+
+/// The lattice cells of `allowed` (and not `deep`).
+std::vector<size_t> latticeCells(const std::vector<char>& allowed, const std::vector<char>& deep,
+                                 const exposure::ExposureGrid& g, const Lattice& lattice) {
     std::vector<size_t> dots;
-    if (region.empty()) return dots;
-    const std::vector<char> allowed = insideMask(region.offset(0.5 * dotPitch), g.surface());
-    const std::vector<char> deep = edgeBand > 0 ? insideMask(region.offset(-edgeBand), g.surface())
-                                                : std::vector<char>(allowed.size(), 0);
-    for (int j = stride / 2; j < g.ny; j += stride)
-        for (int i = stride / 2; i < g.nx; i += stride) {
+    for (int j = lattice.firstY(); j < g.ny; j += lattice.strideY())
+        for (int i = lattice.firstX(); i < g.nx; i += lattice.strideX()) {
             const size_t c = size_t(j) * g.nx + i;
             if (allowed[c] && !deep[c]) dots.push_back(c);
         }
+    return dots;
+}
+
+/// Runs of neighbouring dots along the lattice's rows: each is a scan line on the machine.
+size_t rowRuns(const std::vector<size_t>& dots, const exposure::ExposureGrid& g,
+               const Lattice& lattice) {
+    size_t runs = 0;
+    for (size_t d = 0; d < dots.size(); ++d) {
+        const size_t next = lattice.alongX ? dots[d - (d > 0)] + size_t(lattice.stride)
+                                           : dots[d - (d > 0)] + size_t(lattice.stride) * g.nx;
+        runs += d == 0 || dots[d] != next;
+    }
+    return runs;
+}
+
+/// Dots of one layer: the lattice cells within half a dot pitch of the region (with an edge band,
+/// not deeper inside than the band; half a row spacing, letting a row just outside a wall along
+/// it carry the wall, lowered laser-tapered's IoU from 0.9757 to 0.9747). Rows `rowEvery` dot
+/// pitches apart lie along x or y, whichever gives fewer scan lines (by layer parity where both
+/// give about as many); odd layers' rows lie half way
+/// between even layers' (`staggered`), so that across two layers a wall along the rows meets rows
+/// at about the dot pitch.
+std::vector<size_t> layerDots(const geometry::PolygonSet& region, const exposure::ExposureGrid& g,
+                              int stride, int rowEvery, bool staggered, double edgeBand,
+                              Lattice& lattice) {
+    lattice = {stride, stride * rowEvery, stride / 2 + (staggered ? stride * (rowEvery / 2) : 0),
+               true};
+    if (region.empty()) return {};
+    const std::vector<char> allowed =
+        insideMask(region.offset(0.5 * lattice.stride * g.pitch), g.surface());
+    const std::vector<char> deep = edgeBand > 0 ? insideMask(region.offset(-edgeBand), g.surface())
+                                                : std::vector<char>(allowed.size(), 0);
+    std::vector<size_t> dots = latticeCells(allowed, deep, g, lattice);
+    if (rowEvery == 1) return dots;
+    Lattice alongY = lattice;
+    alongY.alongX = false;
+    std::vector<size_t> other = latticeCells(allowed, deep, g, alongY);
+    // latticeCells lists by y then x; rows along y are counted in x-then-y order.
+    std::vector<size_t> byColumn = other;
+    std::sort(byColumn.begin(), byColumn.end(), [&](size_t a, size_t b) {
+        return std::make_pair(a % g.nx, a / g.nx) < std::make_pair(b % g.nx, b / g.nx);
+    });
+    // Within 10% of each other (a square, a disc) the axis alternates from layer to layer, so
+    // that every wall meets the dot pitch along the rows every other layer.
+    const size_t runsX = rowRuns(dots, g, lattice), runsY = rowRuns(byColumn, g, alongY);
+    const bool similar = 10 * std::max(runsX, runsY) <= 11 * std::min(runsX, runsY);
+    if (similar ? staggered : runsY < runsX) {
+        lattice = alongY;
+        return other;
+    }
     return dots;
 }
 
@@ -73,24 +129,25 @@ std::vector<SurfaceGrid> depositsOf(const plan::ScanPlan& plan,
     return deposits;
 }
 
-/// The deposit gathered bilinearly onto the dot lattice (every stride-th cell from stride / 2),
-/// which keeps each cell's centre of energy (a border loop is not snapped by up to half a dot
-/// pitch); the share of a lattice point that is not a dot is dropped.
-void gather(const SurfaceGrid& deposit, const std::vector<size_t>& dots, int stride,
+/// The deposit gathered bilinearly onto the dot lattice, which keeps each cell's centre of energy
+/// (a border loop is not snapped by up to half a dot pitch, a hatch line between two rows is
+/// shared by both); the share of a lattice point that is not a dot is dropped.
+void gather(const SurfaceGrid& deposit, const std::vector<size_t>& dots, const Lattice& lattice,
             double cellArea, double* x) {
-    const int nx = deposit.nx, ny = deposit.ny, first = stride / 2;
+    const int nx = deposit.nx, ny = deposit.ny, sx = lattice.strideX(), sy = lattice.strideY();
+    const int firstX = lattice.firstX(), firstY = lattice.firstY();
     std::vector<long> dotOf(deposit.values.size(), -1);
     for (size_t d = 0; d < dots.size(); ++d) dotOf[dots[d]] = long(d);
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
             const float v = deposit.values[size_t(j) * nx + i];
             if (v == 0) continue;
-            const double fx = double(i - first) / stride, fy = double(j - first) / stride;
+            const double fx = double(i - firstX) / sx, fy = double(j - firstY) / sy;
             const int mx = int(std::floor(fx)), my = int(std::floor(fy));
             const double tx = fx - mx, ty = fy - my;
             for (int b = 0; b < 2; ++b)
                 for (int a = 0; a < 2; ++a) {
-                    const int di = first + (mx + a) * stride, dj = first + (my + b) * stride;
+                    const int di = firstX + (mx + a) * sx, dj = firstY + (my + b) * sy;
                     if (di < 0 || dj < 0 || di >= nx || dj >= ny) continue;
                     const long d = dotOf[size_t(dj) * nx + di];
                     const double w = (a ? tx : 1 - tx) * (b ? ty : 1 - ty);
@@ -210,8 +267,13 @@ ShapeResult planInverseShape(const std::vector<geometry::PolygonSet>& regions,
     exposure::ExposureGrid grid = planningGrid(regions, beam.radius, gridPitch);
     grid.slicesPerLayer = p.slicesPerLayer;
     const int stride = std::max(1, int(std::lround(dotPitch / gridPitch)));
+    const double pitch = stride * gridPitch;  // the dots' pitch along the rows
+    const int rowEvery = std::max(1, int(std::floor(p.rowSpacing / pitch + 1e-6)));
     std::vector<std::vector<size_t>> dots;
-    for (const auto& r : regions) dots.push_back(layerDots(r, grid, stride, dotPitch, p.edgeBand));
+    std::vector<Lattice> lattices(regions.size());
+    for (size_t k = 0; k < regions.size(); ++k)
+        dots.push_back(
+            layerDots(regions[k], grid, stride, rowEvery, k % 2 == 1, p.edgeBand, lattices[k]));
     plan::ScanPlan moving, fixed;
     splitStart(start, regions, p.edgeBand, moving, fixed);
     std::vector<SurfaceGrid> deposits;
@@ -224,7 +286,7 @@ ShapeResult planInverseShape(const std::vector<geometry::PolygonSet>& regions,
     std::vector<double> x(problem.size(), 0.0);
     const double cellArea = grid.pitch * grid.pitch;
     for (size_t k = 0, offset = 0; k < regions.size(); offset += dots[k].size(), ++k)
-        gather(deposits[k], dots[k], stride, cellArea, x.data() + offset);
+        gather(deposits[k], dots[k], lattices[k], cellArea, x.data() + offset);
     result.dots = problem.size();
     result.objectiveDots = problem.value(x);
     double best = result.objectiveDots;

@@ -58,7 +58,8 @@ double energyOf(const plan::LayerPlan& layer) {
 // on a 10 um grid, errors over the part plus Reff. Measured: DFBTP 104.4, ACES 5% 295.9 (ratio
 // 0.35, the seed's 0.65 holds with room), ACES with vpsim's cure-at-contour rule 66.8 (as the
 // shipped `aces` planner designs it for a single layer: the stack-aware rule with nothing above
-// or below). So DFBTP does NOT beat ACES cure-at-contour on this metric: it is 1.56x its error.
+// or below). So DFBTP does NOT beat ACES cure-at-contour on this metric: it is 1.76x its error
+// with its 40 um dot pitch (1.56x at 20 um, which cost 4.9x ACES's build time, issue 23).
 // DFBTP, held below the cure level outside by its liftings, lets less of its tail out but
 // undershoots Etar inside, where ACES cure-at-contour cures out to the contour at the surface;
 // the inverse planner goes below both (test_inverse_vs_aces.cpp in tests/planners).
@@ -88,14 +89,15 @@ TEST_CASE("DFBTP lowers the single-layer exposure error of ACES as in seed 000",
                                    << ", DFBTP " << eDfbtp.sse << " (DFBTP / ACES 5% "
                                    << eDfbtp.sse / eAces5.sse << ", / ACES cure-at-contour "
                                    << eDfbtp.sse / eAcesC.sse << ")");
-    // The seed's figure: at most 0.65 of ACES with its 5% rule (measured 0.35).
+    // The seed's figure: at most 0.65 of ACES with its 5% rule (measured 0.40; 0.35 at 20 um).
     CHECK(eDfbtp.sse <= 0.65 * eAces5.sse);
     // The claim as measured: ACES cure-at-contour stays below DFBTP, and DFBTP within 1.7x of it
-    // (measured 1.56x; the plans are deterministic, the 9% leaves room for float sums on other
-    // platforms and small design changes, not for a DFBTP that falls further behind). If DFBTP
-    // ever beats it, the first check fails so that this statement gets corrected.
+    // (measured 1.76x at the 40 um dot pitch; the plans are deterministic, the 8% leaves room for
+    // float sums on other platforms and small design changes, not for a DFBTP that falls
+    // further behind). If DFBTP ever beats it, the first check fails so that this statement
+    // gets corrected.
     CHECK(eAcesC.sse < eDfbtp.sse);
-    CHECK(eDfbtp.sse < 1.7 * eAcesC.sse);
+    CHECK(eDfbtp.sse < 1.9 * eAcesC.sse);
     CHECK(dfbtp.layers[0].edgeBlocks == 6);
     CHECK(dfbtp.layers[0].cornerBlocks == 6);
     for (const auto& pt : dfbtp.plan.layers[0].points) CHECK(pt.energy > 0);
@@ -162,4 +164,30 @@ TEST_CASE("the plan exposure error adds what the layers above transmit", "[optim
     CHECK(json["top_layer"]["sse_mJ2_per_mm4"].get<double>() == Approx(sseTop).epsilon(1e-4));
     CHECK(json["layers"][0]["sse_mJ2_per_mm4"].get<double>() == Approx(sseLow).epsilon(1e-3));
     CHECK(json["sse_mJ2_per_mm4"].get<double>() == Approx(sseTop + sseLow).epsilon(1e-3));
+}
+
+// An edge's rows run serpentine (each a scan line on the machine): consecutive rows of one edge
+// (parallel, the same length, one dot pitch or more apart across) run in opposite directions,
+// so the scanner reverses beside the last row's end instead of flying back along the edge.
+TEST_CASE("DFBTP scans an edge's rows serpentine", "[optimise][dfbtp]") {
+    Setup s;
+    const auto region = geometry::PolygonSet::rectangle({0, 0}, {1.0, 0.6});
+    optimise::DfbtpResult r = optimise::planDfbtp({region}, {0.05}, s.p, s.beam);
+    const auto& v = r.plan.layers[0].vectors;
+    int pairs = 0;
+    for (size_t k = 1; k < v.size(); ++k) {
+        const double ax = v[k - 1].x1 - v[k - 1].x0, ay = v[k - 1].y1 - v[k - 1].y0;
+        const double bx = v[k].x1 - v[k].x0, by = v[k].y1 - v[k].y0;
+        const double la = std::hypot(ax, ay), lb = std::hypot(bx, by);
+        const bool parallel = std::abs(ax * by - ay * bx) < 1e-9 * la * lb;
+        const double across =
+            std::abs((v[k].x0 - v[k - 1].x0) * ay - (v[k].y0 - v[k - 1].y0) * ax) / la;
+        // Rows of one edge: parallel, as long, and apart across by a whole number of pitches.
+        if (!parallel || std::abs(la - lb) > 1e-9 || across < 0.5 * s.p.dotPitch) continue;
+        const double steps = across / s.p.dotPitch;
+        if (std::abs(steps - std::round(steps)) > 1e-6) continue;
+        ++pairs;
+        CHECK(ax * bx + ay * by < 0);  // opposite directions
+    }
+    CHECK(pairs >= 4);  // at least one pair of rows on each of the four edges
 }

@@ -2,6 +2,7 @@
 // adjoint against finite differences, and the planner never worse than its start on it.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 #include "vpsim/core/rng.h"
@@ -198,4 +199,44 @@ TEST_CASE("with an edge band only the edges move, and J is measured on the machi
     optimise::levelTargets(targets, model.stack(s));
     CHECK(optimise::shapeObjective(targets, model.stack(f)) ==
           Approx(r.objectiveFinal).epsilon(1e-6));
+}
+
+// Rows at a spacing (issue 23: about as many scan lines as ACES): every returned dot lies on a
+// row of the lattice, rows rowSpacing apart along one axis per layer, dots one dot pitch apart
+// along them, and the plan is still never worse than its start.
+TEST_CASE("with a row spacing the dots lie on rows that far apart", "[optimise][inverse]") {
+    optimise::ShapeParameters p;
+    p.slicesPerLayer = 2, p.iterations = 10, p.coarseIterations = 20;
+    p.rowSpacing = 0.065;  // rounded down to 3 dot pitches of 20 um
+    const plan::ScanPlan start = acesStart();
+    auto r =
+        optimise::planInverseShape(regions(), sliceRegions(2), start, 0.01, 0.02, p, BEAM, LT, EC);
+    CHECK(r.objectiveFinal <= r.objectiveStart);
+    REQUIRE_FALSE(r.keptStart);
+    for (const auto& layer : r.plan.layers) {
+        REQUIRE(layer.points.size() > 4);
+        // Rows along x share y values 60 um apart (or rows along y share x values).
+        auto rowsOf = [&](bool alongX) {
+            std::vector<double> across;
+            for (const auto& d : layer.points) across.push_back(alongX ? d.y : d.x);
+            std::sort(across.begin(), across.end());
+            across.erase(std::unique(across.begin(), across.end(),
+                                     [](double a, double b) { return std::abs(a - b) < 1e-9; }),
+                         across.end());
+            return across;
+        };
+        const std::vector<double> ys = rowsOf(true), xs = rowsOf(false);
+        const std::vector<double>& rows = ys.size() <= xs.size() ? ys : xs;
+        const std::vector<double>& along = ys.size() <= xs.size() ? xs : ys;
+        for (size_t k = 1; k < rows.size(); ++k) {
+            const double gap = (rows[k] - rows[k - 1]) / 0.06;
+            CHECK(std::abs(gap - std::round(gap)) < 1e-6);
+        }
+        for (size_t k = 1; k < along.size(); ++k) {
+            const double gap = (along[k] - along[k - 1]) / 0.02;
+            CHECK(std::abs(gap - std::round(gap)) < 1e-6);
+        }
+        // A 0.3 mm side holds at most 0.3 / 0.06 + 2 rows (one just outside each wall).
+        CHECK(rows.size() <= 7);
+    }
 }

@@ -51,6 +51,12 @@ struct ShapeParameters {
     /// move (a dot, or a vector whose every point is that near), the other marks held as they
     /// are (DFBTP's middle area with `edges: shape`).
     double edgeBand = 0;
+    /// mm: the dots lie on rows this far apart (rounded down to a whole number of dot pitches,
+    /// at least one), the dot pitch along them; along x or y per layer, whichever gives fewer
+    /// scan lines (alternating by layer where both give about as many), odd layers' rows between
+    /// even layers'. Each row is a scan line of power-modulated marks on the machine, so rows
+    /// near ACES's hatch spacing keep the build time near ACES's (issue 23).
+    double rowSpacing = 0;
 };
 
 /// Per-voxel targets of J on a grid's voxel slices (index k n + s, as an ExposureField).
