@@ -13,6 +13,7 @@
 #include "vpsim/exposure/dose_volume.h"
 #include "vpsim/geometry/stl_io.h"
 #include "vpsim/gpu/context.h"
+#include "vpsim/pipeline/checkpoint.h"
 #include "vpsim/pipeline/cluster_run.h"
 #include "vpsim/pipeline/estimate.h"
 #include "vpsim/report/deviation_map.h"
@@ -183,6 +184,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     // of this run with its size and SHA-256 (core/output_directory.h).
     const auto runStart = std::filesystem::file_time_type::clock::now();
     OutputDirectory output(outDir, {{"command", "run"}, {"job", job.name}, {"job_file", job.file}});
+    if (!options.resume) removeCheckpoint(outDir);  // a fresh run starts over
 
     report::JobResult result;
     result.jobFile = job.file;
@@ -230,11 +232,21 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
                                                         float(0.02 * law.criticalDose()));
     validate::SliceValidator validator(f.part, grid, law, voxelHeight);
     const SimulationSpec& sim = job.simulation;
-    std::unique_ptr<validate::StreamingCuredSurface> cured = curedSurfaceSink(
-        job, grid, voxelHeight, f.part, sim.writes("cured.stl") ? outDir + "/cured.stl" : "");
     // The report's top view and 3D viewer need the cured triangles (their memory grows with
     // the surface): kept only for those outputs.
     const bool keepMesh = sim.writes("figures") || sim.writes("viewer");
+    const std::vector<exposure::Tile> tiles = exposureTiles(*model, tileSide);
+    // Tiles are checkpointed when every consumer's state is small: not for the whole-part
+    // pictures, 3D view or dose volume.
+    const bool checkpointed = tiles.size() > 1 && !keepMesh && !volume;
+    const std::string partialStl = checkpointDirectory(outDir) + "/cured.stl.partial";
+    if (checkpointed) createDirectories(checkpointDirectory(outDir));
+    std::unique_ptr<validate::StreamingCuredSurface> cured =
+        curedSurfaceSink(job, grid, voxelHeight, f.part,
+                         !sim.writes("cured.stl") ? ""
+                         : checkpointed           ? partialStl
+                                                  : outDir + "/cured.stl",
+                         checkpointed);
     cured->keepTriangles(keepMesh);
     const int middle = layers / 2;
     std::vector<geometry::PolygonSet> regions;
@@ -255,8 +267,37 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
         sinks.push_back(sink(*layerSections));
     }
     if (volume) sinks.push_back(sink(*volume));
-    const std::vector<exposure::Tile> tiles = exposureTiles(*model, tileSide);
-    result.exposure = exposeStage(job, *model, tiles, planned.plan, sinks, f.beam, layers, context);
+    int firstTile = 0;
+    TileDone afterTile;
+    if (checkpointed) {
+        const std::string fingerprint = checkpointFingerprint(
+            job.document, outDir, {{"side_mm", tileSide}, {"count", tiles.size()}});
+        if (options.resume)
+            if (const auto done = loadCheckpoint(outDir, fingerprint)) {
+                validator.restoreState(done->consumers.at("validator"));
+                cured->restoreState(done->consumers.at("cured"));
+                features.restoreState(done->consumers.at("features").get<std::vector<double>>());
+                firstTile = done->tilesDone;
+                logInfo("resuming after tile " + std::to_string(firstTile) + " of " +
+                        std::to_string(tiles.size()));
+            }
+        afterTile = [&, fingerprint](const exposure::Tile& tile) {
+            saveCheckpoint(outDir, {fingerprint,
+                                    tile.index + 1,
+                                    {{"validator", validator.saveState()},
+                                     {"cured", cured->saveState()},
+                                     {"features", features.saveState()}}});
+            if (tile.index + 1 == options.stopAfterTiles)
+                throw InputError("stopped after tile " + std::to_string(tile.index + 1) +
+                                 " (RunOptions::stopAfterTiles)");
+        };
+    } else if (options.resume) {
+        logInfo(
+            "--resume: this run keeps no checkpoint (one tile, or figures, viewer or "
+            "exposure.vdb among the outputs); it starts from the first tile");
+    }
+    result.exposure = exposeStage(job, *model, tiles, planned.plan, sinks, f.beam, layers, context,
+                                  firstTile, afterTile);
     if (model->usesGpu()) result.exposure.backend = deviceName(context);
     {
         const validate::SliceValidationSummary seen = validator.summary();
@@ -270,6 +311,15 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
 
     cureStage(*cured);
     result.curedVolume = cured->volume();
+    if (checkpointed) {  // the in-place STL becomes the output; the checkpoint has done its work
+        if (sim.writes("cured.stl")) {
+            std::error_code error;
+            std::filesystem::rename(partialStl, outDir + "/cured.stl", error);
+            if (error) throw InputError("cannot move the cured surface into place", partialStl);
+            output.record("cured.stl");
+        }
+        removeCheckpoint(outDir);
+    }
     timer.finish("cure");
 
     result.validation = validateStage(job, f.part, *cured, validator.summary(), features.result(),
@@ -298,7 +348,8 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     const report::DeviationScale scale =
         sim.writes("figures") ? report::writeDeviationFigures(
                                     outDir, curedMesh, result.validation.vertexDeviations, f.part)
-                              : report::deviationScale(result.validation.vertexDeviations);
+        : keepMesh ? report::deviationScale(result.validation.vertexDeviations)
+                   : report::deviationScale(result.validation.deviationStatistics);
     result.deviationLimit = scale.limit;
     result.beyondDeviationLimit = scale.beyond;
     progress.advance();

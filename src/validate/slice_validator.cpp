@@ -210,6 +210,39 @@ SliceValidationSummary SliceValidator::summary() const {
     return out;
 }
 
+nlohmann::json SliceValidator::saveState() {
+    State& s = *mState;
+    s.finishOpenRuns();  // as the next tile's start does
+    nlohmann::json layers = nlohmann::json::array();
+    for (const auto& [index, c] : s.layers)
+        layers.push_back({index, c.z, c.perimeter, c.reference, c.cured, c.intersection});
+    return {
+        {"intersection", s.intersection}, {"union", s.unionCount}, {"cured", s.cured},
+        {"reference", s.reference},       {"runs", s.runs},        {"down_facing", s.downFacing},
+        {"exposed", s.exposed},           {"max_dose", s.maxDose}, {"layers", layers}};
+}
+
+void SliceValidator::restoreState(const nlohmann::json& state) {
+    State& s = *mState;
+    try {
+        s.intersection = state.at("intersection").get<uint64_t>();
+        s.unionCount = state.at("union").get<uint64_t>();
+        s.cured = state.at("cured").get<uint64_t>();
+        s.reference = state.at("reference").get<uint64_t>();
+        s.runs = state.at("runs").get<std::vector<float>>();
+        s.downFacing = state.at("down_facing").get<long>();
+        s.exposed = state.at("exposed").get<uint64_t>();
+        s.maxDose = state.at("max_dose").get<double>();
+        s.layers.clear();
+        for (const auto& l : state.at("layers"))
+            s.layers[l.at(0).get<int>()] = {l.at(1).get<double>(), l.at(2).get<double>(),
+                                            l.at(3).get<uint64_t>(), l.at(4).get<uint64_t>(),
+                                            l.at(5).get<uint64_t>()};
+    } catch (const nlohmann::json::exception& e) {
+        throw InputError(std::string("malformed slice-validation state: ") + e.what());
+    }
+}
+
 nlohmann::json SliceValidationSummary::toJson() const {
     nlohmann::json perLayer = nlohmann::json::array();
     for (const auto& l : layers)
