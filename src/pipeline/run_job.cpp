@@ -3,6 +3,7 @@
 #include <chrono>
 #include <filesystem>
 
+#include "vpsim/cluster/communicator.h"
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
@@ -236,9 +237,12 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     // the surface): kept only for those outputs.
     const bool keepMesh = sim.writes("figures") || sim.writes("viewer");
     const std::vector<exposure::Tile> tiles = exposureTiles(*model, tileSide);
-    // Tiles are checkpointed when every consumer's state is small: not for the whole-part
-    // pictures, 3D view or dose volume.
-    const bool checkpointed = tiles.size() > 1 && !keepMesh && !volume;
+    // Tiles are checkpointed, or shared over MPI ranks, when every consumer's state is small:
+    // not for the whole-part pictures, 3D view or dose volume.
+    const bool smallStates = tiles.size() > 1 && !keepMesh && !volume;
+    const bool clustered = context.cluster && context.cluster->ranks() > 1;
+    const bool checkpointed = smallStates && !clustered, distributed = smallStates && clustered;
+    sendTileWork(context, distributed, tileSide, planned.plan, sim.writes("cured.stl"));
     const std::string partialStl = checkpointDirectory(outDir) + "/cured.stl.partial";
     if (checkpointed) createDirectories(checkpointDirectory(outDir));
     std::unique_ptr<validate::StreamingCuredSurface> cured =
@@ -295,6 +299,14 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
         logInfo(
             "--resume: this run keeps no checkpoint (one tile, or figures, viewer or "
             "exposure.vdb among the outputs); it starts from the first tile");
+    }
+    if (distributed) {  // the ranks expose the tiles; rank 0 merges them in order
+        for (const std::string& partial :
+             exposeTilesOnRanks(job, f.part, *model, tiles, planned.plan, f.beam, context,
+                                sim.writes("cured.stl")))
+            mergeTilePartial(partial, validator, *cured, features);
+        firstTile = int(tiles.size());  // exposeStage: the summary only
+        result.mpi["tiles"] = tileSplitJson(tiles.size(), context.cluster->ranks());
     }
     result.exposure = exposeStage(job, *model, tiles, planned.plan, sinks, f.beam, layers, context,
                                   firstTile, afterTile);

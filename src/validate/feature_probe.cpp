@@ -66,6 +66,12 @@ void FeatureProbes::restoreState(const std::vector<double>& lengths) {
     mLength = lengths;
 }
 
+void FeatureProbes::mergeState(const std::vector<double>& lengths) {
+    if (lengths.size() != mProbes.size())
+        throw InputError("the saved feature lengths are not one per feature probe");
+    for (size_t n = 0; n < lengths.size(); ++n) mLength[n] += lengths[n];
+}
+
 nlohmann::json FeatureMeasurements::toJson() const {
     nlohmann::json out = nlohmann::json::array();
     for (size_t n = 0; n < probes.size(); ++n) {

@@ -243,6 +243,34 @@ void SliceValidator::restoreState(const nlohmann::json& state) {
     }
 }
 
+void SliceValidator::mergeState(const nlohmann::json& later) {
+    State& s = *mState;
+    s.finishOpenRuns();
+    try {
+        s.intersection += later.at("intersection").get<uint64_t>();
+        s.unionCount += later.at("union").get<uint64_t>();
+        s.cured += later.at("cured").get<uint64_t>();
+        s.reference += later.at("reference").get<uint64_t>();
+        const auto runs = later.at("runs").get<std::vector<float>>();
+        s.runs.insert(s.runs.end(), runs.begin(), runs.end());
+        s.downFacing += later.at("down_facing").get<long>();
+        s.exposed += later.at("exposed").get<uint64_t>();
+        s.maxDose = std::max(s.maxDose, later.at("max_dose").get<double>());
+        for (const auto& l : later.at("layers")) {
+            auto [layer, first] = s.layers.try_emplace(l.at(0).get<int>());
+            if (first) {  // as add() sets them: from the layer's first tile
+                layer->second.z = l.at(1).get<double>();
+                layer->second.perimeter = l.at(2).get<double>();
+            }
+            layer->second.reference += l.at(3).get<uint64_t>();
+            layer->second.cured += l.at(4).get<uint64_t>();
+            layer->second.intersection += l.at(5).get<uint64_t>();
+        }
+    } catch (const nlohmann::json::exception& e) {
+        throw InputError(std::string("malformed slice-validation state: ") + e.what());
+    }
+}
+
 nlohmann::json SliceValidationSummary::toJson() const {
     nlohmann::json perLayer = nlohmann::json::array();
     for (const auto& l : layers)

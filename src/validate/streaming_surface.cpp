@@ -79,7 +79,7 @@ struct StreamingCuredSurface::State {
     std::vector<std::array<uint32_t, 3>> kept;
     bool keep = false;
     uint64_t triangleCount = 0;
-    double volume = 0;
+    double volume = 0, tileVolume = 0;  ///< the finished tiles', and this tile's (merged in order)
     glm::dvec3 reference{0.0};  ///< volume moments are taken about this point (less rounding)
     std::vector<char> buffer;
 
@@ -129,6 +129,8 @@ struct StreamingCuredSurface::State {
         started = false;
         statistics.merge(tileStatistics);
         tileStatistics = DeviationStatistics(statistics.band());
+        volume += tileVolume;
+        tileVolume = 0;
     }
 
     /// Without kept triangles, only the layer above's vertices are referred to again: drops the
@@ -299,7 +301,7 @@ struct StreamingCuredSurface::State {
             rowVolume[lj] = moment;
         });
         for (int lj = ljLo; lj < ljHi; ++lj) {
-            volume += rowVolume[lj] / 6.0;
+            tileVolume += rowVolume[lj] / 6.0;
             write(rowTriangles[lj]);
         }
     }
@@ -488,6 +490,25 @@ void StreamingCuredSurface::restoreState(const nlohmann::json& state) {
     } catch (const nlohmann::json::exception& e) {
         throw InputError(std::string("malformed cured-surface state: ") + e.what());
     }
+}
+
+void StreamingCuredSurface::mergeState(const nlohmann::json& later, const std::string& stlBody) {
+    State& s = *mState;
+    if (s.started || s.keep || s.finished)
+        throw InputError("the cured surface merges other tiles only between its own");
+    try {
+        s.triangleCount += later.at("triangles").get<uint64_t>();
+        s.volume += later.at("volume").get<double>();
+        s.statistics.merge(DeviationStatistics::fromJson(later.at("statistics")));
+        if (!s.referenceSet) {
+            const auto& r = later.at("reference");
+            s.reference = {r.at(0).get<double>(), r.at(1).get<double>(), r.at(2).get<double>()};
+            s.referenceSet = later.at("reference_set").get<bool>();
+        }
+    } catch (const nlohmann::json::exception& e) {
+        throw InputError(std::string("malformed cured-surface state: ") + e.what());
+    }
+    if (s.stlOut) s.stlOut->write(stlBody.data(), std::streamsize(stlBody.size()));
 }
 
 geometry::Mesh StreamingCuredSurface::mesh() const {

@@ -55,6 +55,8 @@ public:
     std::vector<double> saveState() const { return mLength; }
     /// @throw InputError when `lengths` is not one per probe
     void restoreState(const std::vector<double>& lengths);
+    /// Adds the lengths another instance measured in other tiles (a probe's cell is in one).
+    void mergeState(const std::vector<double>& lengths);
 
 private:
     std::vector<FeatureProbe> mProbes;

@@ -66,6 +66,9 @@ public:
     /// for a checkpoint; restoreState continues from it. @throw InputError for a malformed state
     nlohmann::json saveState();
     void restoreState(const nlohmann::json& state);
+    /// Adds the state of a validator that saw later tiles (MPI ranks' tiles, in the tiles'
+    /// order): counts add, runs append, the maximum is the larger.
+    void mergeState(const nlohmann::json& later);
 
 private:
     struct State;

@@ -67,6 +67,10 @@ public:
     /// Before the first slice: continues from a saved state, cutting the in-place STL back to
     /// its saved length. @throw InputError for a malformed state or a shorter STL
     void restoreState(const nlohmann::json& state);
+    /// Appends the tiles another surface made (its saveState and the triangles of its STL after
+    /// the 84-byte header), as if this one had made them next: the tiles of a job made on other
+    /// MPI ranks, merged in the tiles' order. @throw InputError for a malformed state
+    void mergeState(const nlohmann::json& later, const std::string& stlBody);
 
 private:
     struct State;
