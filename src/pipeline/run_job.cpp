@@ -297,8 +297,8 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
         };
     } else if (options.resume) {
         logInfo(
-            "--resume: this run keeps no checkpoint (one tile, or figures, viewer or "
-            "exposure.vdb among the outputs); it starts from the first tile");
+            "--resume: this run keeps no checkpoint (one tile, MPI ranks, or figures, viewer "
+            "or exposure.vdb among the outputs); it starts from the first tile");
     }
     if (distributed) {  // the ranks expose the tiles; rank 0 merges them in order
         for (const std::string& partial :
