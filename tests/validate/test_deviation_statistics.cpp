@@ -6,10 +6,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "vpsim/core/io.h"
 #include "vpsim/exposure/tiles.h"
 #include "vpsim/geometry/test_parts.h"
 #include "vpsim/validate/streaming_surface.h"
@@ -24,7 +26,7 @@ constexpr int SLICES = 40;
 /// Feeds slices of 2 exp(-(r/R)^2) about (0, 0, 0.4) (cured inside r = 0.3 mm), top down,
 /// tile after tile; returns the most vertices the surface held after a slice.
 size_t feed(validate::StreamingCuredSurface& surface, const exposure::ExposureGrid& grid,
-            const std::vector<exposure::Tile>& tiles) {
+            const std::vector<exposure::Tile>& tiles, bool finish = true) {
     const double R = 0.3 / std::sqrt(std::log(2.0));
     exposure::SurfaceGrid values = grid.surface();
     size_t held = 0;
@@ -37,11 +39,10 @@ size_t feed(validate::StreamingCuredSurface& surface, const exposure::ExposureGr
                         glm::dvec3(values.centreX(i), values.centreY(j), z) - glm::dvec3(0, 0, 0.4);
                     values.at(i, j) = float(2.0 * std::exp(-glm::dot(d, d) / (R * R)));
                 }
-            surface.add({0, SLICES - 1 - k, z, &values,
-                         tiles.size() > 1 ? tile.core : exposure::CellWindow{}});
+            surface.add({0, SLICES - 1 - k, z, &values, tile.core});
             held = std::max(held, surface.vertices().size());
         }
-    surface.finish();
+    if (finish) surface.finish();
     return held;
 }
 
@@ -124,4 +125,41 @@ TEST_CASE("deviation statistics merge in order and survive their JSON state", "[
     CHECK(x.beyondBand > 0);
     CHECK_THROWS(validate::DeviationStatistics::fromJson(nlohmann::json{{"band", 0.25}}));
     CHECK_THROWS(validate::DeviationStatistics(0.25).summary());
+}
+
+// What MPI ranks do with a job's tiles (pipeline/cluster_run.h): each tile into a fresh surface
+// with an in-place STL, its saved state and STL triangles merged in the tiles' order into
+// another surface, gives one surface fed every tile: the same counts, volume and statistics to
+// the bit, and the same STL bytes.
+TEST_CASE("cured surfaces of single tiles merged in order are the surface of all tiles",
+          "[validate]") {
+    geometry::TestPartOptions options;
+    options.size = 0.5;
+    options.height = 0.7;
+    const geometry::Mesh part = geometry::makeTestPart("box", options);
+    const auto grid = exposure::ExposureGrid::covering(-0.4, -0.4, 0.4, 0.4, 0.0, 0.02, 1);
+    const auto tiles = exposure::tileLayout(grid, 13, 2);
+    const auto dir = std::filesystem::temp_directory_path();
+    const std::string oneStl = (dir / "vpsim_merge_one.stl").string(),
+                      mergedStl = (dir / "vpsim_merge_merged.stl").string();
+
+    validate::StreamingCuredSurface one(grid, DZ, 1.0, &part, BAND, oneStl);
+    feed(one, grid, tiles);
+    validate::StreamingCuredSurface merged(grid, DZ, 1.0, &part, BAND, mergedStl);
+    for (const exposure::Tile& tile : tiles) {
+        const std::string tileStl = (dir / "vpsim_merge_tile.stl").string();
+        nlohmann::json state;
+        {
+            validate::StreamingCuredSurface alone(
+                grid, DZ, 1.0, &part, BAND, validate::StreamingCuredSurface::InPlaceStl{tileStl});
+            feed(alone, grid, {tile}, false);
+            state = alone.saveState();
+        }
+        merged.mergeState(nlohmann::json::parse(state.dump()), readFile(tileStl).substr(84));
+    }
+    merged.finish();
+    CHECK(merged.triangles() == one.triangles());
+    CHECK(merged.volume() == one.volume());
+    CHECK(merged.statistics().toJson() == one.statistics().toJson());
+    CHECK(readFile(mergedStl) == readFile(oneStl));
 }
