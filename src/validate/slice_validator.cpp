@@ -210,16 +210,41 @@ SliceValidationSummary SliceValidator::summary() const {
     return out;
 }
 
+namespace {
+
+/// Over-cure runs as [length, how many] in increasing length: a run is a sum of voxel heights,
+/// so there are few distinct lengths (a state's size follows the height, not the footprint);
+/// summary() sorts the runs, so their order is no figure.
+nlohmann::json runCounts(const std::vector<float>& runs) {
+    std::map<float, uint64_t> counts;
+    for (float r : runs) ++counts[r];
+    nlohmann::json out = nlohmann::json::array();
+    for (const auto& [length, n] : counts) out.push_back({length, n});
+    return out;
+}
+
+void appendRuns(const nlohmann::json& counts, std::vector<float>& runs) {
+    for (const auto& entry : counts)
+        runs.insert(runs.end(), entry.at(1).get<uint64_t>(), entry.at(0).get<float>());
+}
+
+}  // namespace
+
 nlohmann::json SliceValidator::saveState() {
     State& s = *mState;
     s.finishOpenRuns();  // as the next tile's start does
     nlohmann::json layers = nlohmann::json::array();
     for (const auto& [index, c] : s.layers)
         layers.push_back({index, c.z, c.perimeter, c.reference, c.cured, c.intersection});
-    return {
-        {"intersection", s.intersection}, {"union", s.unionCount}, {"cured", s.cured},
-        {"reference", s.reference},       {"runs", s.runs},        {"down_facing", s.downFacing},
-        {"exposed", s.exposed},           {"max_dose", s.maxDose}, {"layers", layers}};
+    return {{"intersection", s.intersection},
+            {"union", s.unionCount},
+            {"cured", s.cured},
+            {"reference", s.reference},
+            {"runs", runCounts(s.runs)},
+            {"down_facing", s.downFacing},
+            {"exposed", s.exposed},
+            {"max_dose", s.maxDose},
+            {"layers", layers}};
 }
 
 void SliceValidator::restoreState(const nlohmann::json& state) {
@@ -229,7 +254,8 @@ void SliceValidator::restoreState(const nlohmann::json& state) {
         s.unionCount = state.at("union").get<uint64_t>();
         s.cured = state.at("cured").get<uint64_t>();
         s.reference = state.at("reference").get<uint64_t>();
-        s.runs = state.at("runs").get<std::vector<float>>();
+        s.runs.clear();
+        appendRuns(state.at("runs"), s.runs);
         s.downFacing = state.at("down_facing").get<long>();
         s.exposed = state.at("exposed").get<uint64_t>();
         s.maxDose = state.at("max_dose").get<double>();
@@ -251,8 +277,7 @@ void SliceValidator::mergeState(const nlohmann::json& later) {
         s.unionCount += later.at("union").get<uint64_t>();
         s.cured += later.at("cured").get<uint64_t>();
         s.reference += later.at("reference").get<uint64_t>();
-        const auto runs = later.at("runs").get<std::vector<float>>();
-        s.runs.insert(s.runs.end(), runs.begin(), runs.end());
+        appendRuns(later.at("runs"), s.runs);
         s.downFacing += later.at("down_facing").get<long>();
         s.exposed += later.at("exposed").get<uint64_t>();
         s.maxDose = std::max(s.maxDose, later.at("max_dose").get<double>());

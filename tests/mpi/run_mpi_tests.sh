@@ -62,7 +62,8 @@ done
 # A tiled job (25 tiles of 0.3 mm, no figures: the tiles' states are small) over 2 and 4 ranks:
 # the tiles dealt round-robin and merged on rank 0 in their order give one process's figures
 # and the same cured.stl, byte for byte.
-tiled=(--set simulation.tile=0.3mm --set 'simulation.outputs=["cured.stl"]')
+# bottom-narrow: down-facing walls, so the validators' over-cure runs are merged too.
+tiled=(--set simulation.tile=0.3mm --set 'simulation.outputs=["cured.stl"]' --set part.test_part=bottom-narrow)
 run_job tiled-one 0 "${tiled[@]}"
 for n in 2 4; do
   run_job "tiled-$n" "$n" "${tiled[@]}"

@@ -193,6 +193,7 @@ TEST_CASE("a large part without figures fits in tiles", "[pipeline][tiles]") {
 TEST_CASE("a tiled run resumed after an interruption gives the uninterrupted result",
           "[pipeline][tiles]") {
     nlohmann::json spec = tileJob("0.3 mm");
+    spec["part"]["test_part"] = "bottom-narrow";  // down-facing walls: over-cure runs to save
     spec["simulation"].erase("write_vdb");
     spec["simulation"]["outputs"] = {"cured.stl"};
     const auto tmp = std::filesystem::temp_directory_path();
@@ -223,6 +224,9 @@ TEST_CASE("a tiled run resumed after an interruption gives the uninterrupted res
     CHECK(compared > 50);
     CHECK(resumed.validation.deviation.mean == whole.validation.deviation.mean);
     CHECK(resumed.validation.slices.iou == whole.validation.slices.iou);
+    CHECK(whole.validation.slices.downFacingColumns > 100);
+    CHECK(resumed.validation.slices.overcureBelowDownFacingMean ==
+          whole.validation.slices.overcureBelowDownFacingMean);
     CHECK(resumed.curedVolume == whole.curedVolume);
     CHECK(readFile((dir / "cured.stl").string()) ==
           readFile((tmp / "vpsim_tiles_resume_whole" / "cured.stl").string()));
