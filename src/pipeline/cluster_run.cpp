@@ -1,5 +1,6 @@
 #include "vpsim/pipeline/cluster_run.h"
 
+#include <algorithm>
 #include <filesystem>
 
 #include <unistd.h>
@@ -35,7 +36,8 @@ void runJobOnWorkerRank(const Job& job, const RunContext& context) {
     const exposure::ExposureGrid grid = exposureGrid(job, part.bounds(), beam);
     const auto model = exposureModel(job, grid, beam, context);
     const auto tiles = exposureTiles(*model, work.at("tile_side").get<double>());
-    exposeTilesOnRanks(job, part, *model, tiles, plan, beam, context, work.at("stl").get<bool>());
+    exposeTilesOnRanks(job, part, *model, tiles, plan, beam, context, work.at("stl").get<bool>(),
+                       [](const std::string&) {});
 }
 
 void sendTileWork(const RunContext& context, bool distributed, double tileSide,
@@ -46,14 +48,14 @@ void sendTileWork(const RunContext& context, bool distributed, double tileSide,
     context.cluster->broadcastBytes(work.dump());
 }
 
-std::vector<std::string> exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
-                                            const exposure::ExposureModel& model,
-                                            const std::vector<exposure::Tile>& tiles,
-                                            const plan::ScanPlan& plan, const BeamResult& beam,
-                                            const RunContext& context, bool stl) {
+void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
+                        const exposure::ExposureModel& model,
+                        const std::vector<exposure::Tile>& tiles, const plan::ScanPlan& plan,
+                        const BeamResult& beam, const RunContext& context, bool stl,
+                        const std::function<void(const std::string&)>& merge) {
     const exposure::ExposureGrid& grid = model.grid();
     const double voxelHeight = job.machine.layerThickness / job.simulation.slicesPerLayer;
-    return cluster::runItems(*context.cluster, tiles.size(), [&](size_t i) {
+    auto work = [&](size_t i) {
         const exposure::Tile& tile = tiles[i];
         validate::SliceValidator validator(part, grid, *job.cure, voxelHeight);
         validate::FeatureProbes features(job.features, grid, *job.cure, voxelHeight);
@@ -80,7 +82,16 @@ std::vector<std::string> exposeTilesOnRanks(const Job& job, const geometry::Mesh
             std::filesystem::remove(stlPath);
         }
         return state.dump() + "\n" + body;  // the JSON has no raw line break
-    });
+    };
+    // A round of one tile per rank at a time (tile i on rank i % ranks, as runItems deals), so
+    // that rank 0 holds one round's results, not the whole job's triangles.
+    const size_t ranks = size_t(context.cluster->ranks());
+    for (size_t first = 0; first < tiles.size(); first += ranks) {
+        const size_t round = std::min(ranks, tiles.size() - first);
+        for (const std::string& partial :
+             cluster::runItems(*context.cluster, round, [&](size_t i) { return work(first + i); }))
+            merge(partial);
+    }
 }
 
 void mergeTilePartial(const std::string& partial, validate::SliceValidator& validator,

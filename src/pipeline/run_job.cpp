@@ -301,10 +301,10 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
             "or exposure.vdb among the outputs); it starts from the first tile");
     }
     if (distributed) {  // the ranks expose the tiles; rank 0 merges them in order
-        for (const std::string& partial :
-             exposeTilesOnRanks(job, f.part, *model, tiles, planned.plan, f.beam, context,
-                                sim.writes("cured.stl")))
-            mergeTilePartial(partial, validator, *cured, features);
+        exposeTilesOnRanks(job, f.part, *model, tiles, planned.plan, f.beam, context,
+                           sim.writes("cured.stl"), [&](const std::string& partial) {
+                               mergeTilePartial(partial, validator, *cured, features);
+                           });
         firstTile = int(tiles.size());  // exposeStage: the summary only
         result.mpi["tiles"] = tileSplitJson(tiles.size(), context.cluster->ranks());
     }

@@ -8,6 +8,7 @@
 /// round-robin over the ranks (cluster::runItems): each rank exposes its tiles into fresh
 /// consumers, and rank 0 merges their states in the tiles' order, as one process would.
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -30,13 +31,14 @@ void runJobOnWorkerRank(const Job& job, const RunContext& context);
 void sendTileWork(const RunContext& context, bool distributed, double tileSide,
                   const plan::ScanPlan& plan, bool stl);
 
-/// Every rank: the tiles of `tiles` it owns, each exposed into fresh consumers; on rank 0 each
-/// tile's partial result (consumers' saveState and its STL triangles) in the tiles' order.
-std::vector<std::string> exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
-                                            const exposure::ExposureModel& model,
-                                            const std::vector<exposure::Tile>& tiles,
-                                            const plan::ScanPlan& plan, const BeamResult& beam,
-                                            const RunContext& context, bool stl);
+/// Every rank: the tiles of `tiles` it owns (tile i on rank i % ranks), each exposed into fresh
+/// consumers, one round of a tile per rank at a time; on rank 0, `merge` takes each tile's
+/// partial result (consumers' saveState and its STL triangles) in the tiles' order.
+void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
+                        const exposure::ExposureModel& model,
+                        const std::vector<exposure::Tile>& tiles, const plan::ScanPlan& plan,
+                        const BeamResult& beam, const RunContext& context, bool stl,
+                        const std::function<void(const std::string&)>& merge);
 
 /// Rank 0: merges one tile's partial result into the run's consumers (call in the tiles' order).
 void mergeTilePartial(const std::string& partial, validate::SliceValidator& validator,
