@@ -1,6 +1,14 @@
 #include "vpsim/pipeline/cluster_run.h"
 
+#include <algorithm>
+#include <filesystem>
+
+#include <unistd.h>
+
+#include "vpsim/cluster/collectives.h"
 #include "vpsim/cluster/communicator.h"
+#include "vpsim/core/error.h"
+#include "vpsim/core/io.h"
 #include "vpsim/transport/mc_split.h"
 
 namespace vpsim::pipeline {
@@ -20,7 +28,89 @@ nlohmann::json kernelSplit(const char* kernel, const std::optional<kernel::BeamK
 }  // namespace
 
 void runJobOnWorkerRank(const Job& job, const RunContext& context) {
-    beamStage(job, context);  // runJob's only collective stage
+    const BeamResult beam = beamStage(job, context);  // the ranks hold the same kernel
+    const nlohmann::json work = nlohmann::json::parse(context.cluster->broadcastBytes(""));
+    if (!work.at("distributed").get<bool>()) return;
+    const geometry::Mesh part = partStage(job);
+    const plan::ScanPlan plan = plan::scanPlanFromJson(work.at("plan"));
+    const exposure::ExposureGrid grid = exposureGrid(job, part.bounds(), beam);
+    const auto model = exposureModel(job, grid, beam, context);
+    const auto tiles = exposureTiles(*model, work.at("tile_side").get<double>());
+    exposeTilesOnRanks(job, part, *model, tiles, plan, beam, context, work.at("stl").get<bool>(),
+                       [](const std::string&) {});
+}
+
+void sendTileWork(const RunContext& context, bool distributed, double tileSide,
+                  const plan::ScanPlan& plan, bool stl) {
+    if (!context.cluster || context.cluster->ranks() <= 1) return;
+    nlohmann::json work = {{"distributed", distributed}, {"tile_side", tileSide}, {"stl", stl}};
+    if (distributed) work["plan"] = plan::toJson(plan);
+    context.cluster->broadcastBytes(work.dump());
+}
+
+void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
+                        const exposure::ExposureModel& model,
+                        const std::vector<exposure::Tile>& tiles, const plan::ScanPlan& plan,
+                        const BeamResult& beam, const RunContext& context, bool stl,
+                        const std::function<void(const std::string&)>& merge) {
+    const exposure::ExposureGrid& grid = model.grid();
+    const double voxelHeight = job.machine.layerThickness / job.simulation.slicesPerLayer;
+    auto work = [&](size_t i) {
+        const exposure::Tile& tile = tiles[i];
+        validate::SliceValidator validator(part, grid, *job.cure, voxelHeight);
+        validate::FeatureProbes features(job.features, grid, *job.cure, voxelHeight);
+        // The tile's triangles go through a file of this rank's (the STL writer's stream).
+        const std::string stlPath =
+            stl ? (std::filesystem::temp_directory_path() /
+                   ("vpsim-tile-" + std::to_string(getpid()) + "-" + std::to_string(i) + ".stl"))
+                      .string()
+                : "";
+        auto cured = curedSurfaceSink(job, grid, voxelHeight, part, stlPath, true);
+        auto tileModel = exposureModel(job, grid.window(tile.window), beam, context);
+        tileModel->run(plan, tile.core, [&](const exposure::ExposureSlice& slice) {
+            validator.add(slice);
+            cured->add(slice);
+            features.add(slice);
+        });
+        const nlohmann::json state = {{"validator", validator.saveState()},
+                                      {"cured", cured->saveState()},
+                                      {"features", features.saveState()}};
+        std::string body;
+        if (stl) {
+            cured.reset();  // closes the file
+            body = readFile(stlPath, UINT64_MAX).substr(84);
+            std::filesystem::remove(stlPath);
+        }
+        return state.dump() + "\n" + body;  // the JSON has no raw line break
+    };
+    // A round of one tile per rank at a time (tile i on rank i % ranks, as runItems deals), so
+    // that rank 0 holds one round's results, not the whole job's triangles.
+    const size_t ranks = size_t(context.cluster->ranks());
+    for (size_t first = 0; first < tiles.size(); first += ranks) {
+        const size_t round = std::min(ranks, tiles.size() - first);
+        for (const std::string& partial :
+             cluster::runItems(*context.cluster, round, [&](size_t i) { return work(first + i); }))
+            merge(partial);
+    }
+}
+
+void mergeTilePartial(const std::string& partial, validate::SliceValidator& validator,
+                      validate::StreamingCuredSurface& cured, validate::FeatureProbes& features) {
+    const size_t end = partial.find('\n');
+    if (end == std::string::npos) throw InputError("a rank's tile result is malformed");
+    const nlohmann::json state = nlohmann::json::parse(partial.substr(0, end));
+    validator.mergeState(state.at("validator"));
+    cured.mergeState(state.at("cured"), partial.substr(end + 1));
+    features.mergeState(state.at("features").get<std::vector<double>>());
+}
+
+nlohmann::json tileSplitJson(size_t tiles, int ranks) {
+    nlohmann::json perRank = nlohmann::json::array();
+    for (int r = 0; r < ranks; ++r) perRank.push_back(cluster::itemsOfRank(tiles, r, ranks));
+    return {{"count", tiles},
+            {"deal", "round-robin (tile i on rank i % ranks)"},
+            {"tiles_of_rank", perRank},
+            {"merge", "rank 0, in the tiles' order: the single process's figures"}};
 }
 
 nlohmann::json clusterSummary(const BeamResult& beam, const RunContext& context) {
@@ -35,7 +125,7 @@ nlohmann::json clusterSummary(const BeamResult& beam, const RunContext& context)
             {"split", split},
             {"rank_0",
              "the stages after the beam kernel (slice, plan, exposure, cure, validation, "
-             "report) and every file written"}};
+             "report) and every file written, but the tiles of \"tiles\" when there is one"}};
 }
 
 }  // namespace vpsim::pipeline

@@ -195,6 +195,11 @@ std::string tileText(const Sizes& s) {
     return ", per tile of " + fmt(s.tiles) + " (" + fmt(s.coreCells) + " cells and a halo)";
 }
 
+/// Whether the run keeps every cured vertex (runJob: the report's figures and 3D view).
+bool keepsSurface(const SimulationSpec& sim) {
+    return sim.writes("figures") || sim.writes("viewer");
+}
+
 void exposureTerms(const Job& job, const Sizes& s, JobEstimate& e) {
     const int n = job.simulation.slicesPerLayer;
     const std::string tiled = tileText(s);
@@ -231,9 +236,19 @@ void exposureTerms(const Job& job, const Sizes& s, JobEstimate& e) {
         "two padded slices with cured flags and two layers of vertex indices of " +
             fmt(s.windowCells) + " cells" + tiled,
         COARSER, true);
-    add(e, "cured-surface vertices and deviations", s.surfaceVoxels * 16.0, Stage::Expose,
-        Stage::Validate, fmt(s.surfaceVoxels) + " vertices (the triangles stream to cured.stl)",
-        COARSER);
+    // Every vertex is kept only for the report's figures and 3D view; otherwise the mesher
+    // holds two layers of vertices (at most one per cell, a flat top face) and the deviations
+    // become running statistics (validate::DeviationStatistics, two 512 KiB histograms).
+    if (keepsSurface(job.simulation))
+        add(e, "cured-surface vertices and deviations", s.surfaceVoxels * 16.0, Stage::Expose,
+            Stage::Validate, fmt(s.surfaceVoxels) + " vertices (the triangles stream to cured.stl)",
+            COARSER);
+    else
+        add(e, "cured-surface vertices of two layers", s.windowCells * 2.0 * 16.0 + MIB,
+            Stage::Expose, Stage::Cure,
+            "at most one vertex per cell and layer" + tiled +
+                "; the deviations are running statistics",
+            COARSER, true);
     e.stageSeconds.emplace_back("expose", 15e-9 * s.computedCells * s.slices);
     e.stageSeconds.emplace_back("cure", 1e-7 * s.surfaceVoxels);  // the mesher runs in expose
 }
@@ -257,14 +272,15 @@ void validateTerms(const Job& job, const geometry::Mesh& part, const Sizes& s, J
                 fmt(options.voxelSize * 1e3) + " um (only for the output reference.vdb)",
             "a smaller part (the reference level set uses max(simulation.voxel, 20 um))");
     }
-    add(e, "surface deviations", s.surfaceVoxels * 8.0, Stage::Validate, Stage::Validate,
-        "one per cured vertex");
+    if (keepsSurface(sim))
+        add(e, "surface deviations", s.surfaceVoxels * 8.0, Stage::Validate, Stage::Validate,
+            "one per cured vertex (for the figures and 3D view)");
     // The report draws the top view and the 3D view from the cured triangles, which the mesher
     // keeps for it (2 per surface voxel, 12 B), then copies into a mesh (vertices 24 B, triangles
     // 24 B) and encodes for the viewer; the plotting library's images are a few tens of MiB.
     // Only for the outputs figures and viewer (simulation.outputs).
     const char* FEWER = "simulation.outputs without figures and viewer, or a smaller part";
-    if (sim.writes("figures") || sim.writes("viewer")) {
+    if (keepsSurface(sim)) {
         add(e, "cured triangles kept for the report", s.surfaceVoxels * 24.0, Stage::Expose,
             Stage::Validate, fmt(2 * s.surfaceVoxels) + " triangles", FEWER);
         add(e, "report: cured mesh, 3D view data, pictures", s.surfaceVoxels * 120.0 + 32.0 * MIB,

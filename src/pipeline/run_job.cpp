@@ -3,6 +3,7 @@
 #include <chrono>
 #include <filesystem>
 
+#include "vpsim/cluster/communicator.h"
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
@@ -13,6 +14,7 @@
 #include "vpsim/exposure/dose_volume.h"
 #include "vpsim/geometry/stl_io.h"
 #include "vpsim/gpu/context.h"
+#include "vpsim/pipeline/checkpoint.h"
 #include "vpsim/pipeline/cluster_run.h"
 #include "vpsim/pipeline/estimate.h"
 #include "vpsim/report/deviation_map.h"
@@ -183,6 +185,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     // of this run with its size and SHA-256 (core/output_directory.h).
     const auto runStart = std::filesystem::file_time_type::clock::now();
     OutputDirectory output(outDir, {{"command", "run"}, {"job", job.name}, {"job_file", job.file}});
+    if (!options.resume) removeCheckpoint(outDir);  // a fresh run starts over
 
     report::JobResult result;
     result.jobFile = job.file;
@@ -230,11 +233,24 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
                                                         float(0.02 * law.criticalDose()));
     validate::SliceValidator validator(f.part, grid, law, voxelHeight);
     const SimulationSpec& sim = job.simulation;
-    std::unique_ptr<validate::StreamingCuredSurface> cured = curedSurfaceSink(
-        job, grid, voxelHeight, f.part, sim.writes("cured.stl") ? outDir + "/cured.stl" : "");
     // The report's top view and 3D viewer need the cured triangles (their memory grows with
     // the surface): kept only for those outputs.
     const bool keepMesh = sim.writes("figures") || sim.writes("viewer");
+    const std::vector<exposure::Tile> tiles = exposureTiles(*model, tileSide);
+    // Tiles are checkpointed, or shared over MPI ranks, when every consumer's state is small:
+    // not for the whole-part pictures, 3D view or dose volume.
+    const bool smallStates = tiles.size() > 1 && !keepMesh && !volume;
+    const bool clustered = context.cluster && context.cluster->ranks() > 1;
+    const bool checkpointed = smallStates && !clustered, distributed = smallStates && clustered;
+    sendTileWork(context, distributed, tileSide, planned.plan, sim.writes("cured.stl"));
+    const std::string partialStl = checkpointDirectory(outDir) + "/cured.stl.partial";
+    if (checkpointed) createDirectories(checkpointDirectory(outDir));
+    std::unique_ptr<validate::StreamingCuredSurface> cured =
+        curedSurfaceSink(job, grid, voxelHeight, f.part,
+                         !sim.writes("cured.stl") ? ""
+                         : checkpointed           ? partialStl
+                                                  : outDir + "/cured.stl",
+                         checkpointed);
     cured->keepTriangles(keepMesh);
     const int middle = layers / 2;
     std::vector<geometry::PolygonSet> regions;
@@ -255,8 +271,45 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
         sinks.push_back(sink(*layerSections));
     }
     if (volume) sinks.push_back(sink(*volume));
-    const std::vector<exposure::Tile> tiles = exposureTiles(*model, tileSide);
-    result.exposure = exposeStage(job, *model, tiles, planned.plan, sinks, f.beam, layers, context);
+    int firstTile = 0;
+    TileDone afterTile;
+    if (checkpointed) {
+        const std::string fingerprint = checkpointFingerprint(
+            job.document, outDir, {{"side_mm", tileSide}, {"count", tiles.size()}});
+        if (options.resume)
+            if (const auto done = loadCheckpoint(outDir, fingerprint)) {
+                validator.restoreState(done->consumers.at("validator"));
+                cured->restoreState(done->consumers.at("cured"));
+                features.restoreState(done->consumers.at("features").get<std::vector<double>>());
+                firstTile = done->tilesDone;
+                logInfo("resuming after tile " + std::to_string(firstTile) + " of " +
+                        std::to_string(tiles.size()));
+            }
+        afterTile = [&, fingerprint](const exposure::Tile& tile) {
+            saveCheckpoint(outDir, {fingerprint,
+                                    tile.index + 1,
+                                    {{"validator", validator.saveState()},
+                                     {"cured", cured->saveState()},
+                                     {"features", features.saveState()}}});
+            if (tile.index + 1 == options.stopAfterTiles)
+                throw InputError("stopped after tile " + std::to_string(tile.index + 1) +
+                                 " (RunOptions::stopAfterTiles)");
+        };
+    } else if (options.resume) {
+        logInfo(
+            "--resume: this run keeps no checkpoint (one tile, MPI ranks, or figures, viewer "
+            "or exposure.vdb among the outputs); it starts from the first tile");
+    }
+    if (distributed) {  // the ranks expose the tiles; rank 0 merges them in order
+        exposeTilesOnRanks(job, f.part, *model, tiles, planned.plan, f.beam, context,
+                           sim.writes("cured.stl"), [&](const std::string& partial) {
+                               mergeTilePartial(partial, validator, *cured, features);
+                           });
+        firstTile = int(tiles.size());  // exposeStage: the summary only
+        result.mpi["tiles"] = tileSplitJson(tiles.size(), context.cluster->ranks());
+    }
+    result.exposure = exposeStage(job, *model, tiles, planned.plan, sinks, f.beam, layers, context,
+                                  firstTile, afterTile);
     if (model->usesGpu()) result.exposure.backend = deviceName(context);
     {
         const validate::SliceValidationSummary seen = validator.summary();
@@ -270,6 +323,15 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
 
     cureStage(*cured);
     result.curedVolume = cured->volume();
+    if (checkpointed) {  // the in-place STL becomes the output; the checkpoint has done its work
+        if (sim.writes("cured.stl")) {
+            std::error_code error;
+            std::filesystem::rename(partialStl, outDir + "/cured.stl", error);
+            if (error) throw InputError("cannot move the cured surface into place", partialStl);
+            output.record("cured.stl");
+        }
+        removeCheckpoint(outDir);
+    }
     timer.finish("cure");
 
     result.validation = validateStage(job, f.part, *cured, validator.summary(), features.result(),
@@ -298,7 +360,8 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     const report::DeviationScale scale =
         sim.writes("figures") ? report::writeDeviationFigures(
                                     outDir, curedMesh, result.validation.vertexDeviations, f.part)
-                              : report::deviationScale(result.validation.vertexDeviations);
+        : keepMesh ? report::deviationScale(result.validation.vertexDeviations)
+                   : report::deviationScale(result.validation.deviationStatistics);
     result.deviationLimit = scale.limit;
     result.beyondDeviationLimit = scale.beyond;
     progress.advance();

@@ -144,7 +144,8 @@ report::ExposureSummary exposeStage(const Job& job, exposure::ExposureModel& mod
                                     const std::vector<exposure::Tile>& tiles,
                                     const plan::ScanPlan& plan,
                                     const std::vector<exposure::SliceSink>& consumers,
-                                    const BeamResult& beam, int layers, const RunContext& context) {
+                                    const BeamResult& beam, int layers, const RunContext& context,
+                                    int firstTile, const TileDone& afterTile) {
     report::ExposureSummary summary;
     double sinkSeconds = 0;
     auto sink = [&](const exposure::ExposureSlice& slice) {
@@ -157,12 +158,14 @@ report::ExposureSummary exposeStage(const Job& job, exposure::ExposureModel& mod
         summary.engineSeconds = model.run(plan, sink);
     } else {
         for (const exposure::Tile& tile : tiles) {
+            if (tile.index < firstTile) continue;  // done before a resumed run
             logInfo("tile " + std::to_string(tile.index + 1) + " of " +
                     std::to_string(tiles.size()) + ": cells [" + std::to_string(tile.core.i0) +
                     ", " + std::to_string(tile.core.i1) + ") x [" + std::to_string(tile.core.j0) +
                     ", " + std::to_string(tile.core.j1) + ")");
             auto tileModel = exposureModel(job, model.grid().window(tile.window), beam, context);
             summary.engineSeconds += tileModel->run(plan, tile.core, sink);
+            if (afterTile) afterTile(tile);
         }
     }
     const exposure::ExposureGrid& g = model.grid();
@@ -199,7 +202,11 @@ double deviationBand(const Job& job) {
 
 std::unique_ptr<validate::StreamingCuredSurface> curedSurfaceSink(
     const Job& job, const exposure::ExposureGrid& grid, double voxelHeight,
-    const geometry::Mesh& part, const std::string& stlPath) {
+    const geometry::Mesh& part, const std::string& stlPath, bool inPlace) {
+    if (inPlace && !stlPath.empty())
+        return std::make_unique<validate::StreamingCuredSurface>(
+            grid, voxelHeight, job.cure->criticalDose(), &part, deviationBand(job),
+            validate::StreamingCuredSurface::InPlaceStl{stlPath});
     return std::make_unique<validate::StreamingCuredSurface>(
         grid, voxelHeight, job.cure->criticalDose(), &part, deviationBand(job), stlPath);
 }
@@ -216,8 +223,14 @@ report::ValidationReport validateStage(const Job& job, const geometry::Mesh& par
     if (!referenceVdb.empty())
         geometry::LevelSet::fromMesh(part, referenceOptions(job)).save(referenceVdb);
     report::ValidationReport report;
-    report.vertexDeviations = cured.deviations();
-    report.deviation = validate::summarizeDeviations(report.vertexDeviations, deviationBand(job));
+    report.deviationStatistics = cured.statistics();
+    report.deviation = report.deviationStatistics.summary();
+    // With the triangles kept (figures, viewer) every deviation is at hand: the exact percentile.
+    if (cured.deviations().size() == report.deviationStatistics.count()) {
+        report.vertexDeviations = cured.deviations();
+        report.deviation.p95 =
+            validate::summarizeDeviations(report.vertexDeviations, deviationBand(job)).p95;
+    }
     report.slices = std::move(slices);
     report.features = std::move(features);
     return report;

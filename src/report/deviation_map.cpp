@@ -68,6 +68,15 @@ std::string micrometres(double mm) {
     return formatNumber(mm * 1000, 3);
 }
 
+/// The round step above the 95th percentile `p95`: 1, 2, 2.5 or 5 times a power of ten.
+double roundLimit(double p95) {
+    p95 = std::max(1e-6, p95);
+    const double power = std::pow(10.0, std::floor(std::log10(p95)));
+    for (double m : {1.0, 2.0, 2.5, 5.0})
+        if (m * power >= p95) return m * power;
+    return 10 * power;
+}
+
 }  // namespace
 
 DeviationScale deviationScale(const std::vector<float>& deviations) {
@@ -77,18 +86,18 @@ DeviationScale deviationScale(const std::vector<float>& deviations) {
     for (size_t i = 0; i < deviations.size(); ++i) magnitude[i] = std::abs(deviations[i]);
     const size_t k = magnitude.size() * 95 / 100;
     std::nth_element(magnitude.begin(), magnitude.begin() + k, magnitude.end());
-    const double p95 = std::max(1e-6, double(magnitude[k]));
-    // The round step above the 95th percentile: 1, 2, 2.5 or 5 times a power of ten.
-    const double power = std::pow(10.0, std::floor(std::log10(p95)));
-    s.limit = 10 * power;
-    for (double m : {1.0, 2.0, 2.5, 5.0})
-        if (m * power >= p95) {
-            s.limit = m * power;
-            break;
-        }
+    s.limit = roundLimit(magnitude[k]);
     size_t beyond = 0;
     for (float d : deviations) beyond += std::abs(d) > s.limit;
     s.beyond = double(beyond) / double(deviations.size());
+    return s;
+}
+
+DeviationScale deviationScale(const validate::DeviationStatistics& statistics) {
+    DeviationScale s;
+    if (statistics.count() == 0) return s;
+    s.limit = roundLimit(statistics.magnitudeAtRank(statistics.count() * 95 / 100));
+    s.beyond = double(statistics.countAbove(s.limit)) / double(statistics.count());
     return s;
 }
 

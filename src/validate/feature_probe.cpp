@@ -60,6 +60,18 @@ void FeatureProbes::add(const exposure::ExposureSlice& slice) {
     }
 }
 
+void FeatureProbes::restoreState(const std::vector<double>& lengths) {
+    if (lengths.size() != mProbes.size())
+        throw InputError("the saved feature lengths are not one per feature probe");
+    mLength = lengths;
+}
+
+void FeatureProbes::mergeState(const std::vector<double>& lengths) {
+    if (lengths.size() != mProbes.size())
+        throw InputError("the saved feature lengths are not one per feature probe");
+    for (size_t n = 0; n < lengths.size(); ++n) mLength[n] += lengths[n];
+}
+
 nlohmann::json FeatureMeasurements::toJson() const {
     nlohmann::json out = nlohmann::json::array();
     for (size_t n = 0; n < probes.size(); ++n) {

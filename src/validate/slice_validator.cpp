@@ -210,6 +210,92 @@ SliceValidationSummary SliceValidator::summary() const {
     return out;
 }
 
+namespace {
+
+/// Over-cure runs as [length, how many] in increasing length: a run is a sum of voxel heights,
+/// so there are few distinct lengths (a state's size follows the height, not the footprint);
+/// summary() sorts the runs, so their order is no figure.
+nlohmann::json runCounts(const std::vector<float>& runs) {
+    std::map<float, uint64_t> counts;
+    for (float r : runs) ++counts[r];
+    nlohmann::json out = nlohmann::json::array();
+    for (const auto& [length, n] : counts) out.push_back({length, n});
+    return out;
+}
+
+void appendRuns(const nlohmann::json& counts, std::vector<float>& runs) {
+    for (const auto& entry : counts)
+        runs.insert(runs.end(), entry.at(1).get<uint64_t>(), entry.at(0).get<float>());
+}
+
+}  // namespace
+
+nlohmann::json SliceValidator::saveState() {
+    State& s = *mState;
+    s.finishOpenRuns();  // as the next tile's start does
+    nlohmann::json layers = nlohmann::json::array();
+    for (const auto& [index, c] : s.layers)
+        layers.push_back({index, c.z, c.perimeter, c.reference, c.cured, c.intersection});
+    return {{"intersection", s.intersection},
+            {"union", s.unionCount},
+            {"cured", s.cured},
+            {"reference", s.reference},
+            {"runs", runCounts(s.runs)},
+            {"down_facing", s.downFacing},
+            {"exposed", s.exposed},
+            {"max_dose", s.maxDose},
+            {"layers", layers}};
+}
+
+void SliceValidator::restoreState(const nlohmann::json& state) {
+    State& s = *mState;
+    try {
+        s.intersection = state.at("intersection").get<uint64_t>();
+        s.unionCount = state.at("union").get<uint64_t>();
+        s.cured = state.at("cured").get<uint64_t>();
+        s.reference = state.at("reference").get<uint64_t>();
+        s.runs.clear();
+        appendRuns(state.at("runs"), s.runs);
+        s.downFacing = state.at("down_facing").get<long>();
+        s.exposed = state.at("exposed").get<uint64_t>();
+        s.maxDose = state.at("max_dose").get<double>();
+        s.layers.clear();
+        for (const auto& l : state.at("layers"))
+            s.layers[l.at(0).get<int>()] = {l.at(1).get<double>(), l.at(2).get<double>(),
+                                            l.at(3).get<uint64_t>(), l.at(4).get<uint64_t>(),
+                                            l.at(5).get<uint64_t>()};
+    } catch (const nlohmann::json::exception& e) {
+        throw InputError(std::string("malformed slice-validation state: ") + e.what());
+    }
+}
+
+void SliceValidator::mergeState(const nlohmann::json& later) {
+    State& s = *mState;
+    s.finishOpenRuns();
+    try {
+        s.intersection += later.at("intersection").get<uint64_t>();
+        s.unionCount += later.at("union").get<uint64_t>();
+        s.cured += later.at("cured").get<uint64_t>();
+        s.reference += later.at("reference").get<uint64_t>();
+        appendRuns(later.at("runs"), s.runs);
+        s.downFacing += later.at("down_facing").get<long>();
+        s.exposed += later.at("exposed").get<uint64_t>();
+        s.maxDose = std::max(s.maxDose, later.at("max_dose").get<double>());
+        for (const auto& l : later.at("layers")) {
+            auto [layer, first] = s.layers.try_emplace(l.at(0).get<int>());
+            if (first) {  // as add() sets them: from the layer's first tile
+                layer->second.z = l.at(1).get<double>();
+                layer->second.perimeter = l.at(2).get<double>();
+            }
+            layer->second.reference += l.at(3).get<uint64_t>();
+            layer->second.cured += l.at(4).get<uint64_t>();
+            layer->second.intersection += l.at(5).get<uint64_t>();
+        }
+    } catch (const nlohmann::json::exception& e) {
+        throw InputError(std::string("malformed slice-validation state: ") + e.what());
+    }
+}
+
 nlohmann::json SliceValidationSummary::toJson() const {
     nlohmann::json perLayer = nlohmann::json::array();
     for (const auto& l : layers)

@@ -4,11 +4,13 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <unordered_map>
 
 #include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
@@ -17,6 +19,13 @@
 
 namespace vpsim::validate {
 namespace {
+
+void writeStlHeader(std::ostream& out) {
+    char header[84] = {};
+    const std::string text = "vpsim binary STL, mm: cured";
+    std::memcpy(header, text.data(), text.size());
+    out.write(header, 84);
+}
 
 constexpr uint32_t NONE = UINT32_MAX;
 constexpr uint32_t HALO = 0x80000000u;  ///< a vertex index into the halo's vertices
@@ -35,7 +44,12 @@ struct StreamingCuredSurface::State {
     double voxelHeight, iso, band;
     std::unique_ptr<geometry::MeshDistance> distance;
     std::unique_ptr<AtomicFileStream> stl;
-    int nx, ny, P, Q;  ///< whole grid's cells; its padded width and height
+    /// The STL written in place (resumable: it survives a kill), opened at the first slice or
+    /// by restoreState.
+    std::string inPlacePath;
+    std::unique_ptr<std::fstream> inPlace;
+    std::ostream* stlOut = nullptr;  ///< the STL's stream, or none
+    int nx, ny, P, Q;                ///< whole grid's cells; its padded width and height
     // The current tile, in padded samples of the whole grid: it owns the samples (and the edges
     // and cubes that start there) in [own.i0, own.i1) x [own.j0, own.j1) and holds the samples
     // in [sx0, sx0 + W) x [sy0, sy0 + H): one more on each side, for the cubes its edges join.
@@ -45,12 +59,19 @@ struct StreamingCuredSurface::State {
     PaddedSlice above, below;
     bool started = false, finished = false, referenceSet = false;
     std::vector<uint32_t> layerAbove, layerBelow;  ///< vertex per cube, (W - 1) x (H - 1)
-    std::vector<glm::vec3> vertices;               ///< of the cubes the tiles own
+    /// Vertices of the cubes the tiles own and their deviations: all of them when the
+    /// triangles are kept, else from the layer above on (trimVertices), vertices[0] being the
+    /// run's vertex number `base`: memory follows a layer of the tile, not the surface.
+    std::vector<glm::vec3> vertices;
     std::vector<float> deviations;
+    uint64_t base = 0, layerStart = 0;  ///< numbers of vertices[0] and of the layer above's first
+    /// Deviations of this tile (in the order made) and of the finished tiles (merged in order).
+    DeviationStatistics tileStatistics, statistics;
     /// Cubes beside the tile that another tile owns: their vertices are made again (from the
     /// same values, so at the same positions) and referred to as HALO | index.
     std::vector<glm::vec3> haloVertices;
     std::vector<uint64_t> haloKeys;  ///< cube keys of haloVertices (when triangles are kept)
+    size_t haloAbove = 0;            ///< haloVertices before the layer above's
     std::unordered_map<uint64_t, uint32_t> seamVertices;  ///< owned cubes a neighbour makes too
     std::vector<std::vector<std::pair<int, glm::vec3>>> rowVertices;
     std::vector<std::vector<std::array<uint32_t, 3>>> rowTriangles;
@@ -58,7 +79,7 @@ struct StreamingCuredSurface::State {
     std::vector<std::array<uint32_t, 3>> kept;
     bool keep = false;
     uint64_t triangleCount = 0;
-    double volume = 0;
+    double volume = 0, tileVolume = 0;  ///< the finished tiles', and this tile's (merged in order)
     glm::dvec3 reference{0.0};  ///< volume moments are taken about this point (less rounding)
     std::vector<char> buffer;
 
@@ -89,7 +110,11 @@ struct StreamingCuredSurface::State {
             slice->value.assign(size_t(W) * H, 0.0f);
             slice->in.assign(size_t(W) * H, 0);
         }
-        if (!keep) haloVertices.clear();  // only the kept triangles refer to earlier tiles'
+        if (!keep) {  // only the kept triangles refer to earlier tiles'
+            haloVertices.clear();
+            haloAbove = 0;
+        }
+        layerStart = base + vertices.size();  // nothing of an earlier tile is referred to
         layerAbove.assign(size_t(W - 1) * (H - 1), NONE);
         layerBelow = layerAbove;
         rowVertices.resize(H - 1);
@@ -102,6 +127,25 @@ struct StreamingCuredSurface::State {
     void closeTile() {
         advance(nullptr, above.z - voxelHeight);
         started = false;
+        statistics.merge(tileStatistics);
+        tileStatistics = DeviationStatistics(statistics.band());
+        volume += tileVolume;
+        tileVolume = 0;
+    }
+
+    /// Without kept triangles, only the layer above's vertices are referred to again: drops the
+    /// older ones (owned and halo) and renumbers layerAbove's references.
+    void trimVertices() {
+        if (keep) return;
+        const uint64_t drop = layerStart - base;
+        const size_t haloDrop = haloAbove;
+        if (drop == 0 && haloDrop == 0) return;
+        vertices.erase(vertices.begin(), vertices.begin() + std::ptrdiff_t(drop));
+        deviations.erase(deviations.begin(), deviations.begin() + std::ptrdiff_t(drop));
+        haloVertices.erase(haloVertices.begin(), haloVertices.begin() + std::ptrdiff_t(haloDrop));
+        base = layerStart;
+        for (uint32_t& index : layerAbove)
+            if (index != NONE) index -= uint32_t(index & HALO ? haloDrop : drop);
     }
 
     void load(PaddedSlice& target, const exposure::SurfaceGrid* values, double z) {
@@ -160,6 +204,7 @@ struct StreamingCuredSurface::State {
     /// Vertices of the cubes between `above` and `below` into layerBelow, rows in parallel and
     /// numbered in row order.
     void buildLayer() {
+        trimVertices();
         std::fill(layerBelow.begin(), layerBelow.end(), NONE);
         tbb::parallel_for(0, H - 1, [&](int lj) {
             auto& out = rowVertices[lj];
@@ -181,6 +226,8 @@ struct StreamingCuredSurface::State {
                 owned += ownsCube(sx0 + entry.first, sy0 + lj);
             first[lj + 1] = first[lj] + owned;
         }
+        layerStart = base + vertices.size();
+        haloAbove = haloVertices.size();
         vertices.resize(first[H - 1]);
         deviations.resize(first[H - 1]);
         tbb::parallel_for(0, H - 1, [&](int lj) {
@@ -196,6 +243,7 @@ struct StreamingCuredSurface::State {
                 ++v;
             }
         });
+        for (size_t v = first[0]; v < first[H - 1]; ++v) tileStatistics.add(deviations[v]);
         for (int lj = 0; lj < H - 1; ++lj)
             for (const auto& [li, p] : rowVertices[lj]) {
                 const int ci = sx0 + li, cj = sy0 + lj;
@@ -253,7 +301,7 @@ struct StreamingCuredSurface::State {
             rowVolume[lj] = moment;
         });
         for (int lj = ljLo; lj < ljHi; ++lj) {
-            volume += rowVolume[lj] / 6.0;
+            tileVolume += rowVolume[lj] / 6.0;
             write(rowTriangles[lj]);
         }
     }
@@ -261,7 +309,7 @@ struct StreamingCuredSurface::State {
     void write(const std::vector<std::array<uint32_t, 3>>& triangles) {
         triangleCount += triangles.size();
         if (keep) kept.insert(kept.end(), triangles.begin(), triangles.end());
-        if (!stl) return;
+        if (!stlOut) return;
         buffer.resize(triangles.size() * 50);
         char* p = buffer.data();
         for (const auto& tri : triangles) {
@@ -274,7 +322,7 @@ struct StreamingCuredSurface::State {
             std::memset(p + 48, 0, 2);
             p += 50;
         }
-        stl->stream().write(buffer.data(), std::streamsize(buffer.size()));
+        stlOut->write(buffer.data(), std::streamsize(buffer.size()));
     }
 
     void advance(const exposure::SurfaceGrid* values, double z) {
@@ -303,6 +351,7 @@ StreamingCuredSurface::StreamingCuredSurface(const exposure::ExposureGrid& grid,
     s.voxelHeight = voxelHeight;
     s.iso = isoValue;
     s.band = band;
+    s.statistics = s.tileStatistics = DeviationStatistics(band > 0 ? band : 1.0);
     s.nx = grid.nx;
     s.ny = grid.ny;
     s.P = grid.nx + 2;
@@ -310,11 +359,16 @@ StreamingCuredSurface::StreamingCuredSurface(const exposure::ExposureGrid& grid,
     if (part) s.distance = std::make_unique<geometry::MeshDistance>(*part);
     if (!stlPath.empty()) {
         s.stl = std::make_unique<AtomicFileStream>(stlPath);
-        char header[84] = {};
-        const std::string text = "vpsim binary STL, mm: cured";
-        std::memcpy(header, text.data(), text.size());
-        s.stl->stream().write(header, 84);
+        s.stlOut = &s.stl->stream();
+        writeStlHeader(*s.stlOut);
     }
+}
+
+StreamingCuredSurface::StreamingCuredSurface(const exposure::ExposureGrid& grid, double voxelHeight,
+                                             double isoValue, const geometry::Mesh* part,
+                                             double band, InPlaceStl stl)
+    : StreamingCuredSurface(grid, voxelHeight, isoValue, part, band, "") {
+    mState->inPlacePath = stl.path;
 }
 
 StreamingCuredSurface::~StreamingCuredSurface() = default;
@@ -329,6 +383,13 @@ void StreamingCuredSurface::add(const exposure::ExposureSlice& slice) {
         std::min(s.nx, w.i1 + 1) > values.firstI + values.nx ||
         std::min(s.ny, w.j1 + 1) > values.firstJ + values.ny || w.i1 > s.nx || w.j1 > s.ny)
         throw ResourceError("exposure slice does not match the cured-surface grid");
+    if (!s.inPlacePath.empty() && !s.inPlace) {  // a fresh in-place STL
+        s.inPlace = std::make_unique<std::fstream>(
+            s.inPlacePath, std::ios::out | std::ios::trunc | std::ios::binary);
+        if (!*s.inPlace) throw InputError("cannot write the cured surface", s.inPlacePath);
+        s.stlOut = s.inPlace.get();
+        writeStlHeader(*s.stlOut);
+    }
     if (w.i0 != s.core.i0 || w.j0 != s.core.j0 || w.i1 != s.core.i1 || w.j1 != s.core.j1)
         s.startTile(w);
     s.advance(&values, slice.z);
@@ -342,13 +403,18 @@ void StreamingCuredSurface::finish() {
     if (s.triangleCount == 0)
         throw InputError("nothing cured: the exposure never reaches the critical dose (" +
                          formatQuantity(s.iso * 100.0) + " mJ/cm^2)");
-    if (s.stl) {
+    if (s.stlOut) {
+        const std::string path = s.stl ? s.stl->path() : s.inPlacePath;
         if (s.triangleCount > UINT32_MAX)
-            throw InputError("too many triangles for a binary STL", s.stl->path());
+            throw InputError("too many triangles for a binary STL", path);
         const uint32_t count = uint32_t(s.triangleCount);
-        s.stl->stream().seekp(80);
-        s.stl->stream().write(reinterpret_cast<const char*>(&count), 4);
-        s.stl->commit();
+        s.stlOut->seekp(80);
+        s.stlOut->write(reinterpret_cast<const char*>(&count), 4);
+        if (s.stl) s.stl->commit();
+        if (s.inPlace) {
+            s.inPlace->close();
+            if (s.inPlace->fail()) throw InputError("cannot write the cured surface", path);
+        }
     }
 }
 
@@ -364,8 +430,85 @@ const std::vector<glm::vec3>& StreamingCuredSurface::vertices() const {
 const std::vector<float>& StreamingCuredSurface::deviations() const {
     return mState->deviations;
 }
+const DeviationStatistics& StreamingCuredSurface::statistics() const {
+    return mState->statistics;
+}
 void StreamingCuredSurface::keepTriangles(bool keep) {
     mState->keep = keep;
+}
+
+nlohmann::json StreamingCuredSurface::saveState() {
+    State& s = *mState;
+    if (s.keep || s.stl || s.finished)
+        throw InputError(
+            "the cured surface's state is saved only for an in-place STL, without "
+            "kept triangles, before finish()");
+    if (s.started) s.closeTile();
+    uint64_t stlBytes = 0;
+    if (s.stlOut) {
+        s.stlOut->flush();
+        if (!*s.stlOut) throw InputError("cannot write the cured surface", s.inPlacePath);
+        stlBytes = uint64_t(s.stlOut->tellp());
+    }
+    return {{"triangles", s.triangleCount},
+            {"volume", s.volume},
+            {"reference", {s.reference.x, s.reference.y, s.reference.z}},
+            {"reference_set", s.referenceSet},
+            {"statistics", s.statistics.toJson()},
+            {"stl_bytes", stlBytes}};
+}
+
+void StreamingCuredSurface::restoreState(const nlohmann::json& state) {
+    State& s = *mState;
+    if (s.started || s.triangleCount || s.stl)
+        throw InputError("the cured surface's state is restored only before its first slice");
+    try {
+        s.triangleCount = state.at("triangles").get<uint64_t>();
+        s.volume = state.at("volume").get<double>();
+        const auto& r = state.at("reference");
+        s.reference = {r.at(0).get<double>(), r.at(1).get<double>(), r.at(2).get<double>()};
+        s.referenceSet = state.at("reference_set").get<bool>();
+        s.statistics = DeviationStatistics::fromJson(state.at("statistics"));
+        s.tileStatistics = DeviationStatistics(s.statistics.band());
+        const uint64_t stlBytes = state.at("stl_bytes").get<uint64_t>();
+        if (s.inPlacePath.empty() != (stlBytes == 0))
+            throw InputError("the saved cured surface's STL does not match this one's");
+        if (stlBytes == 0) return;
+        // The tiles after the state's are written again: the STL is cut back to its length.
+        std::error_code error;
+        const auto size = std::filesystem::file_size(s.inPlacePath, error);
+        if (error || size < stlBytes)
+            throw InputError(
+                "shorter than its saved state (" + std::to_string(stlBytes) + " bytes)",
+                s.inPlacePath);
+        std::filesystem::resize_file(s.inPlacePath, stlBytes);
+        s.inPlace = std::make_unique<std::fstream>(s.inPlacePath,
+                                                   std::ios::in | std::ios::out | std::ios::binary);
+        s.inPlace->seekp(0, std::ios::end);
+        if (!*s.inPlace) throw InputError("cannot write the cured surface", s.inPlacePath);
+        s.stlOut = s.inPlace.get();
+    } catch (const nlohmann::json::exception& e) {
+        throw InputError(std::string("malformed cured-surface state: ") + e.what());
+    }
+}
+
+void StreamingCuredSurface::mergeState(const nlohmann::json& later, const std::string& stlBody) {
+    State& s = *mState;
+    if (s.started || s.keep || s.finished)
+        throw InputError("the cured surface merges other tiles only between its own");
+    try {
+        s.triangleCount += later.at("triangles").get<uint64_t>();
+        s.volume += later.at("volume").get<double>();
+        s.statistics.merge(DeviationStatistics::fromJson(later.at("statistics")));
+        if (!s.referenceSet) {
+            const auto& r = later.at("reference");
+            s.reference = {r.at(0).get<double>(), r.at(1).get<double>(), r.at(2).get<double>()};
+            s.referenceSet = later.at("reference_set").get<bool>();
+        }
+    } catch (const nlohmann::json::exception& e) {
+        throw InputError(std::string("malformed cured-surface state: ") + e.what());
+    }
+    if (s.stlOut) s.stlOut->write(stlBody.data(), std::streamsize(stlBody.size()));
 }
 
 geometry::Mesh StreamingCuredSurface::mesh() const {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
@@ -42,6 +43,84 @@ SurfaceDeviation summarizeDeviations(const std::vector<float>& d, double bandHal
     out.p95 = magnitude[rank];
     out.max = *std::max_element(magnitude.begin(), magnitude.end());
     return out;
+}
+
+DeviationStatistics::DeviationStatistics(double band) : mBand(band), mHistogram(BINS, 0) {
+    if (!(band > 0)) throw InputError("deviation statistics need a positive band");
+}
+
+void DeviationStatistics::add(float deviation) {
+    const double magnitude = std::abs(deviation);
+    ++mCount;
+    mSum += deviation;
+    mSumSq += double(deviation) * deviation;
+    mMaxAbs = std::max(mMaxAbs, magnitude);
+    mBeyondBand += magnitude >= mBand * (1.0 - 1e-6);
+    ++mHistogram[size_t(std::min<double>(BINS - 1, magnitude / mBand * BINS))];
+}
+
+void DeviationStatistics::merge(const DeviationStatistics& later) {
+    if (later.mBand != mBand) throw InputError("merging deviation statistics of different bands");
+    mCount += later.mCount;
+    mSum += later.mSum;
+    mSumSq += later.mSumSq;
+    mMaxAbs = std::max(mMaxAbs, later.mMaxAbs);
+    mBeyondBand += later.mBeyondBand;
+    for (size_t b = 0; b < mHistogram.size(); ++b) mHistogram[b] += later.mHistogram[b];
+}
+
+double DeviationStatistics::magnitudeAtRank(uint64_t k) const {
+    uint64_t below = 0;
+    for (size_t b = 0; b < mHistogram.size(); ++b) {
+        below += mHistogram[b];
+        if (below > k) return std::min(mMaxAbs, double(b + 1) * mBand / BINS);
+    }
+    return mMaxAbs;
+}
+
+uint64_t DeviationStatistics::countAbove(double limit) const {
+    uint64_t above = 0;
+    for (size_t b = 0; b < mHistogram.size(); ++b)
+        if ((double(b) + 0.5) * mBand / BINS > limit) above += mHistogram[b];
+    return above;
+}
+
+SurfaceDeviation DeviationStatistics::summary() const {
+    if (mCount == 0) throw InputError("nothing cured: the cured surface is empty");
+    SurfaceDeviation out;
+    out.samples = mCount;
+    out.beyondBand = mBeyondBand;
+    out.mean = mSum / double(mCount);
+    out.rms = std::sqrt(mSumSq / double(mCount));
+    out.p95 = magnitudeAtRank(uint64_t(std::ceil(0.95 * double(mCount))) - 1);
+    out.max = mMaxAbs;
+    return out;
+}
+
+nlohmann::json DeviationStatistics::toJson() const {
+    nlohmann::json bins = nlohmann::json::array();  // [bin, count] of the filled bins
+    for (size_t b = 0; b < mHistogram.size(); ++b)
+        if (mHistogram[b]) bins.push_back({b, mHistogram[b]});
+    return {{"band", mBand},    {"count", mCount},    {"beyond_band", mBeyondBand}, {"sum", mSum},
+            {"sum_sq", mSumSq}, {"max_abs", mMaxAbs}, {"histogram", bins}};
+}
+
+DeviationStatistics DeviationStatistics::fromJson(const nlohmann::json& state) {
+    try {
+        DeviationStatistics s(state.at("band").get<double>());
+        s.mCount = state.at("count").get<uint64_t>();
+        s.mBeyondBand = state.at("beyond_band").get<uint64_t>();
+        s.mSum = state.at("sum").get<double>();
+        s.mSumSq = state.at("sum_sq").get<double>();
+        s.mMaxAbs = state.at("max_abs").get<double>();
+        for (const auto& bin : state.at("histogram"))
+            s.mHistogram.at(bin.at(0).get<size_t>()) = bin.at(1).get<uint64_t>();
+        return s;
+    } catch (const nlohmann::json::exception& e) {
+        throw InputError(std::string("malformed deviation statistics: ") + e.what());
+    } catch (const std::out_of_range&) {
+        throw InputError("malformed deviation statistics: a histogram bin out of range");
+    }
 }
 
 nlohmann::json SurfaceDeviation::toJson() const {

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # vpsim under `mpirun --oversubscribe -np 2` and `-np 4` on this machine: the collectives and the
 # split Monte Carlo (mpi_check), `vpsim run` of a small job (the kernel's photons split over the
-# ranks) giving the single process's report.json figures plus "mpi", and a batch of 3 jobs over
+# ranks) giving the single process's report.json figures plus "mpi", the same job in x-y tiles
+# over 2 and 4 ranks (tiles dealt round-robin, merged in order), and a batch of 3 jobs over
 # 2 ranks giving the single process's per-job figures. Exits 77 (ctest: skipped) with a line
 # saying why when vpsim was built without MPI or mpirun is missing.
 # Usage: run_mpi_tests.sh VPSIM_BINARY MPI_CHECK_BINARY SOURCE_DIR WITH_MPI(ON|OFF)
@@ -56,6 +57,23 @@ for pair in "one two 2" "collision-one collision-four 4"; do
   jq -e --argjson n "$3" '.mpi.ranks == $n and (.mpi.split[0].photon_ranges | length) == $n
         and .mpi.split[0].photon_ranges[-1][1] == 6000 and .kernel.from_cache == false' \
     "$work/$2/report.json" >/dev/null || fail "$2: mpi field $(jq -c .mpi "$work/$2/report.json")"
+done
+
+# A tiled job (25 tiles of 0.3 mm, no figures: the tiles' states are small) over 2 and 4 ranks:
+# the tiles dealt round-robin and merged on rank 0 in their order give one process's figures
+# and the same cured.stl, byte for byte.
+# bottom-narrow: down-facing walls, so the validators' over-cure runs are merged too.
+tiled=(--set simulation.tile=0.3mm --set 'simulation.outputs=["cured.stl"]' --set part.test_part=bottom-narrow)
+run_job tiled-one 0 "${tiled[@]}"
+for n in 2 4; do
+  run_job "tiled-$n" "$n" "${tiled[@]}"
+  [[ "$(figures "$work/tiled-one/report.json")" == "$(figures "$work/tiled-$n/report.json")" ]] ||
+    { fail "tiled-$n: report figures differ from one process's"; diff <(figures "$work/tiled-one/report.json") \
+        <(figures "$work/tiled-$n/report.json") | head -20; }
+  cmp -s "$work/tiled-one/cured.stl" "$work/tiled-$n/cured.stl" || fail "tiled-$n: cured.stl differs"
+  jq -e --argjson n "$n" '.mpi.ranks == $n and .mpi.tiles.count == 25
+        and (.mpi.tiles.tiles_of_rank | length) == $n and .mpi.tiles.tiles_of_rank[1][0] == 1' \
+    "$work/tiled-$n/report.json" >/dev/null || fail "tiled-$n: mpi field $(jq -c .mpi.tiles "$work/tiled-$n/report.json")"
 done
 
 # A batch of 3 jobs over 2 ranks: the same per-job figures as one process.

@@ -10,7 +10,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
+#include "vpsim/core/output_directory.h"
 #include "vpsim/geometry/mesh_check.h"
 #include "vpsim/geometry/stl_io.h"
 #include "vpsim/pipeline/estimate.h"
@@ -36,12 +38,22 @@ nlohmann::json tileJob(const std::string& tile) {
     return job;
 }
 
-report::JobResult runTiles(const std::string& name, const std::string& tile) {
+report::JobResult runSpec(const std::string& name, const nlohmann::json& spec,
+                          const pipeline::RunOptions& options = {}) {
     const auto dir = std::filesystem::temp_directory_path() / ("vpsim_tiles_" + name);
     const std::string file = dir.string() + ".json";
-    std::ofstream(file) << tileJob(tile).dump(1);
+    std::ofstream(file) << spec.dump(1);
     const pipeline::Job job = pipeline::loadJob(file, pipeline::makeBuiltins());
-    return pipeline::runJob(job, dir.string(), RunContext{nullptr, false, ""});
+    return pipeline::runJob(job, dir.string(), RunContext{nullptr, false, ""}, options);
+}
+
+report::JobResult runTiles(const std::string& name, const std::string& tile) {
+    return runSpec(name, tileJob(tile));
+}
+
+nlohmann::json reportOf(const std::string& name) {
+    const auto dir = std::filesystem::temp_directory_path() / ("vpsim_tiles_" + name);
+    return loadJsonFile((dir / "report.json").string());
 }
 
 /// Keys that are not figures: timings, the job as given (it names the tile), the file list.
@@ -91,11 +103,8 @@ geometry::MeshReport curedMesh(const std::string& name) {
 TEST_CASE("a job in small x-y tiles gives the untiled figures and mesh", "[pipeline][tiles]") {
     const report::JobResult whole = runTiles("whole", "auto");
     const report::JobResult tiled = runTiles("tiled", "0.3 mm");
-    const auto dir = std::filesystem::temp_directory_path();
-    const nlohmann::json a = loadJsonFile((dir / "vpsim_tiles_whole/report.json").string());
-    const nlohmann::json b = loadJsonFile((dir / "vpsim_tiles_tiled/report.json").string());
     int compared = 0;
-    compareFigures(a, b, "report", compared);
+    compareFigures(reportOf("whole"), reportOf("tiled"), "report", compared);
     CHECK(compared > 100);
     // The figures that tiles could most easily disturb, by name.
     CHECK(tiled.exposure.maxDose == whole.exposure.maxDose);
@@ -104,6 +113,14 @@ TEST_CASE("a job in small x-y tiles gives the untiled figures and mesh", "[pipel
     CHECK(tiled.validation.features.simulated == whole.validation.features.simulated);
     CHECK(tiled.curedVolume == Approx(whole.curedVolume).epsilon(1e-6));
     CHECK(tiled.validation.vertexDeviations.size() == whole.validation.vertexDeviations.size());
+    // One tile: the running statistics are the figures summarizeDeviations gives, exactly.
+    const validate::SurfaceDeviation exact = validate::summarizeDeviations(
+        whole.validation.vertexDeviations, whole.validation.deviationStatistics.band());
+    CHECK(whole.validation.deviation.mean == exact.mean);
+    CHECK(whole.validation.deviation.rms == exact.rms);
+    CHECK(whole.validation.deviation.p95 == exact.p95);
+    CHECK(whole.validation.deviation.max == exact.max);
+    CHECK(whole.validation.deviation.beyondBand == exact.beyondBand);
 
     // One mesh: the seams' vertices are the owning tile's, so welding by position gives the
     // same vertices, edges and volume, with no open edge the untiled mesh does not have.
@@ -139,4 +156,78 @@ TEST_CASE("the estimate tiles a job that does not fit in one piece", "[pipeline]
     context.memoryLimit = uint64_t(whole.peakBytes() - whole.tileBytes);
     CHECK_THROWS_AS(pipeline::checkEstimate(pipeline::fitEstimate(job, context), context),
                     ResourceError);
+}
+
+// 100 x 100 x 50 mm at 10 um (1e13 voxels): without the figures and the 3D view nothing the run
+// holds grows with the cured surface, so tiles fit it in a few GiB; with the figures, the
+// cured triangles and every vertex's deviation are kept and no tiling fits them.
+TEST_CASE("a large part without figures fits in tiles", "[pipeline][tiles]") {
+    const auto file = (std::filesystem::temp_directory_path() / "vpsim_tiles_large.json").string();
+    nlohmann::json spec = tileJob("auto");
+    spec["part"]["size"] = "100 mm";
+    spec["part"]["height"] = "50 mm";
+    spec["simulation"].erase("write_vdb");
+    spec["simulation"]["outputs"] = nlohmann::json::array();
+    std::ofstream(file) << spec.dump(1);
+    RunContext context{nullptr, false, ""};
+    context.memoryLimit = uint64_t(8) << 30;
+    const pipeline::Job job = pipeline::loadJob(file, pipeline::makeBuiltins());
+    const pipeline::JobEstimate fitted = pipeline::fitEstimate(job, context);
+    CHECK(fitted.tileCount > 1);
+    CHECK_NOTHROW(pipeline::checkEstimate(fitted, context));
+    for (const pipeline::EstimateItem& item : fitted.items) {  // from the exposure on
+        INFO(item.name);
+        if (item.first >= pipeline::Stage::Expose) CHECK((item.perTile || item.bytes < 1e8));
+    }
+
+    spec["simulation"]["outputs"] = {"figures"};
+    std::ofstream(file) << spec.dump(1);
+    const pipeline::Job withFigures = pipeline::loadJob(file, pipeline::makeBuiltins());
+    CHECK_THROWS_AS(pipeline::checkEstimate(pipeline::fitEstimate(withFigures, context), context),
+                    ResourceError);
+}
+
+// Checkpoint and --resume (issue 22): a tiled run stopped after tile 2 (as a pre-emption would
+// stop it) and resumed gives the uninterrupted run's report figures and cured.stl, byte for
+// byte; until then its directory has no manifest, and a checkpoint of another job is refused.
+TEST_CASE("a tiled run resumed after an interruption gives the uninterrupted result",
+          "[pipeline][tiles]") {
+    nlohmann::json spec = tileJob("0.3 mm");
+    spec["part"]["test_part"] = "bottom-narrow";  // down-facing walls: over-cure runs to save
+    spec["simulation"].erase("write_vdb");
+    spec["simulation"]["outputs"] = {"cured.stl"};
+    const auto tmp = std::filesystem::temp_directory_path();
+    const report::JobResult whole = runSpec("resume_whole", spec);
+    REQUIRE(whole.exposure.grid[0] > 0);
+
+    pipeline::RunOptions stop;
+    stop.stopAfterTiles = 2;
+    CHECK_THROWS_AS(runSpec("resumed", spec, stop), InputError);
+    const auto dir = tmp / "vpsim_tiles_resumed";
+    CHECK(std::filesystem::exists(dir / "checkpoint" / "state.json"));
+    CHECK_FALSE(verifyOutputDirectory(dir.string()).ok);
+
+    nlohmann::json other = spec;  // another job: its checkpoint is not this one's
+    other["cure"]["critical_dose"] = "11 mJ/cm^2";
+    pipeline::RunOptions resume;
+    resume.resume = true;
+    stop.resume = true;
+    CHECK_THROWS_WITH(runSpec("resumed", other, resume), Catch::Contains("another job"));
+
+    stop.stopAfterTiles = 4;  // resumed after tile 2, stopped again after tile 4
+    CHECK_THROWS_WITH(runSpec("resumed", spec, stop), Catch::Contains("after tile 4"));
+    const report::JobResult resumed = runSpec("resumed", spec, resume);
+    CHECK_FALSE(std::filesystem::exists(dir / "checkpoint"));
+    CHECK(verifyOutputDirectory(dir.string()).ok);
+    int compared = 0;
+    compareFigures(reportOf("resume_whole"), reportOf("resumed"), "report", compared);
+    CHECK(compared > 50);
+    CHECK(resumed.validation.deviation.mean == whole.validation.deviation.mean);
+    CHECK(resumed.validation.slices.iou == whole.validation.slices.iou);
+    CHECK(whole.validation.slices.downFacingColumns > 100);
+    CHECK(resumed.validation.slices.overcureBelowDownFacingMean ==
+          whole.validation.slices.overcureBelowDownFacingMean);
+    CHECK(resumed.curedVolume == whole.curedVolume);
+    CHECK(readFile((dir / "cured.stl").string()) ==
+          readFile((tmp / "vpsim_tiles_resume_whole" / "cured.stl").string()));
 }

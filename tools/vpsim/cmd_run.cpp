@@ -2,6 +2,7 @@
 // plan -> expose -> cure -> validate) with a report, grids, the cured mesh and pictures in DIR;
 // `vpsim expose` is the same command, named for runs that start from a saved plan. Under
 // mpirun/srun the ranks share the beam kernel's Monte Carlo and rank 0 writes DIR.
+#include <cstdlib>
 #include <iostream>
 
 #include <nlohmann/json.hpp>
@@ -16,7 +17,7 @@ namespace {
 
 struct RunOptions {
     std::string job, out = "out", plan;
-    bool json = false, dryRun = false;
+    bool json = false, dryRun = false, resume = false;
 };
 
 void runCommand(const RunOptions& options, const vpsim::cli::Globals& globals) {
@@ -48,6 +49,15 @@ void runCommand(const RunOptions& options, const vpsim::cli::Globals& globals) {
     }
     pipeline::RunOptions run;
     run.planFile = options.plan;
+    run.resume = options.resume;
+    // A test hook (tests/pipeline/test_resume.sh): stop after this many checkpointed tiles.
+    if (const char* stop = std::getenv("VPSIM_STOP_AFTER_TILES")) {
+        try {
+            run.stopAfterTiles = std::stoi(stop);
+        } catch (const std::exception&) {
+            throw InputError("expected a number of tiles", "VPSIM_STOP_AFTER_TILES");
+        }
+    }
     RunContext context = globals.runContext();
     context.cluster = comm;
     if (!comm->isRoot()) return pipeline::runJobOnWorkerRank(job, context);
@@ -76,6 +86,9 @@ void addRun(CLI::App& app, const vpsim::cli::Globals& globals, const std::string
     command->add_option("--plan", options->plan,
                         "expose this saved or edited plan.json instead of planning");
     command->add_flag("--json", options->json, "print the report (or the estimate) as JSON");
+    command->add_flag("--resume", options->resume,
+                      "continue after the last tile of the checkpoint in --out (a pre-empted "
+                      "tiled run); without it a run starts over");
     command->add_flag("--dry-run", options->dryRun,
                       "print the job's memory, file and time estimate; compute and write nothing");
     command->callback([options, &globals] { runCommand(*options, globals); });

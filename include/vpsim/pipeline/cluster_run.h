@@ -3,19 +3,49 @@
 /// `vpsim run` over MPI ranks (started by mpirun/srun; RunContext::cluster): every rank makes the
 /// run's collective calls (the beam kernels' Monte Carlo, split by photon batches and merged
 /// exactly, transport/mc_split.h), rank 0 alone does the rest and writes the output directory,
-/// so the report's figures are the single process's. Tiles of one job use cluster::runItems.
+/// so the report's figures are the single process's. The x-y tiles of a job whose consumers'
+/// states are small (no figures, 3D view or exposure.vdb; the same as checkpoint.h's) are dealt
+/// round-robin over the ranks (cluster::runItems): each rank exposes its tiles into fresh
+/// consumers, and rank 0 merges their states in the tiles' order, as one process would.
+
+#include <functional>
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "vpsim/core/run_context.h"
 #include "vpsim/pipeline/job.h"
 #include "vpsim/pipeline/stages.h"
+#include "vpsim/validate/feature_probe.h"
+#include "vpsim/validate/slice_validator.h"
 
 namespace vpsim::pipeline {
 
-/// A rank other than 0's share of runJob: the collective stages in runJob's order, nothing
-/// written. @throw as runJob's stages
+/// A rank other than 0's share of runJob: the collective stages in runJob's order (the beam
+/// kernel, then the tiles rank 0 sends, when it does), nothing written. @throw as runJob's stages
 void runJobOnWorkerRank(const Job& job, const RunContext& context);
+
+/// Rank 0, once the plan is made (every run under MPI: the other ranks wait for it): the tiles
+/// to share, or none. `plan` is the plan to expose; `tileSide` exposureTiles' side.
+void sendTileWork(const RunContext& context, bool distributed, double tileSide,
+                  const plan::ScanPlan& plan, bool stl);
+
+/// Every rank: the tiles of `tiles` it owns (tile i on rank i % ranks), each exposed into fresh
+/// consumers, one round of a tile per rank at a time; on rank 0, `merge` takes each tile's
+/// partial result (consumers' saveState and its STL triangles) in the tiles' order.
+void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
+                        const exposure::ExposureModel& model,
+                        const std::vector<exposure::Tile>& tiles, const plan::ScanPlan& plan,
+                        const BeamResult& beam, const RunContext& context, bool stl,
+                        const std::function<void(const std::string&)>& merge);
+
+/// Rank 0: merges one tile's partial result into the run's consumers (call in the tiles' order).
+void mergeTilePartial(const std::string& partial, validate::SliceValidator& validator,
+                      validate::StreamingCuredSurface& cured, validate::FeatureProbes& features);
+
+/// report.json's "mpi" "tiles": how many and which rank exposed each.
+nlohmann::json tileSplitJson(size_t tiles, int ranks);
 
 /// report.json's "mpi": the ranks and how the work was split; null in one process.
 nlohmann::json clusterSummary(const BeamResult& beam, const RunContext& context);

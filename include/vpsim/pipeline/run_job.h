@@ -18,6 +18,12 @@ struct RunOptions {
     /// A saved plan to expose instead of planning ("" = plan with the job's planner). Read
     /// before anything in the output directory is replaced.
     std::string planFile;
+    /// Continue after the last tile of the checkpoint in the output directory (checkpoint.h),
+    /// when there is one; a run without it removes any checkpoint and starts over.
+    bool resume = false;
+    /// A test hook: stop with an InputError once this many tiles are done and checkpointed
+    /// (0: never), as a pre-emption would.
+    int stopAfterTiles = 0;
 };
 
 /// Runs `job` into `outDir` (created). @throw InputError, ResourceError, GpuError

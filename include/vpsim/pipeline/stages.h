@@ -5,6 +5,7 @@
 /// stack (LayerStack JSON) -> scan plan (plan.json) -> exposure, streamed to slice consumers
 /// (exposure.vdb) -> cured part (cured.stl) -> validation report (report.json).
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -93,14 +94,19 @@ std::unique_ptr<exposure::ExposureModel> exposureModel(const Job& job,
 /// The x-y tiles of `grid` for a core side of `tileSide` mm (0: one tile, the whole grid),
 /// with a halo of the model's reach plus the one cell the cured-surface mesher looks beside.
 std::vector<exposure::Tile> exposureTiles(const exposure::ExposureModel& model, double tileSide);
+/// Called after each tile's last slice (a checkpoint's moment).
+using TileDone = std::function<void(const exposure::Tile&)>;
 /// Exposes `plan` tile after tile (in the tiles' order: consumers merge in that fixed order),
 /// streaming every slice to each of `consumers` in turn. `model` is the whole grid's; a tile
 /// runs on a model of its window (exposureModel), or on `model` itself when there is one tile.
+/// Several tiles: those from `firstTile` on (the earlier ones done by an interrupted run), each
+/// followed by `afterTile` when given.
 report::ExposureSummary exposeStage(const Job& job, exposure::ExposureModel& model,
                                     const std::vector<exposure::Tile>& tiles,
                                     const plan::ScanPlan& plan,
                                     const std::vector<exposure::SliceSink>& consumers,
-                                    const BeamResult& beam, int layers, const RunContext& context);
+                                    const BeamResult& beam, int layers, const RunContext& context,
+                                    int firstTile = 0, const TileDone& afterTile = {});
 
 /// Half-width (mm) of the band within which surface deviations are measured (farther ones are
 /// clamped to it and counted as beyond the band): a few beam radii, 0.25 mm at least (print-through
@@ -108,10 +114,11 @@ report::ExposureSummary exposeStage(const Job& job, exposure::ExposureModel& mod
 double deviationBand(const Job& job);
 
 /// The cured part's surface, meshed while the engine emits its slices (a SliceSink), written to
-/// `stlPath` ("" for none) and measured against `part` on the way.
+/// `stlPath` ("" for none; `inPlace`: written there directly, so that it can be resumed) and
+/// measured against `part` on the way.
 std::unique_ptr<validate::StreamingCuredSurface> curedSurfaceSink(
     const Job& job, const exposure::ExposureGrid& grid, double voxelHeight,
-    const geometry::Mesh& part, const std::string& stlPath);
+    const geometry::Mesh& part, const std::string& stlPath, bool inPlace = false);
 
 /// Closes the cured surface (its bottom and its STL). @throw InputError when nothing cures
 void cureStage(validate::StreamingCuredSurface& cured);

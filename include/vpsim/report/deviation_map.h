@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "vpsim/geometry/mesh.h"
+#include "vpsim/validate/surface_deviation.h"
 
 namespace vpsim::report {
 
@@ -19,6 +20,8 @@ struct DeviationScale {
     double beyond = 0;  ///< fraction of the samples with |deviation| > limit
 };
 DeviationScale deviationScale(const std::vector<float>& deviations);
+/// The same from running statistics (the percentile and the share to the histogram's bin).
+DeviationScale deviationScale(const validate::DeviationStatistics& statistics);
 
 /// Writes deviation_histogram and deviation_map_top (.svg and .png) into `directory`; nothing
 /// when there are no deviations. Returns the scale used. @throw InputError when a file cannot be

@@ -58,7 +58,10 @@ struct ExposureSummary {
 struct ValidationReport {
     validate::SliceValidationSummary slices;  ///< IoU, over-cure, XY contour errors
     validate::SurfaceDeviation deviation;     ///< signed surface deviation of the cured mesh
-    std::vector<float> vertexDeviations;      ///< mm, per cured-mesh vertex (pictures)
+    std::vector<float> vertexDeviations;      ///< mm, per cured-mesh vertex (pictures), when kept
+    /// Running statistics of every vertex's deviation (the figures when vertexDeviations is not
+    /// kept: large parts, or no figures or viewer among the outputs).
+    validate::DeviationStatistics deviationStatistics;
     validate::FeatureMeasurements features;
 };
 

@@ -51,6 +51,12 @@ public:
     double simulated(size_t i) const { return mLength[i]; }
     /// [{name, objective_mm, simulated_mm, measured_mm, simulated_minus_measured_mm}, ...]
     FeatureMeasurements result() const { return {mProbes, mLength}; }
+    /// The lengths so far (for a checkpoint between tiles), and back.
+    std::vector<double> saveState() const { return mLength; }
+    /// @throw InputError when `lengths` is not one per probe
+    void restoreState(const std::vector<double>& lengths);
+    /// Adds the lengths another instance measured in other tiles (a probe's cell is in one).
+    void mergeState(const std::vector<double>& lengths);
 
 private:
     std::vector<FeatureProbe> mProbes;

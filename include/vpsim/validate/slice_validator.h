@@ -62,6 +62,13 @@ public:
     /// A SliceSink. Slices must arrive from the top down (the engine's order).
     void add(const exposure::ExposureSlice& slice);
     SliceValidationSummary summary() const;
+    /// Between two tiles: what the next tiles build on (counts, finished runs, per-layer counts),
+    /// for a checkpoint; restoreState continues from it. @throw InputError for a malformed state
+    nlohmann::json saveState();
+    void restoreState(const nlohmann::json& state);
+    /// Adds the state of a validator that saw later tiles (MPI ranks' tiles, in the tiles'
+    /// order): counts add, runs append, the maximum is the larger.
+    void mergeState(const nlohmann::json& later);
 
 private:
     struct State;

@@ -15,9 +15,11 @@
 #include <vector>
 
 #include <glm/vec3.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include "vpsim/exposure/exposure_model.h"
 #include "vpsim/geometry/mesh.h"
+#include "vpsim/validate/surface_deviation.h"
 
 namespace vpsim::validate {
 
@@ -29,6 +31,13 @@ public:
     /// @param stlPath binary STL written atomically at finish(), or "" for none
     StreamingCuredSurface(const exposure::ExposureGrid& grid, double voxelHeight, double isoValue,
                           const geometry::Mesh* part, double band, const std::string& stlPath);
+    /// A binary STL written in place at `path` (not through a temporary), so that a run can
+    /// resume it after a kill (saveState / restoreState); the caller moves it into place.
+    struct InPlaceStl {
+        std::string path;
+    };
+    StreamingCuredSurface(const exposure::ExposureGrid& grid, double voxelHeight, double isoValue,
+                          const geometry::Mesh* part, double band, InPlaceStl stl);
     ~StreamingCuredSurface();
     /// A SliceSink: slices one voxel height apart, from the top down.
     void add(const exposure::ExposureSlice& slice);
@@ -38,13 +47,30 @@ public:
     uint64_t triangles() const;
     /// Enclosed volume (mm^3), by the divergence theorem over the triangles.
     double volume() const;
-    /// Vertex positions (mm) in the order made, and their signed deviations from the part (mm).
+    /// Vertex positions (mm) in the order made, and their signed deviations from the part (mm):
+    /// all of them with keepTriangles(true), else only the last layer's (memory follows the
+    /// tile, not the surface; the statistics have them all).
     const std::vector<glm::vec3>& vertices() const;
     const std::vector<float>& deviations() const;
+    /// Running statistics of every vertex's deviation, tile by tile merged in the tiles' order
+    /// (complete after finish()).
+    const DeviationStatistics& statistics() const;
     /// The whole mesh, for tests and small runs (vertices as made, triangles as written).
     geometry::Mesh mesh() const;
     /// Keep the triangles in memory for mesh() (off by default: they stream to the STL).
     void keepTriangles(bool keep);
+
+    /// Between two tiles (after a tile's last slice), without kept triangles and with an
+    /// in-place STL or none: closes the tile and returns what the next tiles build on (counts,
+    /// volume, statistics, the STL's length, flushed). @throw InputError otherwise
+    nlohmann::json saveState();
+    /// Before the first slice: continues from a saved state, cutting the in-place STL back to
+    /// its saved length. @throw InputError for a malformed state or a shorter STL
+    void restoreState(const nlohmann::json& state);
+    /// Appends the tiles another surface made (its saveState and the triangles of its STL after
+    /// the 84-byte header), as if this one had made them next: the tiles of a job made on other
+    /// MPI ranks, merged in the tiles' order. @throw InputError for a malformed state
+    void mergeState(const nlohmann::json& later, const std::string& stlBody);
 
 private:
     struct State;

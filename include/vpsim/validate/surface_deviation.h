@@ -4,6 +4,9 @@
 /// vertices in the reference level set: positive where the cured part sticks out of the model
 /// (over-cure), negative where it falls short.
 
+#include <cstdint>
+#include <vector>
+
 #include <nlohmann/json_fwd.hpp>
 
 #include "vpsim/geometry/level_set.h"
@@ -20,6 +23,38 @@ struct SurfaceDeviation {
     /// Samples beyond the level set's band, where the distance is only known to exceed it.
     size_t beyondBand = 0;
     nlohmann::json toJson() const;
+};
+
+/// Running statistics of signed deviations clamped to +-band (mm), so a run need not keep one
+/// value per cured vertex: count, sum and sum of squares (in the order added; parts merge in a
+/// fixed order), the extremes, and a histogram of |deviation| in BINS equal bins over [0, band]
+/// for percentiles (to band / BINS: 4 nm for the 0.25 mm band).
+class DeviationStatistics {
+public:
+    static constexpr int BINS = 1 << 16;
+    explicit DeviationStatistics(double band = 1.0);
+    void add(float deviation);
+    /// Appends `later` (same band): the result of adding this one's samples, then its own.
+    void merge(const DeviationStatistics& later);
+    uint64_t count() const { return mCount; }
+    double band() const { return mBand; }
+    /// The |deviation| of 0-based rank `k` in ascending order, to a bin: the bin's upper edge.
+    double magnitudeAtRank(uint64_t k) const;
+    /// Samples with |deviation| > `limit`, to a bin (a bin counts when its middle is above).
+    uint64_t countAbove(double limit) const;
+    /// mean, rms, max and beyond_band as summarizeDeviations gives them; p95 to a bin.
+    /// @throw InputError when there are none (nothing cured)
+    SurfaceDeviation summary() const;
+    /// The exact state (JSON numbers keep doubles to the bit), for checkpoints and MPI;
+    /// fromJson checks its shape. @throw InputError for a malformed state
+    nlohmann::json toJson() const;
+    static DeviationStatistics fromJson(const nlohmann::json& state);
+
+private:
+    double mBand;
+    uint64_t mCount = 0, mBeyondBand = 0;
+    double mSum = 0, mSumSq = 0, mMaxAbs = 0;
+    std::vector<uint64_t> mHistogram;
 };
 
 /// @throw InputError when the cured mesh is empty (nothing cured)
