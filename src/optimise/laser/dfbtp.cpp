@@ -5,6 +5,7 @@
 #include <memory>
 
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 
 #include "vpsim/core/error.h"
 #include "vpsim/core/progress.h"
@@ -57,7 +58,17 @@ SurfaceGrid mapOf(exposure::ExposureModel& model, const plan::LayerPlan& layer) 
 /// Seed Eq. 17: one linear edge as rows of constant line density lambda_j (mJ/mm) at distances
 /// u_j across the edge; a row's exposure at distance u is eff sqrt(2/pi)/W exp(-2 (u-u_j)^2/W^2)
 /// lambda_j (Eq. C.6). The missing exposure is averaged over five stations along the block.
-void planEdge(const plan::EdgeBlock& e, const LayerContext& c, plan::LayerPlan& out) {
+/// One edge block's rows, in offset order: the row vectors (speed 0 where a row gets no energy)
+/// and the pieces that continue a row through the corner block at its start (`before`, in scan
+/// order) and at its end (`after`), on the same line, so that the scanner runs them with the
+/// row as one power-modulated line instead of jumping to a corner dot row.
+struct EdgeRows {
+    std::vector<double> offsets;  ///< u_j, mm along the inward normal
+    std::vector<plan::LaserVector> rows;
+    std::vector<std::vector<plan::LaserVector>> before, after;
+};
+
+EdgeRows planEdge(const plan::EdgeBlock& e, const LayerContext& c) {
     const DfbtpParameters& p = *c.p;
     std::vector<double> us, ecs, lifts, rows;
     for (double u = -c.reff; u <= c.roff + c.reff + 1e-12; u += p.gridPitch) {
@@ -86,36 +97,89 @@ void planEdge(const plan::EdgeBlock& e, const LayerContext& c, plan::LayerPlan& 
     }
     LsqQpResult qp = solveLsqQp(K, b, K, d, 1e-12 * K.squaredNorm() / n);
     const double power = p.aces.laserPower;
-    bool backwards = false;  // serpentine: the next row starts where this one ends
+    EdgeRows out;
+    out.offsets = rows;
+    out.before.resize(size_t(n));
+    out.after.resize(size_t(n));
     for (int j = 0; j < n; ++j) {
-        double lambda = qp.x(j);
-        if (!(lambda > 1e-9 * c.etar * c.w)) continue;
-        glm::dvec2 a = e.a + e.start * e.tangent + rows[j] * e.normal,
-                   z = e.a + e.end * e.tangent + rows[j] * e.normal;
-        if (backwards) std::swap(a, z);
-        backwards = !backwards;
-        out.vectors.push_back({a.x, a.y, z.x, z.y, power, power / lambda});
+        const double lambda = qp.x(j);
+        const glm::dvec2 a = e.a + e.start * e.tangent + rows[j] * e.normal,
+                         z = e.a + e.end * e.tangent + rows[j] * e.normal;
+        out.rows.push_back(
+            {a.x, a.y, z.x, z.y, power, lambda > 1e-9 * c.etar * c.w ? power / lambda : 0.0});
     }
+    return out;
 }
 
-/// Seed Eq. 19: one corner as dots of energy T_k on a grid around the vertex; a dot's exposure
-/// is eff 2/(pi W^2) exp(-2 r^2/W^2) T_k. Evaluated on the grid cells of the block grown by Reff.
-int planCorner(const plan::CornerBlock& corner, LayerContext& c, plan::LayerPlan& out) {
+/// A corner's candidate dot: where it lies and, on a row line, the piece of that line it runs
+/// as (its edge, row and place in the continuation).
+struct CornerDot {
+    glm::dvec2 at;
+    int edge = -1, row = 0;  ///< edge -1: a grid dot (no edge row to continue)
+    bool after = false;      ///< continues the row past the edge block's end
+    glm::dvec2 from, to;     ///< the piece of the row line
+};
+
+/// The corner's candidates on the lines of the rows of the edges that meet at it, one piece a
+/// dot pitch long after another from the edge block's end (incoming edge) or back from its
+/// start (outgoing), to the far side of the corner block.
+std::vector<CornerDot> rowLineDots(const plan::CornerBlock& corner,
+                                   const std::vector<plan::EdgeBlock>& edges,
+                                   const std::vector<EdgeRows>& rows, int incoming, int outgoing,
+                                   double pitch) {
+    std::vector<CornerDot> dots;
+    for (int side = 0; side < 2; ++side) {
+        const int k = side == 0 ? incoming : outgoing;
+        const plan::EdgeBlock& e = edges[size_t(k)];
+        const double length = glm::length(e.b - e.a);
+        const int pieces = int(std::floor((2 * corner.halfSize + 1e-9) / pitch));
+        for (size_t j = 0; j < rows[size_t(k)].offsets.size(); ++j)
+            for (int i = 0; i < pieces; ++i) {
+                const double s0 = side == 0 ? e.end + i * pitch : e.start - (i + 1) * pitch;
+                const double s1 = s0 + pitch;
+                if (s0 < -corner.halfSize - 1e-9 || s1 > length + corner.halfSize + 1e-9) continue;
+                const glm::dvec2 n = rows[size_t(k)].offsets[j] * e.normal;
+                CornerDot d;
+                d.edge = k, d.row = int(j), d.after = side == 0;
+                d.from = e.a + s0 * e.tangent + n, d.to = e.a + s1 * e.tangent + n;
+                d.at = 0.5 * (d.from + d.to);
+                dots.push_back(d);
+            }
+    }
+    return dots;
+}
+
+/// The corner's candidates on a grid of the dot pitch around its vertex.
+std::vector<CornerDot> gridDots(const plan::CornerBlock& corner, double pitch) {
+    std::vector<CornerDot> dots;
+    const int reach = int(std::floor(corner.halfSize / pitch));
+    for (int j = -reach; j <= reach; ++j)
+        for (int i = -reach; i <= reach; ++i) {
+            CornerDot d;
+            d.at = corner.vertex + pitch * glm::dvec2(i, j);
+            dots.push_back(d);
+        }
+    return dots;
+}
+
+/// Seed Eq. 19: one corner as dots of energy T_k around the vertex; a dot's exposure is
+/// eff 2/(pi W^2) exp(-2 r^2/W^2) T_k. Evaluated on the grid cells of the block grown by Reff.
+/// Dots on a row line become pieces of that row (`rows`), grid dots layer points.
+int planCorner(const plan::CornerBlock& corner, const std::vector<CornerDot>& candidates,
+               LayerContext& c, std::vector<EdgeRows>& rows, plan::LayerPlan& out) {
     const DfbtpParameters& p = *c.p;
     const SurfaceGrid& g = c.planned;
     const geometry::PolygonSet grown = c.region->offset(0.5 * c.w);
-    std::vector<glm::dvec2> dots;
-    const int reach = int(std::floor(corner.halfSize / p.dotPitch));
-    for (int j = -reach; j <= reach; ++j)
-        for (int i = -reach; i <= reach; ++i) {
-            glm::dvec2 q = corner.vertex + p.dotPitch * glm::dvec2(i, j);
-            if (!grown.contains(q)) continue;
-            double need = 0;  // worth a variable only where something is missing nearby
-            for (glm::dvec2 o : {glm::dvec2(0), glm::dvec2(0.5 * c.w, 0), glm::dvec2(-0.5 * c.w, 0),
-                                 glm::dvec2(0, 0.5 * c.w), glm::dvec2(0, -0.5 * c.w)})
-                need = std::max(need, missingAt(c, q.x + o.x, q.y + o.y));
-            if (need > 0.01 * c.etar) dots.push_back(q);
-        }
+    std::vector<CornerDot> dots;
+    for (const CornerDot& d : candidates) {
+        const glm::dvec2 q = d.at;
+        if (!grown.contains(q)) continue;
+        double need = 0;  // worth a variable only where something is missing nearby
+        for (glm::dvec2 o : {glm::dvec2(0), glm::dvec2(0.5 * c.w, 0), glm::dvec2(-0.5 * c.w, 0),
+                             glm::dvec2(0, 0.5 * c.w), glm::dvec2(0, -0.5 * c.w)})
+            need = std::max(need, missingAt(c, q.x + o.x, q.y + o.y));
+        if (need > 0.01 * c.etar) dots.push_back(d);
+    }
     if (dots.empty()) return 0;
     const double extent = corner.halfSize + c.reff;
     std::vector<size_t> cells;
@@ -137,7 +201,7 @@ int planCorner(const plan::CornerBlock& corner, LayerContext& c, plan::LayerPlan
         b(r) = missing;
         d(r) = missing + lift * c.etar;
         for (int k = 0; k < n; ++k) {
-            double dx = (x - dots[k].x) / c.w, dy = (y - dots[k].y) / c.w;
+            double dx = (x - dots[k].at.x) / c.w, dy = (y - dots[k].at.y) / c.w;
             K(r, k) = amp * std::exp(-2 * (dx * dx + dy * dy));
         }
     }
@@ -145,9 +209,62 @@ int planCorner(const plan::CornerBlock& corner, LayerContext& c, plan::LayerPlan
     Eigen::VectorXd added = K * qp.x;
     for (int r = 0; r < m; ++r) c.planned.values[cells[r]] += float(added(r));
     int placed = 0;
-    for (int k = 0; k < n; ++k)
-        if (qp.x(k) > 0) out.points.push_back({dots[k].x, dots[k].y, qp.x(k)}), ++placed;
+    const double power = p.aces.laserPower;
+    for (int k = 0; k < n; ++k) {
+        if (!(qp.x(k) > 0)) continue;
+        ++placed;
+        const CornerDot& dot = dots[k];
+        if (dot.edge < 0) {
+            out.points.push_back({dot.at.x, dot.at.y, qp.x(k)});
+            continue;
+        }
+        const double lambda = qp.x(k) / glm::length(dot.to - dot.from);  // mJ/mm along the piece
+        EdgeRows& r = rows[size_t(dot.edge)];
+        (dot.after ? r.after : r.before)[size_t(dot.row)].push_back(
+            {dot.from.x, dot.from.y, dot.to.x, dot.to.y, power, power / lambda});
+    }
     return placed;
+}
+
+/// The edge rows in scan order: around each contour (its edge blocks in contour order), one
+/// offset after the other, as ACES's border loops run, each row with the pieces that continue it
+/// through its corner blocks (one line at constant speed, power modulated along it). Serpentine
+/// rows along one edge reversed at every row instead.
+std::vector<plan::LaserVector> edgeLoops(const std::vector<plan::EdgeBlock>& edges,
+                                         std::vector<EdgeRows>& rows) {
+    std::vector<plan::LaserVector> out;
+    auto add = [&](const plan::LaserVector& v) {
+        if (v.speed > 0) out.push_back(v);
+    };
+    for (size_t first = 0; first < edges.size();) {
+        size_t last = first;  // edges of one contour follow each other, end to start
+        while (last + 1 < edges.size() && glm::length(edges[last].b - edges[last + 1].a) <= 1e-9)
+            ++last;
+        size_t offsets = 0;
+        for (size_t e = first; e <= last; ++e) offsets = std::max(offsets, rows[e].rows.size());
+        for (size_t j = 0; j < offsets; ++j)
+            for (size_t e = first; e <= last; ++e) {
+                if (j >= rows[e].rows.size()) continue;
+                std::vector<plan::LaserVector>& before = rows[e].before[j];
+                std::reverse(before.begin(), before.end());  // planned outwards from the row
+                for (const auto& v : before) add(v);
+                add(rows[e].rows[j]);
+                for (const auto& v : rows[e].after[j]) add(v);
+            }
+        first = last + 1;
+    }
+    return out;
+}
+
+/// The edge blocks ending (`incoming`) and starting (`outgoing`) at a corner's vertex, -1 where
+/// the edge there has no block.
+void edgesAt(const plan::CornerBlock& corner, const std::vector<plan::EdgeBlock>& edges,
+             int& incoming, int& outgoing) {
+    incoming = outgoing = -1;
+    for (size_t e = 0; e < edges.size(); ++e) {
+        if (glm::length(edges[e].b - corner.vertex) <= 1e-9) incoming = int(e);
+        if (glm::length(edges[e].a - corner.vertex) <= 1e-9) outgoing = int(e);
+    }
 }
 
 /// Eq. 22 for the middle area: the ACES vectors cut into pieces of about two grid cells, each at
@@ -237,14 +354,25 @@ void setGoal(LayerContext& c, const SurfaceGrid& transmitted, double criticalDos
 void planBlocks(exposure::ExposureModel& engine, const plan::FeatureBlocks& blocks, LayerContext& c,
                 plan::LayerPlan& layer, LayerCompensation& rec) {
     c.planned = mapOf(engine, layer);
-    plan::LayerPlan edges;
-    for (const auto& e : blocks.edges) planEdge(e, c, edges);
+    std::vector<EdgeRows> rows;
+    for (const auto& e : blocks.edges) rows.push_back(planEdge(e, c));
     rec.edgeBlocks = int(blocks.edges.size());
-    if (!edges.vectors.empty()) {
-        layer.vectors.insert(layer.vectors.end(), edges.vectors.begin(), edges.vectors.end());
-        c.planned = mapOf(engine, layer);
+    plan::LayerPlan withEdges = layer;
+    for (const auto& r : rows)
+        for (const auto& v : r.rows)
+            if (v.speed > 0) withEdges.vectors.push_back(v);
+    if (withEdges.vectors.size() > layer.vectors.size()) c.planned = mapOf(engine, withEdges);
+    for (const auto& corner : blocks.corners) {
+        int incoming = 0, outgoing = 0;
+        edgesAt(corner, blocks.edges, incoming, outgoing);
+        const bool onRows = incoming >= 0 && outgoing >= 0 && incoming != outgoing;
+        const std::vector<CornerDot> candidates =
+            onRows ? rowLineDots(corner, blocks.edges, rows, incoming, outgoing, c.p->dotPitch)
+                   : gridDots(corner, c.p->dotPitch);
+        rec.cornerDots += planCorner(corner, candidates, c, rows, layer);
     }
-    for (const auto& corner : blocks.corners) rec.cornerDots += planCorner(corner, c, layer);
+    const std::vector<plan::LaserVector> edges = edgeLoops(blocks.edges, rows);
+    layer.vectors.insert(layer.vectors.end(), edges.begin(), edges.end());
     rec.cornerBlocks = int(blocks.corners.size());
 }
 

@@ -2,8 +2,8 @@
 /// @file
 /// Disassembled-feature-based trajectory planning, DFBTP (seed 000 Section III): per layer, the
 /// middle area with ACES (the seed's 5% Ep edge rule, App. A), then every linear edge as a 1D
-/// least-squares QP across the edge (Eq. 17), then every corner as a 2D QP over a dot grid
-/// (Eq. 19), each on the exposure still missing after the features planned before it; layers
+/// least-squares QP across the edge (Eq. 17), then every corner as a 2D QP over dots (Eq. 19),
+/// each on the exposure still missing after the features planned before it; layers
 /// planned from the top down, each aiming at its target minus what the layers above transmit
 /// into it (Eq. 21-22).
 ///
@@ -17,7 +17,13 @@
 /// With compensation the middle area's ACES vectors are cut into short pieces whose speeds follow
 /// the compensated target Etar - E_t (Eq. 22) instead of Etar.
 /// Linear edges are planned as rows of constant line density parallel to the edge, i.e. laser
-/// vectors at power P and speed P / lambda; corners as laser points (dots) of given energy.
+/// vectors at power P and speed P / lambda. A corner between two edge blocks takes its dots on
+/// the lines of those edges' rows, one dot pitch apart from the block's end through the corner
+/// block, and runs each as a piece of its row (the row's line continued at the piece's own line
+/// density), so the corner adds no scan lines: on four 0.3 mm pillars a grid of corner dots made
+/// 750 jumps and 3.35x ACES's build time, the rows continued 604 and 2.48x. The rows run around
+/// each contour, offset after offset, as ACES's border loops do. A corner without an edge block on
+/// both sides (a short edge) keeps a dot grid around its vertex: laser points of given energy.
 ///
 /// Exposure maps, own and transmitted, come from the exposure model (exposure::ExposureModel::
 /// layerMap at the depth of the receiving layer's top). Units: mm, mW, mJ, dose mJ/mm^2.
@@ -39,8 +45,9 @@ struct DfbtpParameters {
     /// the beam efficiency), as for a stand-alone ACES plan. `edge` is ignored (5% rule).
     plan::AcesParameters aces;
     double gridPitch = 0.01;  ///< mm, planning grid (exposure maps, evaluation points)
-    /// mm, corner dot grid and edge row spacing. Each row of dots or an edge's is a scan line on
-    /// the machine: at 20 um DFBTP took 4.9x ACES's build time on laser-overhang, 2.4x at 40 um.
+    /// mm, corner dot and edge row spacing. Each edge row (with its corner pieces) is a scan line
+    /// on the machine: at 20 um DFBTP took 4.9x ACES's build time on laser-overhang, 2.2x at 40 um
+    /// (1.9x with the corner dots on the rows' lines).
     double dotPitch = 0.04;
     double liftOutside = 0.15, liftEdge = 0.25, liftInside = 0.05;  ///< a_i (see file comment)
     bool compensate = true;  ///< subtract the exposure transmitted from the layers above
