@@ -32,6 +32,33 @@ void depositPoint(SurfaceGrid& grid, double x, double y, double energy, Rows row
     }
 }
 
+/// Samples [first, last) of a segment.
+struct SampleRange {
+    long first, last;
+};
+
+/// The samples of a segment from y0 to y1 (`samples` of them) that can splat rows of the band:
+/// a slanted or vertical vector crosses many bands, and each band would otherwise walk all its
+/// samples. Widened by two samples on each side against rounding; depositPoint still checks
+/// every row, so the band's cells get exactly the additions, in the same order, as before.
+SampleRange bandSamples(const SurfaceGrid& grid, double y0, double y1, long samples, Rows rows) {
+    const double f0 = (y0 - grid.originY) / grid.pitch - 0.5 - grid.firstJ,
+                 f1 = (y1 - grid.originY) / grid.pitch - 0.5 - grid.firstJ;
+    const double df = f1 - f0;
+    // A sample at row coordinate f splats rows floor(f) and floor(f) + 1: f in [lo - 1, hi).
+    if (df == 0) return {0, samples};  // the caller keeps only a row that reaches the band
+    // depositPoint's f differs from this linear one by rounding only (far below 1e-6 cells).
+    constexpr double SLACK = 1e-6;
+    double t0 = (double(rows.lo - 1) - SLACK - f0) / df, t1 = (double(rows.hi) + SLACK - f0) / df;
+    if (t0 > t1) std::swap(t0, t1);
+    // t = (s + 0.5) / samples.
+    const double s0 = std::floor(t0 * double(samples) - 0.5) - 2,
+                 s1 = std::ceil(t1 * double(samples) - 0.5) + 3;
+    const long first = long(std::clamp(s0, 0.0, double(samples)));
+    const long last = long(std::clamp(s1, 0.0, double(samples)));
+    return {first, std::max(first, last)};
+}
+
 /// Adds energy-per-length `q` (mJ/mm) along the segment as closely spaced samples (at most a
 /// quarter cell apart), each splatted bilinearly. Bilinear splatting keeps every sample's centre
 /// of energy exact, so a scan line off the cell centres is not snapped to a row: snapping would
@@ -50,9 +77,40 @@ void depositSegment(SurfaceGrid& grid, double x0, double y0, double x1, double y
     if (std::floor(fx1) + 1 < 0 || std::floor(fx0) >= grid.nx) return;
     long samples = std::max(1L, long(std::ceil(length / (0.25 * grid.pitch))));
     double energy = q * length / double(samples);
-    for (long s = 0; s < samples; ++s) {
-        double t = (s + 0.5) / double(samples);
-        depositPoint(grid, x0 + t * (x1 - x0), y0 + t * (y1 - y0), energy, rows);
+    const SampleRange range = bandSamples(grid, y0, y1, samples, rows);
+    if (y0 != y1) {
+        for (long s = range.first; s < range.last; ++s) {
+            double t = (s + 0.5) / double(samples);
+            depositPoint(grid, x0 + t * (x1 - x0), y0 + t * (y1 - y0), energy, rows);
+        }
+        return;
+    }
+    // A row-parallel vector (most hatching): depositPoint's arithmetic with what does not change
+    // along the row taken out of the loop (y0 + t * 0 is y0), so the additions are the same.
+    const double fy = (y0 - grid.originY) / grid.pitch - 0.5;
+    const int j = int(std::floor(fy)) - grid.firstJ;
+    const double ay = fy - std::floor(fy);
+    const double perArea = energy / (grid.pitch * grid.pitch);
+    const bool row0 = j >= rows.lo && j < rows.hi, row1 = j + 1 >= rows.lo && j + 1 < rows.hi;
+    float* cells0 = row0 ? &grid.at(0, j) : nullptr;
+    float* cells1 = row1 ? &grid.at(0, j + 1) : nullptr;
+    for (long s = range.first; s < range.last; ++s) {
+        const double t = (s + 0.5) / double(samples);
+        const double fx = (x0 + t * (x1 - x0) - grid.originX) / grid.pitch - 0.5;
+        int i = int(std::floor(fx));
+        const double ax = fx - i;
+        i -= grid.firstI;
+        const double w0 = perArea * ((1 - ax) * (1 - ay)), w1 = perArea * (ax * (1 - ay)),
+                     w2 = perArea * ((1 - ax) * ay), w3 = perArea * (ax * ay);
+        const bool in0 = i >= 0 && i < grid.nx, in1 = i + 1 >= 0 && i + 1 < grid.nx;
+        if (row0) {
+            if (in0) cells0[i] += float(w0);
+            if (in1) cells0[i + 1] += float(w1);
+        }
+        if (row1) {
+            if (in0) cells1[i] += float(w2);
+            if (in1) cells1[i + 1] += float(w3);
+        }
     }
 }
 

@@ -24,6 +24,16 @@ std::vector<float> blurTaps(int halfWidth, float sigmaCells) {
     return taps;
 }
 
+/// sum[i] += tap * in[i] over a row: the blur's inner loop. Built for AVX2 too (chosen at run
+/// time where the processor has it): twice the lanes of the baseline's SSE2, the same
+/// multiply and add per element (AVX2 alone has no FMA, so nothing is contracted and every sum
+/// is bit for bit the baseline's).
+__attribute__((target_clones("avx2", "default"))) void addTap(float* __restrict sum,
+                                                              const float* __restrict in, float tap,
+                                                              int first, int last) {
+    for (int i = first; i < last; ++i) sum[i] += tap * in[i];
+}
+
 /// One 1D Gaussian pass on the CPU: the same sums as shaders/exposure_blur.comp.
 void blurPassCpu(const SurfaceGrid& source, SurfaceGrid& target, int axis, int halfWidth,
                  float sigmaCells, float norm) {
@@ -41,18 +51,12 @@ void blurPassCpu(const SurfaceGrid& source, SurfaceGrid& target, int axis, int h
             if (axis == 0) {
                 for (int o = -halfWidth; o <= halfWidth; ++o) {
                     const float tap = taps[o + halfWidth];
-                    const int i0 = std::max(0, -o), i1 = std::min(nx, nx - o);
-                    float* __restrict s = sum.data();
-                    const float* __restrict in = row + o;
-                    for (int i = i0; i < i1; ++i) s[i] += tap * in[i];
+                    addTap(sum.data(), row + o, tap, std::max(0, -o), std::min(nx, nx - o));
                 }
             } else {
                 const int lo = std::max(-halfWidth, -j), hi = std::min(halfWidth, ny - 1 - j);
                 for (int o = lo; o <= hi; ++o) {
-                    const float tap = taps[o + halfWidth];
-                    float* __restrict s = sum.data();
-                    const float* __restrict in = row + ptrdiff_t(o) * nx;
-                    for (int i = 0; i < nx; ++i) s[i] += tap * in[i];
+                    addTap(sum.data(), row + ptrdiff_t(o) * nx, taps[o + halfWidth], 0, nx);
                 }
             }
             for (int i = 0; i < nx; ++i) out[i] = sum[i] / norm;
