@@ -172,8 +172,13 @@ void ExposureEngine::emitLayer(int k, double top, const SliceSink& sink) {
     for (int s = 0; s < mGrid.slicesPerLayer; ++s) {
         double depth = (s + 0.5) * voxelHeight;
         float attenuation = float(std::exp(-depth / mBeam.attenuationLength));
-        for (size_t c = 0; c < mSlice.values.size(); ++c)
-            mSlice.values[c] = attenuation * mRunning.values[c];
+        const float* running = mRunning.values.data();
+        float* slice = mSlice.values.data();
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, mSlice.values.size(), 1 << 16),
+                          [&](const tbb::blocked_range<size_t>& cells) {
+                              for (size_t c = cells.begin(); c < cells.end(); ++c)
+                                  slice[c] = attenuation * running[c];
+                          });
         sink({k, s, top - depth, &mSlice});
     }
 }
