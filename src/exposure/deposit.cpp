@@ -5,6 +5,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include "exposure/avx2_clones.h"
+
 namespace vpsim::exposure {
 namespace {
 
@@ -68,7 +70,7 @@ struct RowSamples {
     int column[BLOCK];
     float weight[4][BLOCK];
 
-    __attribute__((target_clones("avx2", "default"))) void compute(long first, int n) {
+    VPSIM_AVX2_CLONES void compute(long first, int n) {
         const double base = double(first);  // exact: sample indices are far below 2^53
         for (int k = 0; k < n; ++k) {
             const double t = (base + double(k) + 0.5) / samples;

@@ -6,6 +6,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "exposure/avx2_clones.h"
 #include "exposure/exposure_glsl.h"
 #include "exposure/exposure_gpu.h"
 #include "vpsim/core/error.h"
@@ -28,9 +29,8 @@ std::vector<float> blurTaps(int halfWidth, float sigmaCells) {
 /// time where the processor has it): twice the lanes of the baseline's SSE2, the same
 /// multiply and add per element (AVX2 alone has no FMA, so nothing is contracted and every sum
 /// is bit for bit the baseline's).
-__attribute__((target_clones("avx2", "default"))) void addTap(float* __restrict sum,
-                                                              const float* __restrict in, float tap,
-                                                              int first, int last) {
+VPSIM_AVX2_CLONES void addTap(float* __restrict sum, const float* __restrict in, float tap,
+                              int first, int last) {
     for (int i = first; i < last; ++i) sum[i] += tap * in[i];
 }
 
