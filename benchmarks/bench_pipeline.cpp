@@ -49,6 +49,15 @@ double peakMemoryGiB() {
     return usage.ru_maxrss / 1024.0 / 1024.0;
 }
 
+/// This process's CPU seconds so far (user + system, all threads): less disturbed by other
+/// load on a shared machine than the wall-clock stage times.
+double cpuSeconds() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    auto seconds = [](const timeval& t) { return double(t.tv_sec) + 1e-6 * double(t.tv_usec); };
+    return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
+
 /// One run of the block job; sizes in mm (0: the job's own).
 nlohmann::json runBlock(double size, double height, bool vulkan) {
     const pipeline::Builtins builtins = pipeline::makeBuiltins();
@@ -62,7 +71,9 @@ nlohmann::json runBlock(double size, double height, bool vulkan) {
     RunContext context;
     if (vulkan) context.gpu = gpu::Context::create();
     context.shadersOnCpuDevices = vulkan;
+    const double cpuStart = cpuSeconds();
     nlohmann::json report = report::toJson(pipeline::runJob(job, dir.string(), context));
+    const double cpu = cpuSeconds() - cpuStart;
     std::filesystem::remove_all(dir);
     const auto& grid = report["exposure"]["grid"];
     const double voxels = grid[0].get<double>() * grid[1].get<double>() * grid[2].get<double>();
@@ -84,6 +95,7 @@ nlohmann::json runBlock(double size, double height, bool vulkan) {
     out["ns_per_voxel"] = core / voxels * 1e9;
     out["memory_floor_seconds"] = voxels * 4 / 30e9;
     out["ratio_to_memory_floor"] = core / (voxels * 4 / 30e9);
+    out["run_cpu_seconds"] = cpu;  // the whole job, plan included (user + system)
     out["peak_memory_GiB"] = peakMemoryGiB();
     out["bytes_per_voxel"] = peakMemoryGiB() * double(1u << 30) / voxels;
     out["iou"] = report["iou"];

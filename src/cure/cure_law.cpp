@@ -15,6 +15,13 @@ void CureLaw::conversionRange(const float* dose, size_t count, float* conversion
     for (size_t i = 0; i < count; ++i) conversion[i] = float(this->conversion(dose[i]));
 }
 
+float CureLaw::floatAtLeast(double value) {
+    // Rounding to nearest lands on the float just below or just above (or on) the value.
+    float f = float(value);
+    if (double(f) < value) f = std::nextafter(f, INFINITY);
+    return f;
+}
+
 double CureLaw::cureDepth(double surfaceDose) const {
     if (!hasPenetrationDepth())
         throw InputError("the " + name() +

@@ -116,13 +116,26 @@ void LayerSectionRecorder::add(const exposure::ExposureSlice& slice) {
     const exposure::CellWindow owned = slice.owned();
     const int f = mSampling.factor, w = mSampling.width;
     const size_t base = size_t(slot) * w * mSampling.height;
-    for (int j = owned.j0; j < owned.j1; ++j)
-        for (int i = owned.i0; i < owned.i1; ++i) {
-            const float v = values.at(i - values.firstI, j - values.firstJ);
-            const size_t pixel = base + size_t(j / f) * w + size_t(i / f);
-            mExposure[pixel] += v;
-            mCured[pixel] += mLaw.isCured(v) ? 1 : 0;
+    const float curedAt = mLaw.curedFloatThreshold();  // v >= curedAt: isCured(v), exactly
+    for (int j = owned.j0; j < owned.j1; ++j) {
+        const float* row = &values.values[size_t(j - values.firstJ) * values.nx];
+        float* exposure = &mExposure[base + size_t(j / f) * w];
+        auto* cured = &mCured[base + size_t(j / f) * w];
+        // The pixels' blocks of f cells in turn: each pixel's sum in the order of its cells.
+        for (int i0 = owned.i0; i0 < owned.i1;) {
+            const int pixel = i0 / f, i1 = std::min(owned.i1, (pixel + 1) * f);
+            float sum = exposure[pixel];
+            int count = 0;
+            for (int i = i0; i < i1; ++i) {
+                const float v = row[i - values.firstI];
+                sum += v;
+                count += v >= curedAt;
+            }
+            exposure[pixel] = sum;
+            cured[pixel] += count;
+            i0 = i1;
         }
+    }
 }
 
 std::vector<float> LayerSectionRecorder::blockCells() const {

@@ -22,6 +22,46 @@ double LayerComparison::xyContourError() const {
     return symmetricDifference / referencePerimeter;
 }
 
+namespace {
+
+/// One row's voxel counts, written so the compiler vectorises it: integer sums of 0/1 flags,
+/// and the maximum taken on the float bits (the same order as the floats for doses >= 0; the
+/// maximum starts at 0, so negative doses, which the engines never give, leave it as before).
+template <typename Counts>
+void countRow(const float* dose, const uint8_t* reference, int n, float curedAt, float storeLevel,
+              Counts& row) {
+    uint32_t inter = 0, cured = 0, ref = 0, unionCount = 0, exposed = 0;
+    int32_t maxBits = 0;
+    for (int i = 0; i < n; ++i) {
+        const float d = dose[i];
+        const uint32_t r = reference[i] != 0, cu = d >= curedAt;
+        int32_t bits;
+        std::memcpy(&bits, &d, sizeof bits);
+        maxBits = std::max(maxBits, bits);
+        exposed += d > storeLevel;
+        inter += r & cu;
+        cured += cu;
+        ref += r;
+        unionCount += r | cu;
+    }
+    float maxDose;
+    std::memcpy(&maxDose, &maxBits, sizeof maxDose);
+    row.maxDose = std::max(row.maxDose, maxDose);
+    row.inter += inter, row.cured += cured, row.reference += ref;
+    row.unionCount += unionCount, row.exposed += exposed;
+}
+
+/// Whether any of 8 cells carries a run or lies just under the reference's bottom (flags 0/1).
+bool anyRunCell(const uint8_t* inRun, const uint8_t* above, const uint8_t* reference) {
+    uint64_t run, a, r;
+    std::memcpy(&run, inRun, 8);
+    std::memcpy(&a, above, 8);
+    std::memcpy(&r, reference, 8);
+    return (run | (a & ~r)) != 0;
+}
+
+}  // namespace
+
 /// One layer's mid-plane counts, summed over the tiles.
 struct LayerCounts {
     double z = 0, perimeter = 0;
@@ -46,6 +86,26 @@ struct SliceValidator::State {
     double maxDose = 0;
     std::mutex runsMutex;
     std::map<int, LayerCounts> layers;  ///< by layer index, bottom first
+
+    // The last rasterised cross-section: a prismatic stretch of the part (every slice of a box)
+    // has the same contours slice after slice, and rasterizeBinary depends on nothing else.
+    std::vector<geometry::Contour> rasterContours;
+    exposure::CellWindow rasterWindow{0, 0, -1, -1};
+    std::vector<uint8_t> rasterCells;
+
+    const std::vector<uint8_t>& rasterOf(const geometry::PolygonSet& region,
+                                         const exposure::CellWindow& w) {
+        std::vector<geometry::Contour> contours = region.contours();
+        const bool sameWindow = w.i0 == rasterWindow.i0 && w.j0 == rasterWindow.j0 &&
+                                w.i1 == rasterWindow.i1 && w.j1 == rasterWindow.j1;
+        if (!sameWindow || contours != rasterContours) {
+            rasterCells =
+                geometry::rasterizeBinary(region, raster, w.i0, w.j0, w.width(), w.height());
+            rasterContours = std::move(contours);
+            rasterWindow = w;
+        }
+        return rasterCells;
+    }
 
     State(const geometry::Mesh& mesh, const exposure::ExposureGrid& g, const cure::CureLaw& l,
           double dz)
@@ -89,13 +149,12 @@ void SliceValidator::add(const exposure::ExposureSlice& slice) {
     if (w.i0 != s.core.i0 || w.j0 != s.core.j0 || w.i1 != s.core.i1 || w.j1 != s.core.j1)
         s.startTile(w);
     geometry::PolygonSet region = geometry::sliceAt(s.part, slice.z);
-    std::vector<uint8_t> reference =
-        geometry::rasterizeBinary(region, s.raster, w.i0, w.j0, w.width(), w.height());
+    const std::vector<uint8_t>& reference = s.rasterOf(region, w);
     // Rows in parallel, each with its own counts, added in row order afterwards; the finished
     // over-cure runs are only sorted and summed in order later, so nothing depends on threads
     // (or on the tiles: counts are integers, the maximum is exact, the runs are sorted).
     const int nx = w.width(), ny = w.height();
-    const double criticalDose = s.law.criticalDose();             // isCured(): dose >= Ec in double
+    const float curedAt = s.law.curedFloatThreshold();  // d >= curedAt: isCured(d), exactly
     const float storeLevel = float(0.02 * s.law.criticalDose());  // as the DoseVolume keeps
     const float dz = float(s.voxelHeight);
     struct RowCounts {
@@ -108,35 +167,39 @@ void SliceValidator::add(const exposure::ExposureSlice& slice) {
         std::vector<float> finished;
         for (int j = range.begin(); j < range.end(); ++j) {
             RowCounts& row = rows[j];
-            const float* dose = &values.values[size_t(w.j0 + j - values.firstJ) * values.nx +
+            const float* dose = &values.values[size_t(j + w.j0 - values.firstJ) * values.nx +
                                                size_t(w.i0 - values.firstI)];
-            for (size_t c = size_t(j) * nx, end = c + nx; c < end; ++c) {
-                const float d = *dose++;
-                const bool r = reference[c] != 0, cu = double(d) >= criticalDose;
-                row.maxDose = std::max(row.maxDose, d);
-                row.exposed += d > storeLevel;
-                row.inter += r && cu;
-                row.cured += cu;
-                row.reference += r;
-                row.unionCount += r || cu;
-                // Most cells neither carry a run nor sit just under the reference's bottom.
-                if (!(s.inRun[c] | (s.referenceAbove[c] & !r))) continue;
+            const size_t first = size_t(j) * nx;
+            const uint8_t* ref = &reference[first];
+            countRow(dose, ref, nx, curedAt, storeLevel, row);
+            // The over-cure runs: only cells that carry a run or sit just under the reference's
+            // bottom (few), found eight at a time.
+            uint8_t* inRun = &s.inRun[first];
+            const uint8_t* above = &s.referenceAbove[first];
+            float* run = &s.run[first];
+            for (int i = 0; i < nx; ++i) {
+                if (i % 8 == 0 && i + 8 <= nx && !anyRunCell(inRun + i, above + i, ref + i)) {
+                    i += 7;
+                    continue;
+                }
+                const bool r = ref[i] != 0;
+                if (!(inRun[i] | (above[i] & !r))) continue;
                 if (r) {
-                    finished.push_back(s.run[c]), s.inRun[c] = 0, s.run[c] = 0;
+                    finished.push_back(run[i]), inRun[i] = 0, run[i] = 0;
                 } else {
-                    if (s.referenceAbove[c]) {  // the reference's down-facing surface is above
+                    if (above[i]) {  // the reference's down-facing surface is above
                         ++row.downFacing;
-                        s.inRun[c] = 1;
-                        s.run[c] = 0;
+                        inRun[i] = 1;
+                        run[i] = 0;
                     }
-                    if (cu)
-                        s.run[c] += dz;
+                    if (dose[i] >= curedAt)
+                        run[i] += dz;
                     else
-                        finished.push_back(s.run[c]), s.inRun[c] = 0, s.run[c] = 0;
+                        finished.push_back(run[i]), inRun[i] = 0, run[i] = 0;
                 }
             }
             // referenceAbove becomes this slice's reference (copied after the row's cells).
-            std::memcpy(&s.referenceAbove[size_t(j) * nx], &reference[size_t(j) * nx], nx);
+            std::memcpy(&s.referenceAbove[first], ref, nx);
         }
         if (!finished.empty()) {
             std::lock_guard<std::mutex> lock(s.runsMutex);

@@ -15,6 +15,7 @@
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
 #include "vpsim/core/text.h"
+#include "vpsim/cure/cure_law.h"
 #include "vpsim/geometry/mesh_distance.h"
 
 namespace vpsim::validate {
@@ -37,11 +38,32 @@ struct PaddedSlice {
     double z = 0;
 };
 
+uint64_t load8(const uint8_t* p) {
+    uint64_t word;
+    std::memcpy(&word, p, 8);
+    return word;
+}
+
+/// Whether the eight cubes from each pointer on (rows j, j + 1 of the slices above and below,
+/// 0/1 flags) are each all inside or all outside.
+bool uniform8(const uint8_t* a0, const uint8_t* a1, const uint8_t* b0, const uint8_t* b1) {
+    const uint64_t x = load8(a0);
+    return ((x ^ load8(a0 + 1)) | (x ^ load8(a1)) | (x ^ load8(a1 + 1)) | (x ^ load8(b0)) |
+            (x ^ load8(b0 + 1)) | (x ^ load8(b1)) | (x ^ load8(b1 + 1))) == 0;
+}
+
+/// Whether none of eight samples from `above` on has a crossing z, x or y edge (row width W).
+bool noEdge8(const uint8_t* above, const uint8_t* below, int width) {
+    const uint64_t x = load8(above);
+    return ((x ^ load8(below)) | (x ^ load8(above + 1)) | (x ^ load8(above + width))) == 0;
+}
+
 }  // namespace
 
 struct StreamingCuredSurface::State {
     exposure::ExposureGrid grid;
     double voxelHeight, iso, band;
+    float curedAt = 0;  ///< v >= curedAt exactly when double(v) >= iso (CureLaw::floatAtLeast)
     std::unique_ptr<geometry::MeshDistance> distance;
     std::unique_ptr<AtomicFileStream> stl;
     /// The STL written in place (resumable: it survives a kill), opened at the first slice or
@@ -163,7 +185,7 @@ struct StreamingCuredSurface::State {
                                                    size_t(sx0 + liLo - 1 - values->firstI)];
                 std::memcpy(v + liLo, row, sizeof(float) * size_t(liHi - liLo));
             }
-            for (int li = 0; li < W; ++li) in[li] = double(v[li]) >= iso;  // CureLaw::isCured
+            for (int li = 0; li < W; ++li) in[li] = v[li] >= curedAt;  // CureLaw::isCured
         });
     }
 
@@ -212,6 +234,10 @@ struct StreamingCuredSurface::State {
             const uint8_t *a0 = &above.in[sample(0, lj)], *a1 = &above.in[sample(0, lj + 1)],
                           *b0 = &below.in[sample(0, lj)], *b1 = &below.in[sample(0, lj + 1)];
             for (int li = 0; li < W - 1; ++li) {
+                if (li % 8 == 0 && li + 8 < W && uniform8(a0 + li, a1 + li, b0 + li, b1 + li)) {
+                    li += 7;  // eight cubes all inside or all outside: no vertex
+                    continue;
+                }
                 const int sum = a0[li] + a0[li + 1] + a1[li] + a1[li + 1] + b0[li] + b0[li + 1] +
                                 b1[li] + b1[li + 1];
                 if (sum == 0 || sum == 8) continue;
@@ -282,6 +308,13 @@ struct StreamingCuredSurface::State {
             const int pj = sy0 + lj;
             const bool realRow = pj >= 1 && pj <= ny;
             for (int li = liLo; li < liHi; ++li) {
+                if ((li - liLo) % 8 == 0 && li + 8 <= liHi) {
+                    const size_t s = sample(li, lj);
+                    if (noEdge8(&above.in[s], &below.in[s], W)) {
+                        li += 7;  // eight samples without a crossing edge: no quad
+                        continue;
+                    }
+                }
                 const int pi = sx0 + li;
                 const size_t s = sample(li, lj);
                 const bool realColumn = pi >= 1 && pi <= nx;
@@ -350,6 +383,7 @@ StreamingCuredSurface::StreamingCuredSurface(const exposure::ExposureGrid& grid,
     s.grid = grid;
     s.voxelHeight = voxelHeight;
     s.iso = isoValue;
+    s.curedAt = cure::CureLaw::floatAtLeast(isoValue);
     s.band = band;
     s.statistics = s.tileStatistics = DeviationStatistics(band > 0 ? band : 1.0);
     s.nx = grid.nx;

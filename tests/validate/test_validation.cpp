@@ -1,6 +1,8 @@
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "vpsim/cure/threshold_law.h"
 #include "vpsim/exposure/dose_volume.h"
@@ -117,4 +119,73 @@ TEST_CASE("the cured iso-surface encloses the cured voxels", "[validate][vdb]") 
     geometry::Mesh cured = validate::curedSurface(volume, cure::ThresholdLaw(1.0));
     REQUIRE(!cured.triangles.empty());
     CHECK(cured.volume() == Approx(0.6 * 0.4 * 0.4).epsilon(0.01));
+}
+
+// The validator against a brute force over every voxel, on a random exposure around Ec (runs of
+// over-cure that open, grow and close anywhere, rows not a multiple of 8 cells long): the counts,
+// the maximum and the over-cure runs must agree exactly, whatever shortcuts add() takes.
+TEST_CASE("slice validation equals a brute force over every voxel", "[validate]") {
+    const glm::dvec3 lo{0.113, 0.207, 0.31}, hi{0.871, 0.794, 0.77};
+    const geometry::Mesh reference = box(lo, hi);
+    const exposure::ExposureGrid grid = exposure::ExposureGrid::covering(0, 0, 1, 1, 0.07, 0.03, 3);
+    const double dz = 0.04;
+    const int slices = 24;
+    const cure::ThresholdLaw law(1.0);
+    validate::SliceValidator validator(reference, grid, law, dz);
+    exposure::SurfaceGrid values(grid.nx, grid.ny, grid.originX, grid.originY, grid.pitch);
+    std::mt19937 random(11);
+    std::uniform_real_distribution<float> dose(0.0f, 1.6f);
+    const size_t cells = size_t(grid.nx) * grid.ny;
+    std::vector<uint8_t> above(cells, 0), inRun(cells, 0);
+    std::vector<float> run(cells, 0.0f), runs;
+    uint64_t inter = 0, unionCount = 0, cured = 0, exposed = 0;
+    long downFacing = 0;
+    float maxDose = 0;
+    for (int k = slices - 1; k >= 0; --k) {
+        const double z = (k + 0.5) * dz;
+        for (size_t c = 0; c < cells; ++c) {
+            // Columns mostly cured or mostly not, so runs last several slices.
+            const float bias = (c * 2654435761u) % 3 == 0 ? 0.5f : 0.0f;
+            values.values[c] = std::min(dose(random) + bias, 2.0f);
+        }
+        for (int j = 0; j < grid.ny; ++j)
+            for (int i = 0; i < grid.nx; ++i) {
+                const size_t c = size_t(j) * grid.nx + i;
+                const double x = values.centreX(i), y = values.centreY(j);
+                const bool r = x > lo.x && x < hi.x && y > lo.y && y < hi.y && z > lo.z && z < hi.z;
+                const float d = values.values[c];
+                const bool cu = law.isCured(d);
+                maxDose = std::max(maxDose, d);
+                exposed += d > float(0.02 * law.criticalDose());
+                inter += r && cu;
+                unionCount += r || cu;
+                cured += cu;
+                if (r) {
+                    if (inRun[c]) runs.push_back(run[c]);
+                    inRun[c] = 0, run[c] = 0;
+                } else {
+                    if (above[c]) ++downFacing, inRun[c] = 1, run[c] = 0;
+                    if (inRun[c] && cu) run[c] += float(dz);
+                    if (inRun[c] && !cu) runs.push_back(run[c]), inRun[c] = 0, run[c] = 0;
+                }
+                above[c] = r;
+            }
+        validator.add({k / grid.slicesPerLayer, grid.slicesPerLayer - 1 - k % grid.slicesPerLayer,
+                       z, &values});
+    }
+    for (size_t c = 0; c < cells; ++c)
+        if (inRun[c]) runs.push_back(run[c]);
+    const validate::SliceValidationSummary s = validator.summary();
+    REQUIRE(!runs.empty());
+    std::sort(runs.begin(), runs.end());
+    double sum = 0;
+    for (float r : runs) sum += r;
+    CHECK(s.iou == double(inter) / double(unionCount));
+    CHECK(s.curedVolume == double(cured) * grid.pitch * grid.pitch * dz);
+    CHECK(s.maxDose == double(maxDose));
+    CHECK(s.exposedVoxels == exposed);
+    CHECK(s.downFacingColumns == downFacing);
+    CHECK(s.overcureBelowDownFacingMean == sum / double(runs.size()));
+    CHECK(s.overcureBelowDownFacingMax == runs.back());
+    CHECK(s.overcureBelowDownFacingMedian == runs[runs.size() / 2]);
 }

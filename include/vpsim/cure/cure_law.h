@@ -40,6 +40,11 @@ public:
     virtual double criticalDose() const = 0;
     /// Cured (gelled) at this local dose (mJ/mm^2). NaN is not cured.
     bool isCured(double dose) const { return dose >= criticalDose(); }
+    /// The smallest float f with double(f) >= criticalDose(): for a float dose d, d >= f is
+    /// exactly isCured(d), compared in float (vectorisable loops over slices).
+    float curedFloatThreshold() const { return floatAtLeast(criticalDose()); }
+    /// The smallest float f with double(f) >= value.
+    static float floatAtLeast(double value);
     /// Degree of conversion at a local dose (dimensionless, [0, 1]); a law without a conversion
     /// model answers 0 or 1 (hasConversion() false).
     virtual double conversion(double dose) const = 0;

@@ -96,18 +96,21 @@ private:
 /// One layer's metric on a total surface exposure, without the per-layer sort: rows in
 /// parallel, each row's sums kept apart and added in row order (the result does not depend on
 /// the threads).
+/// Each thread's histogram counts and values beyond its range, kept over every layer and merged
+/// once (integer counts and a list sorted later: the merge order does not matter).
+using LocalHistograms =
+    tbb::enumerable_thread_specific<std::pair<std::vector<uint64_t>, std::vector<float>>>;
+
 ExposureError layerErrorAccumulated(const exposure::SurfaceGrid& exposure,
                                     const geometry::PolygonSet& region, double targetDose,
-                                    double band, ErrorHistogram* histogram) {
+                                    double band, ErrorHistogram* histogram,
+                                    LocalHistograms& local) {
     const std::vector<char> inside = insideMask(region, exposure);
     const std::vector<char> counted = insideMask(region.offset(band), exposure);
     const int nx = exposure.nx, ny = exposure.ny;
     std::vector<double> rowSse(ny, 0.0);
     std::vector<float> rowMax(ny, 0.0f);
     std::vector<int> rowCells(ny, 0);
-    tbb::enumerable_thread_specific<std::pair<std::vector<uint64_t>, std::vector<float>>> local([] {
-        return std::make_pair(std::vector<uint64_t>(ErrorHistogram::BINS, 0), std::vector<float>());
-    });
     const float inverseTarget = float(1.0 / targetDose);
     tbb::parallel_for(tbb::blocked_range<int>(0, ny, 16), [&](const tbb::blocked_range<int>& r) {
         auto& [counts, beyond] = local.local();
@@ -130,8 +133,6 @@ ExposureError layerErrorAccumulated(const exposure::SurfaceGrid& exposure,
             rowCells[j] = cells;
         }
     });
-    if (histogram)
-        for (const auto& [counts, beyond] : local) histogram->merge(counts, beyond);
     ExposureError e;
     for (int j = 0; j < ny; ++j) {
         e.sse += rowSse[j];
@@ -180,11 +181,14 @@ nlohmann::json planExposureError(exposure::ExposureModel& model, const plan::Sca
         }
     std::vector<ExposureError> errors(regions.size());
     ErrorHistogram histogram;
+    LocalHistograms local([] {
+        return std::make_pair(std::vector<uint64_t>(ErrorHistogram::BINS, 0), std::vector<float>());
+    });
     auto measure = [&](int k, const exposure::SurfaceGrid& own,
                        const exposure::SurfaceGrid& total) {
         if (regions[k].empty()) return;
-        errors[k] =
-            layerErrorAccumulated(total, regions[k], targetDose, band, all ? &histogram : nullptr);
+        errors[k] = layerErrorAccumulated(total, regions[k], targetDose, band,
+                                          all ? &histogram : nullptr, local);
         if (k == topLayer && topOwnMap) *topOwnMap = own;
     };
     if (auto* fitted = dynamic_cast<exposure::ExposureEngine*>(&model)) {
@@ -227,6 +231,7 @@ nlohmann::json planExposureError(exposure::ExposureModel& model, const plan::Sca
     }
     if (total.cells > 0) total.rmsRelative = std::sqrt(total.sse / total.cells) / targetDose;
     if (all) {
+        for (const auto& [counts, beyond] : local) histogram.merge(counts, beyond);
         total.sortedRelative = histogram.quantiles(uint64_t(total.cells));
         *all = total;
     }
