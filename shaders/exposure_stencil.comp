@@ -20,6 +20,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #include "glsl_common.glsl"
 #include "shared_structs.glsl"
 #include "exposure.glsl"
+#include "exposure_chunk.glsl"
 
 layout(push_constant) uniform Push { ExposureStencilParams params; };
 layout(binding = 0) uniform samplerBuffer deposit;
@@ -28,16 +29,6 @@ layout(std140, binding = 1) uniform Weights { vec4 weights[STENCIL_CHUNK_BLOCK *
 layout(std140, binding = 2) uniform Rows { ivec4 rows[STENCIL_ROW_BLOCK]; };
 layout(std430, binding = 3) buffer Slice { float slice[]; };
 layout(std430, binding = 4) readonly buffer RowFlags { uint rowNonEmpty[]; };
-
-// One tap k of the chunk: output r gathers window float r + k.
-#define TAP(k, x0, x1, x2, x3, x4, x5, x6, x7)            \
-    {                                                     \
-        const float w = subgroupBroadcast(chunkTaps, k);  \
-        a0 = fma(w, x0, a0); a1 = fma(w, x1, a1);         \
-        a2 = fma(w, x2, a2); a3 = fma(w, x3, a3);         \
-        a4 = fma(w, x4, a4); a5 = fma(w, x5, a5);         \
-        a6 = fma(w, x6, a6); a7 = fma(w, x7, a7);         \
-    }
 
 void main() {
     const int H = params.halfWidth, pw = int(params.paddedWidth);
@@ -56,14 +47,7 @@ void main() {
             const int k = c * STENCIL_CHUNK + lane;
             const float chunkTaps = weights[k >> 2][k & 3];
             const vec4 lo2 = texelFetch(deposit, at + 2), hi2 = texelFetch(deposit, at + 3);
-            TAP(0, lo.x, lo.y, lo.z, lo.w, hi.x, hi.y, hi.z, hi.w)
-            TAP(1, lo.y, lo.z, lo.w, hi.x, hi.y, hi.z, hi.w, lo2.x)
-            TAP(2, lo.z, lo.w, hi.x, hi.y, hi.z, hi.w, lo2.x, lo2.y)
-            TAP(3, lo.w, hi.x, hi.y, hi.z, hi.w, lo2.x, lo2.y, lo2.z)
-            TAP(4, hi.x, hi.y, hi.z, hi.w, lo2.x, lo2.y, lo2.z, lo2.w)
-            TAP(5, hi.y, hi.z, hi.w, lo2.x, lo2.y, lo2.z, lo2.w, hi2.x)
-            TAP(6, hi.z, hi.w, lo2.x, lo2.y, lo2.z, lo2.w, hi2.x, hi2.y)
-            TAP(7, hi.w, lo2.x, lo2.y, lo2.z, lo2.w, hi2.x, hi2.y, hi2.z)
+            addChunk(chunkTaps, lo, hi, lo2, hi2, a0, a1, a2, a3, a4, a5, a6, a7);
             lo = lo2;
             hi = hi2;
             at += 2;

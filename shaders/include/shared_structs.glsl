@@ -17,7 +17,8 @@ struct RngStreamParams {
 };
 
 /// Push constants of exposure_blur.comp: one Gaussian pass of the fitted kernel, along x from the
-/// zero-padded deposit into the pass buffer, or along y from the pass buffer into the running sum.
+/// zero-padded deposit into the transposed pass buffer, or along y from the pass buffer into the
+/// running sum.
 struct ExposureBlurParams {
     uint nx;           ///< grid cells in x
     uint ny;           ///< grid cells in y

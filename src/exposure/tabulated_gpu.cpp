@@ -10,7 +10,7 @@
 namespace vpsim::exposure {
 namespace {
 
-constexpr int GROUP_ROWS = 8;    ///< local_size_y of exposure_stencil.comp: output rows per group
+constexpr int GROUP_ROWS = 8;      ///< local_size_y of exposure_stencil.comp: output rows per group
 constexpr int GROUP_COLUMNS = 64;  ///< its outputs per group along x: 8 invocations of 8 outputs
 constexpr int WINDOW_REACH = 16;   ///< floats a chunk's window reads past its first tap's
 
@@ -69,8 +69,8 @@ TabulatedExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> contex
       ny(uint32_t(ny_)),
       padding(largestHalfWidth(stencils)),
       columnPadding(uint32_t(roundUp(padding, 4))),
-      paddedWidth(columnPadding + uint32_t(roundUp(nx_, GROUP_COLUMNS) +
-                                           roundUp(padding + WINDOW_REACH, 4))),
+      paddedWidth(columnPadding +
+                  uint32_t(roundUp(nx_, GROUP_COLUMNS) + roundUp(padding + WINDOW_REACH, 4))),
       deposit(context,
               uint64_t(paddedWidth) * (roundUp(ny_, GROUP_ROWS) + 2 * padding) * sizeof(float)),
       rowFlags(context, uint64_t(roundUp(ny_, GROUP_ROWS) + 2 * padding) * sizeof(uint32_t)),
@@ -123,8 +123,8 @@ double TabulatedExposureEngine::GpuState::addLayer(
             params.paddedWidth = paddedWidth;
             params.padding = padding;
             params.columnPadding = columnPadding;
-            r.dispatch(kernel, {&deposit, &weights[m], &rows[m], &slices[slot], &rowFlags},
-                       &params, groupsX, groupsY);
+            r.dispatch(kernel, {&deposit, &weights[m], &rows[m], &slices[slot], &rowFlags}, &params,
+                       groupsX, groupsY);
         }
     });
 }
