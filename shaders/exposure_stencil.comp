@@ -2,66 +2,66 @@
 // Tabulated-kernel exposure: adds one depth stencil's gather of a layer's deposit to one voxel
 // slice (see include/vpsim/exposure/tabulated_engine.h). out(i, j) += sum w(di, dj) S(i+di, j+dj).
 //
-// Shaped for lavapipe (Mesa 22), which runs 8 lanes at once, loads storage and shared memory
-// lane by lane inside loops, keeps arrays indexed in loops in memory and gathers a uniform block
-// at offsets that depend on a loop: each invocation sums 8 rows of one column in 8 named
-// accumulators over a window of 8 deposit values sliding down the column, so each weight load
-// feeds 8 multiply-adds and each fetch 8 more; the deposit is a texel buffer (one vector gather per
-// fetch), zero-padded so no fetch needs a bounds check; the weights are a uniform block. Each
-// stencil column runs only over its rows with a non-zero weight (a second small uniform block), so
-// the circular support is not swept as a square.
+// Shaped for lavapipe (Mesa 22.3, 8 lanes; docs/PLATFORM.md), where a texelFetch is a call that
+// spills every live vector, a uniform-block load at an index computed in a loop is a per-lane
+// gather, and storage loads and stores go lane by lane. Each invocation sums 8 consecutive outputs
+// of one row in 8 named accumulators. A stencil row is walked in chunks of 8 taps: each lane of
+// the 8-wide subgroup loads one tap of the chunk (one gather for 8 taps) and subgroupBroadcast
+// hands every tap to all lanes; the deposit window of 16 floats slides along the row by two vec4
+// texel fetches per chunk (an RGBA32F view of the zero-padded deposit, aligned to 4 floats, so no
+// fetch needs a bounds check). A stencil row whose deposit rows are all zero for the subgroup is
+// skipped (the rowNonEmpty flags): the sum is the same, its terms are all zero.
 #extension GL_GOOGLE_include_directive : require
-layout(local_size_x = 64) in;
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_vote : require
+#extension GL_KHR_shader_subgroup_ballot : require
+layout(local_size_x = 8, local_size_y = 8) in;
 
 #include "glsl_common.glsl"
 #include "shared_structs.glsl"
 #include "exposure.glsl"
+#include "exposure_chunk.glsl"
 
 layout(push_constant) uniform Push { ExposureStencilParams params; };
 layout(binding = 0) uniform samplerBuffer deposit;
-layout(std140, binding = 1) uniform Weights { vec4 weights[4096]; };
-layout(std140, binding = 2) uniform Columns { ivec4 columns[STENCIL_COLUMN_BLOCK / 2]; };
+layout(std140, binding = 1) uniform Weights { vec4 weights[STENCIL_CHUNK_BLOCK * 2]; };
+// Per stencil row t = dj + H: (first chunk in Weights, chunk count, di of the first tap, 0).
+layout(std140, binding = 2) uniform Rows { ivec4 rows[STENCIL_ROW_BLOCK]; };
 layout(std430, binding = 3) buffer Slice { float slice[]; };
-
-float weight(int di, int dj, int H) {
-    int k = stencilIndex(di, dj, H);
-    return weights[k >> 2][k & 3];
-}
+layout(std430, binding = 4) readonly buffer RowFlags { uint rowNonEmpty[]; };
 
 void main() {
-    const int H = params.halfWidth, pw = int(params.paddedWidth), P = params.padding;
-    const int i = int(gl_GlobalInvocationID.x), j0 = int(gl_GlobalInvocationID.y) * 8;
+    const int H = params.halfWidth, pw = int(params.paddedWidth);
+    const int i0 = int(gl_GlobalInvocationID.x) * 8, j = int(gl_GlobalInvocationID.y);
+    const int lane = int(gl_SubgroupInvocationID & 7u);
     float a0 = 0.0, a1 = 0.0, a2 = 0.0, a3 = 0.0, a4 = 0.0, a5 = 0.0, a6 = 0.0, a7 = 0.0;
-    // Column i + di, source rows j0 - H + t + r in d0..d7 (a window sliding down with t): the
-    // weight w(di, t - H) is loaded once and adds d_r to output row j0 + r.
-    const int first = (j0 + P - H) * pw + i + P;
-    for (int di = -H; di <= H; ++di) {
-        // Rows first..last of column di (first > last: an empty column).
-        const int c = di + H;
-        const ivec4 pair = columns[c >> 1];
-        const int rowFirst = (c & 1) == 0 ? pair.x : pair.z, rowLast = (c & 1) == 0 ? pair.y : pair.w;
-        int at = first + di + rowFirst * pw;
-        float d0 = texelFetch(deposit, at).r, d1 = texelFetch(deposit, at + pw).r;
-        float d2 = texelFetch(deposit, at + 2 * pw).r, d3 = texelFetch(deposit, at + 3 * pw).r;
-        float d4 = texelFetch(deposit, at + 4 * pw).r, d5 = texelFetch(deposit, at + 5 * pw).r;
-        float d6 = texelFetch(deposit, at + 6 * pw).r, d7 = texelFetch(deposit, at + 7 * pw).r;
-        for (int t = rowFirst; t <= rowLast; ++t) {
-            const float w = weight(di, t - H, H);
-            a0 += w * d0; a1 += w * d1; a2 += w * d2; a3 += w * d3;
-            a4 += w * d4; a5 += w * d5; a6 += w * d6; a7 += w * d7;
-            at += pw;
-            d0 = d1; d1 = d2; d2 = d3; d3 = d4; d4 = d5; d5 = d6; d6 = d7;
-            d7 = texelFetch(deposit, at + 7 * pw).r;
+    for (int t = 0; t <= 2 * H; ++t) {
+        // Padded deposit row of source row j + t - H.
+        const int row = j + params.padding - H + t;
+        if (!subgroupAny(rowNonEmpty[row] != 0u)) continue;
+        const ivec4 r = rows[t];
+        // Texel (4 floats) holding the window's first float, i0 + di of the row's first tap.
+        int at = (row * pw + int(params.columnPadding) + i0 + r.z) >> 2;
+        vec4 lo = texelFetch(deposit, at), hi = texelFetch(deposit, at + 1);
+        for (int c = r.x; c < r.x + r.y; ++c) {
+            const int k = c * STENCIL_CHUNK + lane;
+            const float chunkTaps = weights[k >> 2][k & 3];
+            const vec4 lo2 = texelFetch(deposit, at + 2), hi2 = texelFetch(deposit, at + 3);
+            addChunk(chunkTaps, lo, hi, lo2, hi2, a0, a1, a2, a3, a4, a5, a6, a7);
+            lo = lo2;
+            hi = hi2;
+            at += 2;
         }
     }
-    if (i >= int(params.nx)) return;
-    const int nx = int(params.nx), ny = int(params.ny), at = j0 * nx + i;
-    if (j0 + 0 < ny) slice[at + 0 * nx] += a0;
-    if (j0 + 1 < ny) slice[at + 1 * nx] += a1;
-    if (j0 + 2 < ny) slice[at + 2 * nx] += a2;
-    if (j0 + 3 < ny) slice[at + 3 * nx] += a3;
-    if (j0 + 4 < ny) slice[at + 4 * nx] += a4;
-    if (j0 + 5 < ny) slice[at + 5 * nx] += a5;
-    if (j0 + 6 < ny) slice[at + 6 * nx] += a6;
-    if (j0 + 7 < ny) slice[at + 7 * nx] += a7;
+    const int nx = int(params.nx), ny = int(params.ny);
+    if (j >= ny) return;
+    const int o = j * nx + i0;
+    if (i0 + 0 < nx) slice[o + 0] += a0;
+    if (i0 + 1 < nx) slice[o + 1] += a1;
+    if (i0 + 2 < nx) slice[o + 2] += a2;
+    if (i0 + 3 < nx) slice[o + 3] += a3;
+    if (i0 + 4 < nx) slice[o + 4] += a4;
+    if (i0 + 5 < nx) slice[o + 5] += a5;
+    if (i0 + 6 < nx) slice[o + 6] += a6;
+    if (i0 + 7 < nx) slice[o + 7] += a7;
 }

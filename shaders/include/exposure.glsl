@@ -5,9 +5,13 @@
 /// Floats in the fitted blur's uniform block of taps (exposure_blur.comp): half-widths up to 511.
 const int EXPOSURE_TAP_BLOCK = 1024;
 
-/// Stencil columns in exposure_stencil.comp's block of row ranges: half-widths up to 63, as its
-/// weight block allows.
-const int STENCIL_COLUMN_BLOCK = 128;
+/// Stencil rows in exposure_stencil.comp's block of row descriptions: half-widths up to 63.
+const int STENCIL_ROW_BLOCK = 128;
+
+/// Taps per chunk of a stencil row in exposure_stencil.comp (one per lane of an 8-wide subgroup),
+/// and chunks in its weight block (64 KiB).
+const int STENCIL_CHUNK = 8;
+const int STENCIL_CHUNK_BLOCK = 2048;
 
 /// Unnormalised weight of the Gaussian tap `offset` cells from the centre; sigmaCells = W/2/pitch
 /// (a 1/e^2 radius W is two standard deviations).

@@ -17,7 +17,8 @@ struct RngStreamParams {
 };
 
 /// Push constants of exposure_blur.comp: one Gaussian pass of the fitted kernel, along x from the
-/// zero-padded deposit into the pass buffer, or along y from the pass buffer into the running sum.
+/// zero-padded deposit into the transposed pass buffer, or along y from the pass buffer into the
+/// running sum.
 struct ExposureBlurParams {
     uint nx;           ///< grid cells in x
     uint ny;           ///< grid cells in y
@@ -33,10 +34,10 @@ struct ExposureBlurParams {
 struct ExposureStencilParams {
     uint nx;           ///< grid cells in x
     uint ny;           ///< grid cells in y
-    int halfWidth;     ///< stencil half-width in cells (its weights: the bound uniform block)
-    uint paddedWidth;  ///< row length of the zero-padded deposit
-    int padding;       ///< zero cells before the deposit's first row and column
-    uint pad0;
+    int halfWidth;       ///< stencil half-width in cells (its weights: the bound uniform block)
+    uint paddedWidth;    ///< row length of the zero-padded deposit, a multiple of 4
+    int padding;         ///< zero rows before the deposit's first row
+    uint columnPadding;  ///< zero cells before each row's first cell, a multiple of 4
     uint pad1;
     uint pad2;
 };

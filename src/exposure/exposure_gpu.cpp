@@ -7,26 +7,47 @@
 namespace vpsim::exposure {
 namespace {
 
-constexpr uint32_t BLOCK = 8;  ///< outputs per invocation and local size of exposure_blur.comp
-constexpr uint32_t SPAN = BLOCK * BLOCK;  ///< a workgroup's outputs along its pass's axis
+constexpr uint32_t GROUP_ROWS = 8;  ///< local_size_y of exposure_blur.comp: source rows per group
+constexpr uint32_t GROUP_OUTPUTS = 64;  ///< its outputs per group along a row: 8 invocations of 8
+constexpr uint32_t CHUNK = uint32_t(glsl::STENCIL_CHUNK);
 
 uint32_t roundUp(uint32_t n, uint32_t m) {
     return (n + m - 1) / m * m;
 }
 
+/// Zero cells left of each source row, and the shader's taps from offset -padding in whole chunks.
+uint32_t paddingOf(int halfWidth) {
+    return roundUp(uint32_t(halfWidth), 4);
+}
+uint32_t chunkedTaps(int halfWidth) {
+    return roundUp(uint32_t(halfWidth) + paddingOf(halfWidth) + 1, CHUNK);
+}
+
 int checkedHalfWidth(const std::vector<float>& taps) {
-    if (taps.size() > size_t(glsl::EXPOSURE_TAP_BLOCK))
+    const int halfWidth = int(taps.size() / 2);
+    if (chunkedTaps(halfWidth) > uint32_t(glsl::EXPOSURE_TAP_BLOCK))
         throw ResourceError(
             "a fitted blur of " + std::to_string(taps.size()) + " taps exceeds the shader's " +
             std::to_string(glsl::EXPOSURE_TAP_BLOCK) + "; use a coarser pitch or the CPU path");
-    return int(taps.size() / 2);
+    return halfWidth;
+}
+
+/// Row length of a pass's source: the padding, `outputs` to whole groups, and the reach of the
+/// last window (its taps past the half-width and the 8 floats it reads ahead).
+uint32_t sourceWidth(uint32_t outputs, int halfWidth) {
+    return paddingOf(halfWidth) + roundUp(outputs, GROUP_OUTPUTS) +
+           roundUp(uint32_t(halfWidth) + CHUNK, 4);
 }
 
 gpu::Kernel blurKernel(const std::shared_ptr<gpu::Context>& context, int halfWidth, uint32_t axis) {
+    if (context->info().subgroupSize < CHUNK)
+        throw ResourceError("the exposure blur shader needs subgroups of at least " +
+                            std::to_string(CHUNK) + " lanes; " + context->info().name + " has " +
+                            std::to_string(context->info().subgroupSize) + "; use the CPU path");
     return gpu::Kernel(context, exposure_blur_spv, sizeof exposure_blur_spv,
-                       {gpu::Binding::UniformTexels, gpu::Binding::Uniform, gpu::Binding::Storage},
+                       {gpu::Binding::UniformTexels4, gpu::Binding::Uniform, gpu::Binding::Storage},
                        sizeof(glsl::ExposureBlurParams), {{0, uint32_t(halfWidth)}, {1, axis}},
-                       BLOCK);
+                       GROUP_OUTPUTS / 8);
 }
 
 }  // namespace
@@ -39,29 +60,31 @@ ExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> context_, int n
       halfWidth(checkedHalfWidth(tapValues)),
       normX(normX_),
       normY(normY_),
-      // Rows as long as the x pass's workgroups reach; the y pass's reach rows to a multiple of
-      // SPAN, and the windows read one texel past their last tap: one spare row in each source.
-      depositWidth(roundUp(nx, SPAN) + 2 * halfWidth),
-      passWidth(roundUp(nx, SPAN)),
-      deposit(context, uint64_t(depositWidth) * (roundUp(ny, BLOCK) + 1) * sizeof(float)),
-      pass(context, uint64_t(passWidth) * (roundUp(ny, SPAN) + 2 * halfWidth + 1) * sizeof(float)),
+      // The x pass runs along the deposit's rows, the y pass along the pass buffer's (the grid's
+      // columns): each source has a row per source row a group reaches.
+      depositWidth(sourceWidth(nx, halfWidth)),
+      passWidth(sourceWidth(ny, halfWidth)),
+      deposit(context, uint64_t(depositWidth) * roundUp(ny, GROUP_ROWS) * sizeof(float)),
+      pass(context, uint64_t(passWidth) * roundUp(nx, GROUP_ROWS) * sizeof(float)),
       running(context, uint64_t(nx) * ny * sizeof(float)),
       taps(context, glsl::EXPOSURE_TAP_BLOCK * sizeof(float)),
       alongX(blurKernel(context, halfWidth, 0)),
       alongY(blurKernel(context, halfWidth, 1)) {
-    // The padding (and the pass buffer's rows above and below the grid) is zero once for all.
+    // The padding of both sources is zero once for all: the passes write the grid's cells only.
     deposit.fill(0u);
     pass.fill(0u);
     running.fill(0u);
     std::vector<float> block(glsl::EXPOSURE_TAP_BLOCK, 0.0f);
-    std::copy(tapValues.begin(), tapValues.end(), block.begin());
+    const int padding = int(paddingOf(halfWidth));
+    for (int o = -halfWidth; o <= halfWidth; ++o)
+        block[size_t(o + padding)] = tapValues[size_t(o + halfWidth)];
     taps.upload(block);
 }
 
 double ExposureEngine::GpuState::addLayer(const SurfaceGrid& hostDeposit, float decay,
                                           bool restart) {
     deposit.uploadRows(hostDeposit.values.data(), nx * sizeof(float), ny, nx * sizeof(float),
-                       halfWidth * sizeof(float), depositWidth * sizeof(float));
+                       paddingOf(halfWidth) * sizeof(float), depositWidth * sizeof(float));
     glsl::ExposureBlurParams x{};
     x.nx = nx;
     x.ny = ny;
@@ -75,11 +98,11 @@ double ExposureEngine::GpuState::addLayer(const SurfaceGrid& hostDeposit, float 
     y.norm = normY;
     return 1e-3 * context->submit([&](gpu::Recorder& r) {
         if (restart) r.fill(running, 0u);
-        r.dispatch(alongX, {&deposit, &taps, &pass}, &x, roundUp(nx, SPAN) / SPAN,
-                   roundUp(ny, BLOCK) / BLOCK);
+        r.dispatch(alongX, {&deposit, &taps, &pass}, &x, roundUp(nx, GROUP_OUTPUTS) / GROUP_OUTPUTS,
+                   roundUp(ny, GROUP_ROWS) / GROUP_ROWS);
         r.barrier();
-        r.dispatch(alongY, {&pass, &taps, &running}, &y, roundUp(nx, BLOCK) / BLOCK,
-                   roundUp(ny, SPAN) / SPAN);
+        r.dispatch(alongY, {&pass, &taps, &running}, &y, roundUp(ny, GROUP_OUTPUTS) / GROUP_OUTPUTS,
+                   roundUp(nx, GROUP_ROWS) / GROUP_ROWS);
     });
 }
 

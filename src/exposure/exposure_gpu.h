@@ -1,6 +1,7 @@
 #pragma once
 // Private: the shader path of the exposure engine. The deposit is uploaded once per layer into a
-// zero-padded texel buffer, the two blur passes and the print-through step are two dispatches in
+// zero-padded texel buffer, the two blur passes (the x pass writes its result transposed, so the y
+// pass also runs along rows) and the print-through step are two dispatches in
 // one submission, and the running sum R stays on the device (downloaded once per layer for the
 // slices); the taps are uploaded once per engine.
 #include <memory>
@@ -27,8 +28,8 @@ struct ExposureEngine::GpuState {
     uint32_t nx, ny;
     int halfWidth;
     float normX, normY;
-    uint32_t depositWidth;  ///< row length of the padded deposit: nx to a multiple of 8, + 2 H
-    uint32_t passWidth;     ///< row length of the pass buffer: nx to a multiple of 8
+    uint32_t depositWidth;  ///< row length of the padded deposit (the x pass's source)
+    uint32_t passWidth;     ///< row length of the transposed pass buffer (the y pass's source)
     gpu::Buffer deposit, pass, running, taps;
     gpu::Kernel alongX, alongY;
 };

@@ -88,19 +88,34 @@ Buffer::Buffer(std::shared_ptr<Context> context, uint64_t bytes) : mImpl(std::ma
 
 Buffer::Impl::~Impl() {
     if (texelView) vkDestroyBufferView(storage.device, texelView, nullptr);
+    if (texelView4) vkDestroyBufferView(storage.device, texelView4, nullptr);
     storage.destroy();
 }
 
-VkBufferView Buffer::Impl::floatTexelView() {
-    if (texelView) return texelView;
+namespace {
+
+VkBufferView makeTexelView(const RawBuffer& storage, VkFormat format, uint64_t texelBytes) {
     VkBufferViewCreateInfo info{};
     info.sType = VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO;
     info.buffer = storage.buffer;
-    info.format = VK_FORMAT_R32_SFLOAT;
+    info.format = format;
     info.offset = 0;
-    info.range = (storage.bytes / 4) * 4;
-    VK_CHECK(vkCreateBufferView(storage.device, &info, nullptr, &texelView));
+    info.range = (storage.bytes / texelBytes) * texelBytes;
+    VkBufferView view = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateBufferView(storage.device, &info, nullptr, &view));
+    return view;
+}
+
+}  // namespace
+
+VkBufferView Buffer::Impl::floatTexelView() {
+    if (!texelView) texelView = makeTexelView(storage, VK_FORMAT_R32_SFLOAT, 4);
     return texelView;
+}
+
+VkBufferView Buffer::Impl::vec4TexelView() {
+    if (!texelView4) texelView4 = makeTexelView(storage, VK_FORMAT_R32G32B32A32_SFLOAT, 16);
+    return texelView4;
 }
 
 Buffer::~Buffer() = default;

@@ -11,7 +11,8 @@ constexpr uint32_t DESCRIPTORS_PER_SET = 16;
 VkDescriptorType descriptorType(Binding binding) {
     switch (binding) {
         case Binding::Uniform: return VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-        case Binding::UniformTexels: return VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+        case Binding::UniformTexels:
+        case Binding::UniformTexels4: return VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
         default: return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     }
 }
@@ -181,17 +182,19 @@ void Recorder::dispatch(const Kernel& kernel, const std::vector<const Buffer*>& 
         if (kind == Binding::Uniform && b.storage.bytes > info.maxUniformBufferRange)
             throw ResourceError("uniform buffer of " + formatBytes(double(b.storage.bytes)) +
                                 " exceeds maxUniformBufferRange of " + info.name);
-        if (kind == Binding::UniformTexels && b.storage.bytes / 4 > info.maxTexelBufferElements)
-            throw ResourceError("texel buffer of " + std::to_string(b.storage.bytes / 4) +
-                                " floats exceeds maxTexelBufferElements of " + info.name);
+        const uint64_t texelBytes = kind == Binding::UniformTexels4 ? 16 : 4;
+        if ((kind == Binding::UniformTexels || kind == Binding::UniformTexels4) &&
+            b.storage.bytes / texelBytes > info.maxTexelBufferElements)
+            throw ResourceError("texel buffer of " + std::to_string(b.storage.bytes / texelBytes) +
+                                " texels exceeds maxTexelBufferElements of " + info.name);
         bufferInfos[i] = {b.storage.buffer, 0, VK_WHOLE_SIZE};
         writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
         writes[i].dstSet = set;
         writes[i].dstBinding = uint32_t(i);
         writes[i].descriptorCount = 1;
         writes[i].descriptorType = descriptorType(kind);
-        if (kind == Binding::UniformTexels) {
-            views[i] = b.floatTexelView();
+        if (kind == Binding::UniformTexels || kind == Binding::UniformTexels4) {
+            views[i] = kind == Binding::UniformTexels4 ? b.vec4TexelView() : b.floatTexelView();
             writes[i].pTexelBufferView = &views[i];
         } else {
             writes[i].pBufferInfo = &bufferInfos[i];

@@ -76,8 +76,10 @@ struct RawBuffer {
 struct Buffer::Impl {
     std::shared_ptr<Context> context;
     RawBuffer storage;
-    VkBufferView texelView = VK_NULL_HANDLE;  ///< R32_SFLOAT view, made on first texel binding
+    VkBufferView texelView = VK_NULL_HANDLE;   ///< R32_SFLOAT view, made on first texel binding
+    VkBufferView texelView4 = VK_NULL_HANDLE;  ///< R32G32B32A32_SFLOAT view, the same way
     VkBufferView floatTexelView();
+    VkBufferView vec4TexelView();
     ~Impl();
 };
 

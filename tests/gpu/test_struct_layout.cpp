@@ -65,7 +65,8 @@ TEST_CASE("shared structs have the same layout in C++ and std430 GLSL", "[gpu][l
         {VPSIM_MEMBER(ExposureStencilParams, nx), VPSIM_MEMBER(ExposureStencilParams, ny),
          VPSIM_MEMBER(ExposureStencilParams, halfWidth),
          VPSIM_MEMBER(ExposureStencilParams, paddedWidth),
-         VPSIM_MEMBER(ExposureStencilParams, padding), VPSIM_MEMBER(ExposureStencilParams, pad0),
+         VPSIM_MEMBER(ExposureStencilParams, padding),
+         VPSIM_MEMBER(ExposureStencilParams, columnPadding),
          VPSIM_MEMBER(ExposureStencilParams, pad1), VPSIM_MEMBER(ExposureStencilParams, pad2)});
     using glsl::PhotonParams;
     checkStruct("PhotonParams", sizeof(PhotonParams),

@@ -151,11 +151,13 @@ struct SpecConstant {
 };
 
 /// What a kernel's binding is in the shader. Storage: `buffer` (read-write); Uniform: `uniform`
-/// block (read-only, at most maxUniformBufferRange bytes; on lavapipe a load at an index the same
-/// for every lane is one scalar load even inside loops, where storage loads go lane by lane);
+/// block (read-only, at most maxUniformBufferRange bytes; on lavapipe a load at a constant index is
+/// one scalar load, one at a computed index a per-lane gather; storage loads go lane by lane);
 /// UniformTexels: `samplerBuffer` of R32_SFLOAT read with texelFetch (read-only, at most
-/// maxTexelBufferElements floats; on lavapipe a vector gather instead of a per-lane loop).
-enum class Binding { Storage, Uniform, UniformTexels };
+/// maxTexelBufferElements floats; on lavapipe a vector gather instead of a per-lane loop);
+/// UniformTexels4: the same as an R32G32B32A32_SFLOAT `samplerBuffer`, one vec4 (four consecutive
+/// floats) per texelFetch (on lavapipe each fetch is a call, so four floats per call).
+enum class Binding { Storage, Uniform, UniformTexels, UniformTexels4 };
 
 /// A compute pipeline from embedded SPIR-V whose bindings 0..bindingCount-1 are storage buffers
 /// (or the kinds given) in set 0, with an optional push-constant block.
