@@ -253,6 +253,15 @@ plan::ScanPlan dotPlan(const plan::ScanPlan& fixed, const ShapeProblem& problem,
 
 }  // namespace
 
+exposure::ExposureGrid shapePlanningGrid(const std::vector<geometry::PolygonSet>& regions,
+                                         double beamRadius, double pitch) {
+    exposure::ExposureGrid g = planningGrid(regions, beamRadius, pitch);
+    g.originX = std::floor(g.originX / g.pitch + 1e-9) * g.pitch;
+    g.originY = std::floor(g.originY / g.pitch + 1e-9) * g.pitch;
+    g.nx += 1, g.ny += 1;
+    return g;
+}
+
 ShapeResult planInverseShape(const std::vector<geometry::PolygonSet>& regions,
                              const std::vector<geometry::PolygonSet>& sliceRegions,
                              const plan::ScanPlan& start, double gridPitch, double dotPitch,
@@ -264,7 +273,7 @@ ShapeResult planInverseShape(const std::vector<geometry::PolygonSet>& regions,
     if (!(gridPitch > 0) || !(dotPitch > 0) || p.iterations < 0 || p.coarseIterations < 0 ||
         p.slicesPerLayer < 1)
         throw InputError("inverse planner: pitches and slices must be positive, iterations >= 0");
-    exposure::ExposureGrid grid = planningGrid(regions, beam.radius, gridPitch);
+    exposure::ExposureGrid grid = shapePlanningGrid(regions, beam.radius, gridPitch);
     grid.slicesPerLayer = p.slicesPerLayer;
     const int stride = std::max(1, int(std::lround(dotPitch / gridPitch)));
     const double pitch = stride * gridPitch;  // the dots' pitch along the rows

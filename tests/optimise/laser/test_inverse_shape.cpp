@@ -103,7 +103,7 @@ TEST_CASE("the shape planner is never worse than its start", "[optimise][inverse
         optimise::planInverseShape(regions(), sliceRegions(2), start, 0.01, 0.02, p, BEAM, LT, EC);
     CHECK(r.objectiveFinal <= r.objectiveStart);
     // Re-measure the returned plan on a fresh grid and engine.
-    exposure::ExposureGrid grid = optimise::planningGrid(regions(), BEAM.radius, 0.01);
+    exposure::ExposureGrid grid = optimise::shapePlanningGrid(regions(), BEAM.radius, 0.01);
     grid.slicesPerLayer = 2;
     exposure::ExposureEngine model(grid, BEAM, LT);
     optimise::ShapeTargets targets =
@@ -186,7 +186,7 @@ TEST_CASE("with an edge band only the edges move, and J is measured on the machi
         CHECK(fitMark);  // the returned plan is the one the fit made
     }
     // J_final is the J of that plan (the tag included) on a fresh engine.
-    exposure::ExposureGrid grid = optimise::planningGrid(square, BEAM.radius, 0.01);
+    exposure::ExposureGrid grid = optimise::shapePlanningGrid(square, BEAM.radius, 0.01);
     grid.slicesPerLayer = 2;
     exposure::ExposureEngine model(grid, BEAM, LT);
     optimise::ShapeTargets targets =
@@ -238,5 +238,33 @@ TEST_CASE("with a row spacing the dots lie on rows that far apart", "[optimise][
         }
         // A 0.3 mm side holds at most 0.3 / 0.06 + 2 rows (one just outside each wall).
         CHECK(rows.size() <= 7);
+    }
+}
+
+// The Ec crossing settles anywhere between the voxel centres beside a wall (one-sided bounds),
+// so a wall on a multiple of the pitch must lie half way between them, as on the simulation's
+// voxels; off that lattice laser-pillars cured about 4 um towards +x and +y.
+TEST_CASE("the shape objective's grid lies on the lattice of multiples of its pitch",
+          "[optimise][inverse]") {
+    const std::vector<geometry::PolygonSet> square(
+        1, geometry::PolygonSet::rectangle({-0.45, -0.45}, {-0.15, -0.15}));
+    for (double pitch : {0.01, 0.005}) {
+        const exposure::ExposureGrid wide = optimise::planningGrid(square, BEAM.radius, pitch);
+        const exposure::ExposureGrid g = optimise::shapePlanningGrid(square, BEAM.radius, pitch);
+        CHECK(g.pitch == wide.pitch);
+        for (double origin : {g.originX, g.originY}) {
+            const double cells = origin / pitch;
+            CHECK(std::abs(cells - std::round(cells)) < 1e-6);
+        }
+        // It covers planningGrid's cells.
+        CHECK(g.originX <= wide.originX);
+        CHECK(g.originY <= wide.originY);
+        CHECK(g.originX + g.nx * pitch >= wide.originX + wide.nx * pitch - 1e-9);
+        CHECK(g.originY + g.ny * pitch >= wide.originY + wide.ny * pitch - 1e-9);
+        // Each wall lies half a pitch from the voxel centres on either side of it.
+        for (double wall : {-0.45, -0.15}) {
+            const double f = (wall - g.originX) / pitch - 0.5;  // in cell-centre units
+            CHECK(std::abs(f - std::floor(f) - 0.5) < 1e-6);
+        }
     }
 }
