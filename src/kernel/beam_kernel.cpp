@@ -200,13 +200,17 @@ BeamKernel kernelFromMonteCarlo(const transport::McResult& mc, double power) {
     return k;
 }
 
+double kernelTableRadius(double w0) {
+    return 4 * w0;
+}
+
 transport::McSetup kernelSetup(const optics::MediumOptics& optics, double w0, double thickness) {
     transport::McSetup setup;
     setup.optics = optics;
     setup.beam = transport::BeamShape::Gaussian;
     setup.w0 = w0;
     setup.thickness = thickness;
-    setup.bins.rMax = 4 * w0;
+    setup.bins.rMax = kernelTableRadius(w0);
     setup.bins.zMax = optics.mua > 0 ? 3.0 / optics.mua : 1.0;
     if (thickness > 0) setup.bins.zMax = std::min(setup.bins.zMax, thickness);
     setup.bins.rBins = setup.bins.zBins = 80;

@@ -9,6 +9,7 @@
 #include "vpsim/core/text.h"
 #include "vpsim/geometry/level_set.h"
 #include "vpsim/geometry/slicer.h"
+#include "vpsim/kernel/beam_kernel.h"
 #include "vpsim/pipeline/stages.h"
 #include "vpsim/report/layer_sections.h"
 
@@ -99,10 +100,16 @@ void gridSizes(const Job& job, Sizes& s) {
 }
 
 /// Tiles of `side` mm (0: one) as stages.cpp's exposureTiles() lays them out; the halo is the
-/// fitted blur's half-width (1.75 W, the radius guessed as above) plus the mesher's cell.
+/// engine's reach plus the mesher's cell: the fitted blur's half-width (1.75 W, the radius
+/// guessed as above), or for the tabulated engine its widest stencil, at most the kernel table's
+/// radius (the Monte Carlo has not run yet, so its bound).
 void tileSizes(const Job& job, double side, Sizes& s) {
     const double pitch = job.simulation.voxel;
-    const double halo = std::ceil(1.75 * s.beamRadius / pitch) + 1;
+    const bool tabulated = job.kernel.tabulated && job.machine.process == plan::Process::Laser;
+    const double reach =
+        tabulated ? std::ceil(kernel::kernelTableRadius(job.machine.beamRadius) / pitch + 0.5)
+                  : std::ceil(1.75 * s.beamRadius / pitch);
+    const double halo = reach + 1;
     s.tileCells = side > 0 ? std::ceil(side / pitch - 1e-9) : 0;
     const double t = s.tileCells > 0 ? s.tileCells : std::max(s.nx, s.ny);
     const double across = std::ceil(s.nx / t), down = std::ceil(s.ny / t);

@@ -75,6 +75,10 @@ struct BeamKernel {
     static BeamKernel load(const std::string& path);
 };
 
+/// The radius (mm) of a beam kernel's table for a beam of 1/e^2 radius w0: 4 w0, where the
+/// Gaussian is 1e-14 (kernelSetup's bins; the tabulated engine's stencils reach no further).
+double kernelTableRadius(double w0);
+
 /// The Monte Carlo setup of a beam kernel: a Gaussian beam of 1/e^2 radius w0 (mm) into the
 /// medium (a slab of `thickness` mm, or semi-infinite when 0), tallied on 80 x 80 bins 4 w0 wide
 /// (the Gaussian is 1e-14 there) and 3 absorption lengths deep (or the slab's thickness). The
