@@ -100,7 +100,7 @@ Front runFront(const Job& job, geometry::Mesh part, const std::string& outDir,
         const kernel::BeamKernel& k = *f.beam.monteCarlo;
         createDirectories(outDir + "/kernel");
         k.save(outDir + "/kernel/kernel.json");
-        kernel::writeKernelFigures(outDir + "/kernel", k);
+        if (job.simulation.writes("figures")) kernel::writeKernelFigures(outDir + "/kernel", k);
         report::KernelSummary summary;
         summary.beam = f.beam.beam;
         summary.fitResidual = k.fit.residual;
@@ -204,7 +204,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     }
     const plan::ScanSchedule schedule = scanStage(job, f.layers, planned.plan);
     plan::saveScanPlan(planned.plan, outDir + "/plan.json");
-    writeScanFiles(schedule, planned.plan, outDir);
+    writeScanFiles(schedule, planned.plan, outDir, job.simulation.writes("figures"));
     result.plan = {job.strategy, planned.plan.layers.size(), planned.plan.totalEnergy(),
                    planned.summary};
     result.plan.planner["build_time_s"] = schedule.buildTime;
@@ -343,10 +343,10 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
         timer.finish("kernel_mismatch");
     }
     // The planner's own work on the exposed plan (the laser exposure error, DLP comparisons).
-    const planners::PlanReview review =
-        job.planner->review({f.part, f.layers, f.bounds, planned.plan, job.machine, f.beam.beam,
-                             law, job.features, result.validation.features, job.simulation.voxel,
-                             voxelHeight, *model, result.validation.slices, job.strategy, outDir});
+    const planners::PlanReview review = job.planner->review(
+        {f.part, f.layers, f.bounds, planned.plan, job.machine, f.beam.beam, law, job.features,
+         result.validation.features, job.simulation.voxel, voxelHeight, *model,
+         result.validation.slices, job.strategy, outDir, sim.writes("figures")});
     result.plan.planner.merge_patch(review.report);
     result.sections = review.sections;
     timer.finish("review");

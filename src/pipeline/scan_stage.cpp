@@ -44,9 +44,9 @@ plan::ScanSchedule scanStage(const Job& job, const geometry::LayerStack& layers,
 }
 
 void writeScanFiles(const plan::ScanSchedule& schedule, const plan::ScanPlan& plan,
-                    const std::string& outDir) {
+                    const std::string& outDir, bool figures) {
     // scan.cli is written by the job's exporters (exportStage), like every machine file.
-    if (!schedule.layers.empty()) {
+    if (figures && !schedule.layers.empty()) {
         const size_t k = plan::busiestLayer(schedule.layers);
         plan::writeScanPathFigure(outDir + "/scan_path", schedule.layers[k].moves,
                                   "scan path of layer " + std::to_string(k) + " (" +

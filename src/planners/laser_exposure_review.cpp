@@ -60,6 +60,9 @@ PlanReview laserExposureReview(const PlanReviewInputs& in) {
         cropped(topMap, regions[k], plan::effectiveRadius(b.radius) + 2 * b.radius);
     const optimise::ExposureError single =
         optimise::layerExposureError(map, regions[k], etar, plan::effectiveRadius(b.radius));
+    PlanReview review;
+    review.report["layer_exposure_error"] = std::move(error);
+    if (!in.figures) return review;  // simulation.outputs leaves the figures out
     optimise::writeSortedErrorFigure(
         in.outDir + "/exposure_error_sorted",
         "Sorted exposure error over the part plus Reff (seed 000 Fig. 23)",
@@ -68,8 +71,6 @@ PlanReview laserExposureReview(const PlanReviewInputs& in) {
     optimise::writeExposureMapFigure(in.outDir + "/exposure_top_layer",
                                      "Surface exposure of the top layer (" + in.strategy + ")", map,
                                      &regions[k], etar, ec);
-    PlanReview review;
-    review.report["layer_exposure_error"] = std::move(error);
     review.sections.push_back(
         {"Exposure error of the plan (seed 000 Fig. 23)",
          {},

@@ -98,6 +98,10 @@ PlanReview optimisedMaskReview(const PlanReviewInputs& in, const OptimisedMaskAr
         review.report["xy_coupling"] = xy;
         section.tables.push_back(xyTable(xy));
     }
+    if (!in.figures) {  // simulation.outputs leaves the figures out: the tables only
+        review.sections.push_back(std::move(section));
+        return review;
+    }
     std::vector<double> histogram;
     if (summary.contains("grey_histogram"))
         histogram = summary["grey_histogram"].get<std::vector<double>>();

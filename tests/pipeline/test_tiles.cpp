@@ -197,8 +197,17 @@ TEST_CASE("a tiled run resumed after an interruption gives the uninterrupted res
     spec["simulation"].erase("write_vdb");
     spec["simulation"]["outputs"] = {"cured.stl"};
     const auto tmp = std::filesystem::temp_directory_path();
+    std::filesystem::remove_all(tmp / "vpsim_tiles_resume_whole");  // no earlier run's files
     const report::JobResult whole = runSpec("resume_whole", spec);
     REQUIRE(whole.exposure.grid[0] > 0);
+    // Without "figures" in the outputs no picture is drawn: not the run's, the planner's review
+    // nor the scan path's.
+    for (const auto& entry :
+         std::filesystem::recursive_directory_iterator(tmp / "vpsim_tiles_resume_whole")) {
+        INFO(entry.path());
+        CHECK(entry.path().extension() != ".svg");
+        CHECK(entry.path().extension() != ".png");
+    }
 
     pipeline::RunOptions stop;
     stop.stopAfterTiles = 2;

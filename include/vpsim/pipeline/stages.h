@@ -67,10 +67,11 @@ PlanResult planStage(const Job& job, const geometry::LayerStack& layers,
 plan::ScanSchedule scanStage(const Job& job, const geometry::LayerStack& layers,
                              plan::ScanPlan& plan);
 
-/// Writes scan_path.svg (the busiest layer's marks, jumps and order) into `outDir`; the machine
-/// files (scan.cli, ...) come from exportStage.
+/// Writes scan_path.svg (the busiest layer's marks, jumps and order) into `outDir` when
+/// `figures` (simulation.outputs) asks for it; the machine files (scan.cli, ...) come from
+/// exportStage.
 void writeScanFiles(const plan::ScanSchedule& schedule, const plan::ScanPlan& plan,
-                    const std::string& outDir);
+                    const std::string& outDir, bool figures);
 
 /// Checks that a saved (or hand-edited) plan fits the job: the same process, layer thickness
 /// and number of layers as the sliced part. @throw InputError naming `file`

@@ -92,6 +92,7 @@ struct PlanReviewInputs {
     const validate::SliceValidationSummary& validation;  ///< of the plan the run exposed
     const std::string& strategy;                         ///< the registered name, for captions
     const std::string& outDir;                           ///< where figures go
+    bool figures;  ///< simulation.outputs asks for figures (else the review writes none)
 };
 
 /// What a review adds to the run's report.
