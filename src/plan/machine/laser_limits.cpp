@@ -133,27 +133,51 @@ void fitRun(const std::vector<LaserVector>& chain, const LaserLimits& limits, do
     const LaserVector& first = chain.front();
     double fastest = markSpeedLimit(first.x0, first.y0, first.x1, first.y1, limits.processSpeed);
     double slowest = 0;  // the weakest piece at the minimum power
+    const double range = limits.powerMin > 0 ? limits.powerMax / limits.powerMin : INFINITY;
+    double densest = 0;
+    for (const LaserVector& v : chain) densest = std::max(densest, v.power / v.speed);
     for (const LaserVector& v : chain) {
-        if (negligible(v, limits)) continue;  // kept, but no say in the speed
         const double lineEnergy = v.power / v.speed;
+        // Negligible pieces, and those below the power range (fitChain), have no say.
+        if (negligible(v, limits) || lineEnergy * range < densest) continue;
         fastest = std::min(fastest, limits.powerMax / lineEnergy);  // full power on the densest
         slowest = std::max(slowest, limits.powerMin / lineEnergy);
     }
     const double speed = std::min(fastest, std::max(pathSpeed, slowest));
-    for (const LaserVector& v : chain) {
-        const double lineEnergy = v.power / v.speed;  // mJ/mm
-        LaserVector fitted = v;
-        fitted.speed = speed;
-        fitted.power = std::min(lineEnergy * speed, limits.powerMax);
-        if (fitted.power < limits.powerMin) {
-            if (fitted.power < 0.5 * limits.powerMin) {
-                ++fit.droppedBelowMinPower;
-                continue;
-            }
-            fitted.power = limits.powerMin;
+    std::vector<LaserVector> fitted(chain);
+    std::vector<char> weak(chain.size(), 0);  // needs less than half the minimum power
+    for (size_t k = 0; k < chain.size(); ++k) {
+        const LaserVector& v = chain[k];
+        fitted[k].speed = speed;
+        fitted[k].power = std::min(v.power / v.speed * speed, limits.powerMax);
+        weak[k] = fitted[k].power < 0.5 * limits.powerMin;
+    }
+    // A stretch of weak pieces between two kept ones is dropped when a jump over it is faster
+    // than marking it at the minimum power (the jump costs its delays, gapDelay); else it is
+    // marked at the minimum power, a little more dose, and the line goes on without a jump.
+    for (size_t k = 0; k < chain.size();) {
+        if (!weak[k]) {
+            ++k;
+            continue;
+        }
+        size_t end = k;
+        double length = 0;
+        while (end < chain.size() && weak[end]) length += lengthOf(chain[end++]);
+        const bool inside = k > 0 && end < chain.size();
+        if (inside && length < speed * limits.gapDelay)
+            std::fill(weak.begin() + k, weak.begin() + end, 0);
+        k = end;
+    }
+    for (size_t k = 0; k < chain.size(); ++k) {
+        if (weak[k]) {
+            ++fit.droppedBelowMinPower;
+            continue;
+        }
+        if (fitted[k].power < limits.powerMin) {
+            fitted[k].power = limits.powerMin;
             ++fit.raisedToMinPower;
         }
-        out.push_back(fitted);
+        out.push_back(fitted[k]);
     }
 }
 
@@ -168,12 +192,18 @@ void fitChain(const std::vector<LaserVector>& chain, const LaserLimits& limits, 
     while (end > begin && negligible(chain[end - 1], limits)) --end;
     fit.droppedNegligible += (long long)(chain.size() - (end - begin));
     const double range = limits.powerMin > 0 ? limits.powerMax / limits.powerMin : INFINITY;
+    // Pieces weaker than the chain's densest over the power range have no say in the cuts:
+    // fitRun marks them at the minimum power (at most 1/range of the densest's dose) or drops
+    // them, rather than cutting the line into runs joined by jumps for them.
+    double densest = 0;
+    for (size_t k = begin; k < end; ++k)
+        densest = std::max(densest, chain[k].power / chain[k].speed);
     std::vector<LaserVector> run;
     double lo = INFINITY, hi = 0;
     for (size_t k = begin; k < end; ++k) {
         const LaserVector& v = chain[k];
         const double e = v.power / v.speed;
-        if (!negligible(v, limits)) {
+        if (!negligible(v, limits) && e * range >= densest) {
             if (!run.empty() && std::max(hi, e) > range * std::min(lo, e)) {
                 fitRun(run, limits, pathSpeed, out, fit);
                 run.clear(), lo = INFINITY, hi = 0;
@@ -273,6 +303,7 @@ LaserLimits laserLimits(const Machine& machine, double beamRadius, double neglig
     limits.beamRadius = beamRadius;
     limits.negligibleDose = negligibleDose;
     limits.jumpAcceleration = machine.scanner.machine.acceleration;
+    limits.gapDelay = machine.scanner.delays.jump + machine.scanner.delays.mark;
     return limits;
 }
 

@@ -190,3 +190,44 @@ TEST_CASE("a dot row with a gap is one scan path; negligible dots inside it are 
     for (const LaserVector& v : out) CHECK(v.speed == Approx(std::sqrt(0.5 * 20000 * 30 * pitch)));
     CHECK(lineEnergy(out[18]) == Approx(1e-12 / pitch));  // the negligible dot, kept
 }
+
+// A laser with a minimum power (the galvo example's 1 mW): dots inside a row that need less than
+// half of it were dropped, and each drop cut the row with a jump (its delays, 0.35 ms, are 0.1
+// mm of marking at 300 mm/s). A short weak stretch is now marked at the minimum power, a long
+// one still jumped over; weak dots do not cut the row into runs at other speeds either.
+TEST_CASE("inside a row a weak stretch is marked at the minimum power when a jump costs more",
+          "[plan]") {
+    const double pitch = 0.02;
+    LayerPlan layer;
+    // 40 dots along x needing 3 mW at 300 mm/s; dots 10-12 (0.06 mm) and 25-34 (0.2 mm) 0.06 mW.
+    for (int i = 0; i < 40; ++i) {
+        const bool weak = (i >= 10 && i <= 12) || (i >= 25 && i <= 34);
+        layer.points.push_back({i * pitch, 0, weak ? 4e-6 : 2e-4});
+    }
+    auto fitted = [&](double gapDelay, LimitFit& fit) {
+        ScanPlan plan;
+        plan.machine.laserPower = 10;
+        plan.layers = {layer};
+        LaserLimits l = limits(1.0);
+        l.gapDelay = gapDelay;
+        fit = fitPlanToLimits(plan, l, pitch);
+        return plan.layers[0];
+    };
+    LimitFit fit;
+    const LayerPlan out = fitted(350e-6, fit);
+    CHECK(fit.raisedToMinPower == 3);
+    CHECK(fit.droppedBelowMinPower == 10);
+    REQUIRE(out.vectors.size() == 30);
+    for (const LaserVector& v : out.vectors) {
+        CHECK(v.speed == Approx(300));  // one run: the weak dots did not cut it
+        CHECK(v.power >= 1.0 - 1e-12);
+        CHECK(v.power <= 10 + 1e-12);
+    }
+    // The jumps of the fitted row: one, over the long stretch.
+    CHECK(layerMoveTime(buildLayerTrajectory(out, 10, {}).moves, {}).jumps == 1);
+
+    const LayerPlan dropped = fitted(0, fit);  // no delay to weigh: every weak stretch dropped
+    CHECK(fit.droppedBelowMinPower == 13);
+    CHECK(dropped.vectors.size() == 27);
+    CHECK(layerMoveTime(buildLayerTrajectory(dropped, 10, {}).moves, {}).jumps == 2);
+}

@@ -45,6 +45,10 @@ struct LaserLimits {
     /// mm/s^2 per axis of the jumps (`machine.scanner.machine_acceleration`), for the speed of a
     /// scan path (see the file comment); 0 runs every mark as fast as the limits allow.
     double jumpAcceleration = 0;
+    /// s: the delays a jump inside a line costs (jump and mark delays). A stretch of a run that
+    /// needs less than half the minimum power is marked at the minimum power when that takes
+    /// less than this, instead of being dropped and jumped over; 0 always drops it.
+    double gapDelay = 0;
 };
 
 /// The limits of `machine` (its jump acceleration included) for a beam of radius `beamRadius`
