@@ -29,7 +29,7 @@ KeyTable inverseKeyTable() {
         numberKey("margin", 0.05, "shape: inside E >= (1 + m) Ec, outside E <= (1 - m) Ec")
             .in(0, 0.5),
         numberKey("wall_weight", 4.0, "shape: extra weight of voxels near a wall").in(0, 1e3),
-        numberKey("down_facing_weight", 8.0,
+        numberKey("down_facing_weight", 16.0,
                   "shape: extra weight outside the part below down-facing surfaces")
             .in(0, 1e3),
         numberKey("uniformity", 0.01, "shape: weight of the exposure's spread inside").in(0, 10),

@@ -36,13 +36,13 @@
 namespace vpsim::optimise {
 
 struct ShapeParameters {
-    double margin = 0.05;           ///< m: inside E >= (1 + m) Ec, outside E <= (1 - m) Ec
-    double wallWeight = 4.0;        ///< extra weight within wallBand of a wall
-    double wallBand = 0.03;         ///< mm
-    double downFacingWeight = 8.0;  ///< extra weight below down-facing surfaces (outside)
-    double uniformity = 0.01;       ///< mu
-    int slicesPerLayer = 5;         ///< objective voxel slices per layer
-    int iterations = 60;            ///< FISTA iterations on all layers at once, planning grid
+    double margin = 0.05;            ///< m: inside E >= (1 + m) Ec, outside E <= (1 - m) Ec
+    double wallWeight = 4.0;         ///< extra weight within wallBand of a wall
+    double wallBand = 0.03;          ///< mm
+    double downFacingWeight = 16.0;  ///< extra weight below down-facing surfaces (outside)
+    double uniformity = 0.01;        ///< mu
+    int slicesPerLayer = 5;          ///< objective voxel slices per layer
+    int iterations = 60;             ///< FISTA iterations on all layers at once, planning grid
     /// Iterations first on the grid whose cells are the dots (the same variables, each about
     /// 1/stride^3 of a fine one); 0 skips it.
     int coarseIterations = 800;
