@@ -29,8 +29,6 @@ SimulationSpec simulationFromConfig(const ConfigNode& sim) {
         spec.outputs.erase("reference.vdb");
     }
     if (sim.has("outputs")) {
-        if (sim.has("write_vdb"))
-            throw sim.error("write_vdb", "give either write_vdb or outputs, not both");
         const nlohmann::json& list = sim.raw("outputs");
         if (!list.is_array()) throw sim.error("outputs", "expected a list of output names");
         spec.outputs.clear();
@@ -42,6 +40,12 @@ SimulationSpec simulationFromConfig(const ConfigNode& sim) {
                                                "figures or viewer");
             spec.outputs.insert(name.get<std::string>());
         }
+        // write_vdb beside outputs (a job overriding only one of them) must say the same.
+        if (sim.has("write_vdb") && spec.writeVdb != spec.writes("exposure.vdb"))
+            throw sim.error("write_vdb", std::string("says ") + (spec.writeVdb ? "true" : "false") +
+                                             " but outputs " +
+                                             (spec.writeVdb ? "leaves out" : "lists") +
+                                             " exposure.vdb; give one of them");
         spec.writeVdb = spec.writes("exposure.vdb");
     }
     if (sim.has("tile") && !(sim.raw("tile").is_string() && sim.string("tile") == "auto"))

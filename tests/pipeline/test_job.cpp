@@ -67,6 +67,13 @@ TEST_CASE("bad jobs give one clear error naming the key", "[pipeline]") {
     job = givenKernelJob();
     job["plan"]["dose"] = "78 mJ/cm^2";  // a uniform-mask key on an ACES job
     CHECK_THROWS_WITH(load("foreign", job), Contains("plan.dose") && Contains("unknown key"));
+    // write_vdb beside outputs: accepted when both say the same, refused when they disagree.
+    job = givenKernelJob();
+    job["simulation"]["outputs"] = {"cured.stl"};
+    CHECK_FALSE(load("agree", job).simulation.writeVdb);
+    job["simulation"]["write_vdb"] = true;
+    CHECK_THROWS_WITH(load("disagree", job),
+                      Contains("simulation.write_vdb") && Contains("leaves out exposure.vdb"));
 }
 
 namespace {
