@@ -1,9 +1,10 @@
 // `vpsim run` and `vpsim batch` over MPI ranks (issue 22 item 3) against one plain process, all
 // measured in this run: the small laser job with a Monte Carlo kernel of many photons (the work
 // the ranks split) under `mpirun --oversubscribe --bind-to none -np 1, 2, 4`, and a batch of 4 jobs
-// over the same ranks. Prints JSON: wall seconds and the kernel stage's seconds per rank count, the
-// speed-up against 1 rank, whether every report.json's figures equal the plain process's, the
-// machine's cores and load (ranks share the cores: beyond the core count nothing is gained).
+// over the same ranks, and the pipeline's block job in x-y tiles over the same ranks. Prints JSON:
+// wall seconds and the kernel stage's seconds per rank count, the speed-up against 1 rank, whether
+// every report.json's figures equal the plain process's, the machine's cores and load (ranks share
+// the cores: beyond the core count nothing is gained).
 // Usage: bench_mpi [--photons N (default 400000)]
 #include <unistd.h>
 
@@ -58,6 +59,49 @@ double timed(const std::string& command) {
 double loadAverage() {
     double load[1] = {0};
     return getloadavg(load, 1) == 1 ? load[0] : -1;
+}
+
+/// The pipeline's block job (benchmarks/jobs/block-10mm.json at 5 x 5 x 1 mm, 2.6e7 voxels) in
+/// 1 mm x-y tiles, in one plain process and over 1, 2 and 4 ranks (the tiles dealt round-robin,
+/// merged on rank 0): wall and expose-stage seconds, and whether report.json's figures and
+/// cured.stl equal the plain process's.
+nlohmann::json tiledRuns(const fs::path& work, const std::string& vpsim, const std::string& job) {
+    const std::string set =
+        " --set part.size=5mm --set part.height=1mm --set simulation.tile=1mm"
+        " --set 'simulation.outputs=[\"cured.stl\"]'";
+    auto stage = [](const fs::path& report, const std::string& name) {
+        std::ifstream in(report);
+        const nlohmann::json r = nlohmann::json::parse(in, nullptr, false);
+        return r.is_discarded() ? -1.0 : r["stage_seconds"].value(name, -1.0);
+    };
+    auto file = [](const fs::path& path) {
+        std::ifstream in(path, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    nlohmann::json out = {{"job", "benchmarks/jobs/block-10mm.json" + set}};
+    const auto run = [&](const std::string& name, int ranks) {
+        const std::string launcher =
+            ranks > 0 ? "mpirun --oversubscribe --bind-to none -np " + std::to_string(ranks) + " "
+                      : "";
+        const fs::path dir = work / name;
+        nlohmann::json r = {{"seconds", timed(launcher + vpsim + " -q run " + job + " --out " +
+                                              dir.string() + set + " >/dev/null 2>&1")},
+                            {"expose_seconds", stage(dir / "report.json", "expose")}};
+        return r;
+    };
+    out["plain"] = run("tiled-plain", 0);
+    const nlohmann::json plainFigures = figures(work / "tiled-plain" / "report.json");
+    const std::string plainStl = file(work / "tiled-plain" / "cured.stl");
+    for (int ranks : {1, 2, 4}) {
+        const std::string name = "tiled-" + std::to_string(ranks);
+        nlohmann::json r = run(name, ranks);
+        r["figures_equal_plain"] =
+            !plainFigures.is_null() && figures(work / name / "report.json") == plainFigures;
+        r["cured_stl_equal_plain"] =
+            !plainStl.empty() && file(work / name / "cured.stl") == plainStl;
+        out["ranks"][std::to_string(ranks)] = r;
+    }
+    return out;
 }
 
 }  // namespace
@@ -138,6 +182,7 @@ int main(int argc, char** argv) {
         }
     }
     out["batch"] = {{"jobs", 4}, {"seconds", batchSeconds}, {"figures_equal_1_rank", batchEqual}};
+    out["tiles"] = tiledRuns(work, vpsim, source + "/benchmarks/jobs/block-10mm.json");
     out["load_average_1min_after"] = loadAverage();
     std::cout << out.dump(2) << std::endl;
     fs::remove_all(work);
