@@ -19,10 +19,10 @@
 //  layer stack       geometry::sliceMesh: one contour vertex per triangle crossing a layer's
 //                    plane, dvec2 (16 B) in the PolygonSet plus Clipper's int64 copy and the
 //                    linked segments while slicing (x3), plus the slicer's 4 B buckets.
-//  plan              the planner's estimateSize (planners/plan_size.h); saveScanPlan builds the
-//  whole
-//                    nlohmann::json tree before dumping it: the planner's jsonBytes (a json
-//                    array per vector and move, 16 B per mask pixel), for the plan stage.
+//  plan              the planner's estimateSize (planners/plan_size.h); saveScanPlan streams
+//                    one layer's nlohmann::json tree at a time: the planner's jsonBytes (a json
+//                    array per vector and move, 16 B per mask pixel) over the layers; a saved
+//                    plan (--plan) is read as one whole tree.
 //  exposure engine   ExposureEngine: deposit, blur pass, running sum, slice (SurfaceGrid floats)
 //                    and ExposureModel::forward's deposit: 5 x 4 B per cell. Tabulated engine:
 //                    4 B per cell per slice in flight ((layers in flight) x slices + 1) + stencils.
@@ -183,8 +183,12 @@ void planTerms(const Job& job, const Sizes& s, bool savedPlan, JobEstimate& e,
     if (!savedPlan && size.workingBytes > 0)
         add(e, "planner working set (" + job.strategy + ")", size.workingBytes, Stage::Plan,
             Stage::Plan, size.detail, "a coarser planning grid or a smaller part");
-    add(e, "plan.json being written (JSON tree)", size.jsonBytes, Stage::Plan, Stage::Plan,
-        "nlohmann::json nodes of every number before the file is dumped");
+    // saveScanPlan streams one layer's tree at a time; a saved plan is read as one whole tree.
+    if (savedPlan)
+        add(e, "saved plan being read (JSON tree)", size.jsonBytes, Stage::Plan, Stage::Plan,
+            "nlohmann::json nodes of every number of the plan file");
+    add(e, "plan.json being written (one layer's JSON)", size.jsonBytes / std::max(1, s.layers),
+        Stage::Plan, Stage::Plan, "nlohmann::json nodes and text of the largest layer");
     if (!savedPlan) e.stageSeconds.emplace_back("plan", size.seconds);
 }
 

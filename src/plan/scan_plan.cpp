@@ -119,28 +119,31 @@ double ScanPlan::totalEnergy() const {
     return energy;
 }
 
-nlohmann::json toJson(const ScanPlan& plan) {
-    nlohmann::json layers = nlohmann::json::array();
-    for (const auto& layer : plan.layers) {
-        nlohmann::json points = nlohmann::json::array(), vectors = nlohmann::json::array(),
-                       masks = nlohmann::json::array();
-        for (const auto& p : layer.points) points.push_back({p.x, p.y, p.energy});
-        for (const auto& v : layer.vectors)
-            vectors.push_back({v.x0, v.y0, v.x1, v.y1, v.power, v.speed});
-        for (const auto& m : layer.masks)
-            masks.push_back({{"width", m.width},
-                             {"height", m.height},
-                             {"origin_x", m.originX},
-                             {"origin_y", m.originY},
-                             {"pixel_pitch", m.pixelPitch},
-                             {"dose_mJ_per_mm2", m.dose}});
-        nlohmann::json entry = {{"z", layer.z},
-                                {"points_x_y_energy", points},
-                                {"vectors_x0_y0_x1_y1_power_speed", vectors},
-                                {"masks", masks}};
-        if (!layer.trajectory.empty()) entry[TRAJECTORY_KEY] = trajectoryJson(layer.trajectory);
-        layers.push_back(std::move(entry));
-    }
+namespace {
+
+nlohmann::json layerJson(const LayerPlan& layer) {
+    nlohmann::json points = nlohmann::json::array(), vectors = nlohmann::json::array(),
+                   masks = nlohmann::json::array();
+    for (const auto& p : layer.points) points.push_back({p.x, p.y, p.energy});
+    for (const auto& v : layer.vectors)
+        vectors.push_back({v.x0, v.y0, v.x1, v.y1, v.power, v.speed});
+    for (const auto& m : layer.masks)
+        masks.push_back({{"width", m.width},
+                         {"height", m.height},
+                         {"origin_x", m.originX},
+                         {"origin_y", m.originY},
+                         {"pixel_pitch", m.pixelPitch},
+                         {"dose_mJ_per_mm2", m.dose}});
+    nlohmann::json entry = {{"z", layer.z},
+                            {"points_x_y_energy", points},
+                            {"vectors_x0_y0_x1_y1_power_speed", vectors},
+                            {"masks", masks}};
+    if (!layer.trajectory.empty()) entry[TRAJECTORY_KEY] = trajectoryJson(layer.trajectory);
+    return entry;
+}
+
+/// The plan without its layers.
+nlohmann::json headerJson(const ScanPlan& plan) {
     return {{"units", "mm, s, mW, mJ"},
             {"machine",
              {{"process", processName(plan.machine.process)},
@@ -148,7 +151,28 @@ nlohmann::json toJson(const ScanPlan& plan) {
               {"laser_power", plan.machine.laserPower},
               {"beam_radius", plan.machine.beamRadius},
               {"pixel_pitch", plan.machine.pixelPitch}}},
-            {"layers", layers}};
+            {"layers", nlohmann::json::array()}};
+}
+
+/// `value` dumped as nlohmann's dump(1) writes it `depth` levels down: every line after the
+/// first indented by `depth` more spaces (JSON strings hold no raw newlines).
+void writeIndented(std::ostream& out, const nlohmann::json& value, int depth) {
+    const std::string text = value.dump(1), indent(size_t(depth), ' ');
+    size_t from = 0;
+    for (size_t nl = text.find('\n'); nl != std::string::npos; nl = text.find('\n', from)) {
+        out.write(text.data() + from, std::streamsize(nl + 1 - from));
+        out << indent;
+        from = nl + 1;
+    }
+    out.write(text.data() + from, std::streamsize(text.size() - from));
+}
+
+}  // namespace
+
+nlohmann::json toJson(const ScanPlan& plan) {
+    nlohmann::json json = headerJson(plan);
+    for (const auto& layer : plan.layers) json["layers"].push_back(layerJson(layer));
+    return json;
 }
 
 ScanPlan scanPlanFromJson(const nlohmann::json& json, const std::string& file) {
@@ -194,14 +218,24 @@ ScanPlan scanPlanFromJson(const nlohmann::json& json, const std::string& file) {
 }
 
 void saveScanPlan(const ScanPlan& plan, const std::string& path) {
-    // A DLP plan's masks make plan.json tens of MB: seconds to convert and write.
-    Progress progress("plan.json: plan converted, text made, file written", 3);
-    const nlohmann::json json = toJson(plan);
-    progress.advance();
-    const std::string text = json.dump(1);
-    progress.advance();
-    writeFileAtomic(path, text);
-    progress.advance();
+    // One layer's JSON tree at a time: the whole plan's tree (about 1.8 kB per laser vector, tens
+    // of MB for a DLP plan's masks) would be the largest structure of a large part's run. The
+    // text is what toJson(plan).dump(1) gives, byte for byte (keys in nlohmann's sorted order:
+    // layers, machine, units).
+    Progress progress("plan.json: layers written", plan.layers.size());
+    const nlohmann::json header = headerJson(plan);
+    writeStreamAtomic(path, [&](std::ostream& out) {
+        out << "{\n \"layers\": [";
+        for (size_t k = 0; k < plan.layers.size(); ++k) {
+            out << (k ? ",\n  " : "\n  ");
+            writeIndented(out, layerJson(plan.layers[k]), 2);
+            progress.advance();
+        }
+        out << (plan.layers.empty() ? "],\n \"machine\": " : "\n ],\n \"machine\": ");
+        writeIndented(out, header["machine"], 1);
+        out << ",\n \"units\": " << header["units"].dump() << "\n}";
+    });
+    progress.finish();
 }
 
 ScanPlan loadScanPlan(const std::string& path) {

@@ -40,6 +40,32 @@ TEST_CASE("scan plans round-trip through JSON", "[plan]") {
           Approx(0.003 + 10 * std::hypot(1.0, 0.5) / 250 + 0.78 * 0.0625 * 0.0625).epsilon(1e-6));
 }
 
+TEST_CASE("plan.json is written layer by layer as the whole tree's dump", "[plan]") {
+    // saveScanPlan streams one layer's JSON at a time; the file must be the text of
+    // toJson(plan).dump(1), byte for byte: no plan, one layer, and several with a trajectory.
+    plan::ScanPlan plan;
+    plan.machine.layerThickness = 0.05;
+    plan.machine.laserPower = 10;
+    auto path = (std::filesystem::temp_directory_path() / "vpsim_plan_stream.json").string();
+    auto fileText = [&] {
+        std::ifstream in(path, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    plan::saveScanPlan(plan, path);
+    CHECK(fileText() == plan::toJson(plan).dump(1));
+    for (int k = 0; k < 3; ++k) {
+        plan::LayerPlan layer;
+        layer.z = 0.05 * (k + 1);
+        layer.vectors.push_back({0, 0.1 * k, 1, 0.1 * k, 10, 250});
+        if (k == 1) layer.points.push_back({0.5, 0.5, 0.002});
+        if (k == 2) layer.trajectory.push_back({true, 0, 0.2, 1, 0.2, 10, 250, 0, 0});
+        plan.layers.push_back(layer);
+    }
+    plan::saveScanPlan(plan, path);
+    CHECK(fileText() == plan::toJson(plan).dump(1));
+    CHECK(plan::loadScanPlan(path).layers.size() == 3);
+}
+
 TEST_CASE("malformed scan plans are refused with the key", "[plan]") {
     auto path = (std::filesystem::temp_directory_path() / "vpsim_bad_plan.json").string();
     auto write = [&](const std::string& text) { std::ofstream(path) << text; };
