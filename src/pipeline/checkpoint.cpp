@@ -10,14 +10,29 @@
 #include "vpsim/core/output_directory.h"
 
 namespace vpsim::pipeline {
+namespace {
+
+const std::string RESTART = "; run without --resume to start over";
+
+std::string statePath(const std::string& outDir) {
+    return checkpointDirectory(outDir) + "/state.json";
+}
+
+}  // namespace
 
 std::string checkpointDirectory(const std::string& outDir) {
     return outDir + "/checkpoint";
 }
 
-std::string checkpointFingerprint(const nlohmann::json& jobDocument, const std::string& outDir,
+std::string jobInputsFingerprint(const Job& job) {
+    nlohmann::json files = nlohmann::json::object();  // contents, so that an edit is seen
+    for (const std::string& file : jobInputFiles(job)) files[file] = sha256OfFile(file);
+    return sha256Hex(nlohmann::json{{"job", job.document}, {"files", files}}.dump());
+}
+
+std::string checkpointFingerprint(const std::string& inputs, const std::string& outDir,
                                   const nlohmann::json& tiles) {
-    const nlohmann::json what = {{"job", jobDocument},
+    const nlohmann::json what = {{"inputs", inputs},
                                  {"part", sha256OfFile(outDir + "/part.stl")},
                                  {"plan", sha256OfFile(outDir + "/plan.json")},
                                  {"tiles", tiles}};
@@ -26,12 +41,15 @@ std::string checkpointFingerprint(const nlohmann::json& jobDocument, const std::
 
 void saveCheckpoint(const std::string& outDir, const TileCheckpoint& checkpoint) {
     // Written beside the run's files but not through io.h's writers: the manifest must not list it.
-    const std::string dir = checkpointDirectory(outDir), path = dir + "/state.json";
+    const std::string dir = checkpointDirectory(outDir), path = statePath(outDir);
     const std::string temporary = path + ".tmp." + std::to_string(getpid());
     std::filesystem::create_directories(dir);
     {
         std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-        out << nlohmann::json{{"fingerprint", checkpoint.fingerprint},
+        out << nlohmann::json{{"inputs", checkpoint.inputs},
+                              {"fingerprint", checkpoint.fingerprint},
+                              {"plan_sha256", checkpoint.planSha256},
+                              {"plan_report", checkpoint.planReport},
                               {"tiles_done", checkpoint.tilesDone},
                               {"consumers", checkpoint.consumers}}
                    .dump();
@@ -43,23 +61,46 @@ void saveCheckpoint(const std::string& outDir, const TileCheckpoint& checkpoint)
     if (error) throw InputError("cannot write the checkpoint: " + error.message(), path);
 }
 
-std::optional<TileCheckpoint> loadCheckpoint(const std::string& outDir,
-                                             const std::string& fingerprint) {
-    const std::string path = checkpointDirectory(outDir) + "/state.json";
+std::optional<TileCheckpoint> loadCheckpoint(const std::string& outDir, const std::string& inputs) {
+    const std::string path = statePath(outDir);
     if (!std::filesystem::exists(path)) return std::nullopt;
-    const std::string restart = "; run without --resume to start over";
     TileCheckpoint checkpoint;
     try {
         const nlohmann::json state = nlohmann::json::parse(readFile(path));
+        checkpoint.inputs = state.at("inputs").get<std::string>();
         checkpoint.fingerprint = state.at("fingerprint").get<std::string>();
+        checkpoint.planSha256 = state.at("plan_sha256").get<std::string>();
+        checkpoint.planReport = state.at("plan_report");
         checkpoint.tilesDone = state.at("tiles_done").get<int>();
         checkpoint.consumers = state.at("consumers");
     } catch (const nlohmann::json::exception& e) {
-        throw InputError(std::string("malformed checkpoint (") + e.what() + ")" + restart, path);
+        throw InputError(std::string("malformed checkpoint (") + e.what() + ")" + RESTART, path);
     }
-    if (checkpoint.fingerprint != fingerprint)
-        throw InputError("the checkpoint is of another job, part, plan or tiling" + restart, path);
+    if (checkpoint.inputs != inputs)
+        throw InputError(
+            "the checkpoint is of another job (the job or the contents of a file it reads, "
+            "its material or part STL, differ)" +
+                RESTART,
+            path);
     return checkpoint;
+}
+
+void checkFingerprint(const TileCheckpoint& checkpoint, const std::string& outDir,
+                      const std::string& fingerprint) {
+    if (checkpoint.fingerprint != fingerprint)
+        throw InputError("the checkpoint is of another job, part, plan or tiling" + RESTART,
+                         statePath(outDir));
+}
+
+plan::ScanPlan checkpointPlan(const TileCheckpoint& checkpoint, const std::string& outDir) {
+    const std::string path = outDir + "/plan.json";
+    if (!std::filesystem::exists(path) || sha256OfFile(path) != checkpoint.planSha256)
+        throw InputError(
+            "missing or changed since the checkpoint was written (its SHA-256 is "
+            "not the checkpoint's)" +
+                RESTART,
+            path);
+    return plan::loadScanPlan(path);
 }
 
 void removeCheckpoint(const std::string& outDir) {

@@ -36,14 +36,36 @@ void runJobOnWorkerRank(const Job& job, const RunContext& context) {
     const exposure::ExposureGrid grid = exposureGrid(job, part.bounds(), beam);
     const auto model = exposureModel(job, grid, beam, context);
     const auto tiles = exposureTiles(*model, work.at("tile_side").get<double>());
-    exposeTilesOnRanks(job, part, *model, tiles, plan, beam, context, work.at("stl").get<bool>(),
-                       [](const std::string&) {});
+    exposeTilesOnRanks(
+        job, part, *model, tiles, plan, beam, context, work.at("stl").get<bool>(),
+        work.at("first_tile").get<int>(), [](const std::string&) {}, [](int) {});
+}
+
+nlohmann::json TileConsumers::save() const {
+    return {{"validator", validator.saveState()},
+            {"cured", cured.saveState()},
+            {"features", features.saveState()}};
+}
+
+void TileConsumers::restore(const nlohmann::json& state) const {
+    validator.restoreState(state.at("validator"));
+    cured.restoreState(state.at("cured"));
+    features.restoreState(state.at("features").get<std::vector<double>>());
+}
+
+void TileConsumers::merge(const nlohmann::json& later, const std::string& stlBody) const {
+    validator.mergeState(later.at("validator"));
+    cured.mergeState(later.at("cured"), stlBody);
+    features.mergeState(later.at("features").get<std::vector<double>>());
 }
 
 void sendTileWork(const RunContext& context, bool distributed, double tileSide,
-                  const plan::ScanPlan& plan, bool stl) {
+                  const plan::ScanPlan& plan, bool stl, int firstTile) {
     if (!context.cluster || context.cluster->ranks() <= 1) return;
-    nlohmann::json work = {{"distributed", distributed}, {"tile_side", tileSide}, {"stl", stl}};
+    nlohmann::json work = {{"distributed", distributed},
+                           {"tile_side", tileSide},
+                           {"stl", stl},
+                           {"first_tile", firstTile}};
     if (distributed) work["plan"] = plan::toJson(plan);
     context.cluster->broadcastBytes(work.dump());
 }
@@ -51,8 +73,9 @@ void sendTileWork(const RunContext& context, bool distributed, double tileSide,
 void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
                         const exposure::ExposureModel& model,
                         const std::vector<exposure::Tile>& tiles, const plan::ScanPlan& plan,
-                        const BeamResult& beam, const RunContext& context, bool stl,
-                        const std::function<void(const std::string&)>& merge) {
+                        const BeamResult& beam, const RunContext& context, bool stl, int firstTile,
+                        const std::function<void(const std::string&)>& merge,
+                        const std::function<void(int)>& roundDone) {
     const exposure::ExposureGrid& grid = model.grid();
     const double voxelHeight = job.machine.layerThickness / job.simulation.slicesPerLayer;
     auto work = [&](size_t i) {
@@ -72,9 +95,7 @@ void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
             cured->add(slice);
             features.add(slice);
         });
-        const nlohmann::json state = {{"validator", validator.saveState()},
-                                      {"cured", cured->saveState()},
-                                      {"features", features.saveState()}};
+        const nlohmann::json state = TileConsumers{validator, *cured, features}.save();
         std::string body;
         if (stl) {
             cured.reset();  // closes the file
@@ -83,34 +104,42 @@ void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
         }
         return state.dump() + "\n" + body;  // the JSON has no raw line break
     };
-    // A round of one tile per rank at a time (tile i on rank i % ranks, as runItems deals), so
-    // that rank 0 holds one round's results, not the whole job's triangles.
+    // A round of one tile per rank at a time (tile first + k on rank k % ranks, as runItems
+    // deals), so that rank 0 holds one round's results, not the whole job's triangles.
     const size_t ranks = size_t(context.cluster->ranks());
-    for (size_t first = 0; first < tiles.size(); first += ranks) {
+    for (size_t first = size_t(firstTile); first < tiles.size(); first += ranks) {
         const size_t round = std::min(ranks, tiles.size() - first);
         for (const std::string& partial :
              cluster::runItems(*context.cluster, round, [&](size_t i) { return work(first + i); }))
             merge(partial);
+        if (context.cluster->isRoot()) roundDone(int(first + round));
     }
 }
 
-void mergeTilePartial(const std::string& partial, validate::SliceValidator& validator,
-                      validate::StreamingCuredSurface& cured, validate::FeatureProbes& features) {
+void mergeTilePartial(const std::string& partial, const TileConsumers& consumers) {
     const size_t end = partial.find('\n');
     if (end == std::string::npos) throw InputError("a rank's tile result is malformed");
-    const nlohmann::json state = nlohmann::json::parse(partial.substr(0, end));
-    validator.mergeState(state.at("validator"));
-    cured.mergeState(state.at("cured"), partial.substr(end + 1));
-    features.mergeState(state.at("features").get<std::vector<double>>());
+    consumers.merge(nlohmann::json::parse(partial.substr(0, end)), partial.substr(end + 1));
 }
 
-nlohmann::json tileSplitJson(size_t tiles, int ranks) {
+nlohmann::json tileSplitJson(size_t tiles, int ranks, int firstTile) {
+    const size_t first = size_t(firstTile);
     nlohmann::json perRank = nlohmann::json::array();
-    for (int r = 0; r < ranks; ++r) perRank.push_back(cluster::itemsOfRank(tiles, r, ranks));
-    return {{"count", tiles},
-            {"deal", "round-robin (tile i on rank i % ranks)"},
-            {"tiles_of_rank", perRank},
-            {"merge", "rank 0, in the tiles' order: the single process's figures"}};
+    for (int r = 0; r < ranks; ++r) {
+        std::vector<size_t> owned = cluster::itemsOfRank(tiles - first, r, ranks);
+        for (size_t& tile : owned) tile += first;
+        perRank.push_back(owned);
+    }
+    nlohmann::json split = {{"count", tiles},
+                            {"deal", "round-robin (tile i on rank i % ranks)"},
+                            {"tiles_of_rank", perRank},
+                            {"merge", "rank 0, in the tiles' order: the single process's figures"}};
+    if (firstTile > 0) {
+        split["deal"] = "round-robin from the resumed tile (tile i on rank (i - " +
+                        std::to_string(firstTile) + ") % ranks)";
+        split["resumed_after_tile"] = firstTile;
+    }
+    return split;
 }
 
 nlohmann::json clusterSummary(const BeamResult& beam, const RunContext& context) {

@@ -173,4 +173,11 @@ Job loadJob(const ConfigNode& root, const Builtins& builtins,
     return job;
 }
 
+std::vector<std::string> jobInputFiles(const Job& job) {
+    std::vector<std::string> files;  // every resolvePath of loadJob and its sections
+    if (!job.materialFile.empty()) files.push_back(job.materialFile);
+    if (!job.part.mesh && !job.part.stl.empty()) files.push_back(job.part.stl);
+    return files;
+}
+
 }  // namespace vpsim::pipeline

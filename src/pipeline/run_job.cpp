@@ -185,7 +185,13 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     // of this run with its size and SHA-256 (core/output_directory.h).
     const auto runStart = std::filesystem::file_time_type::clock::now();
     OutputDirectory output(outDir, {{"command", "run"}, {"job", job.name}, {"job_file", job.file}});
-    if (!options.resume) removeCheckpoint(outDir);  // a fresh run starts over
+    // A changed input file (the material, the part's STL) makes the checkpoint another job's.
+    const std::string inputs = jobInputsFingerprint(job);
+    std::optional<TileCheckpoint> checkpoint;
+    if (options.resume)
+        checkpoint = loadCheckpoint(outDir, inputs);
+    else
+        removeCheckpoint(outDir);  // a fresh run starts over
 
     report::JobResult result;
     result.jobFile = job.file;
@@ -196,25 +202,30 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     Front f = runFront(job, std::move(part), outDir, context, result, timer);
 
     PlanResult planned;
+    // A resumed run exposes the plan it was exposing (planning again may take minutes, and a
+    // planner need not repeat itself bit for bit), unless the planner's review needs what its
+    // planning kept besides the plan.
+    const bool planResumed = checkpoint && !saved && !job.planner->reviewNeedsPlanning();
     if (saved) {
         checkPlanFitsJob(*saved, job, f.layers, options.planFile);
         planned.plan = std::move(*saved);
+    } else if (planResumed) {
+        planned.plan = checkpointPlan(*checkpoint, outDir);
+        planned.summary = checkpoint->planReport;
+        logInfo("--resume: exposing the checkpoint's plan (" + outDir +
+                "/plan.json, its SHA-256 checked), not planning again");
     } else {
         planned = planStage(job, f.layers, f.bounds, f.beam, context, &f.part);
     }
-    const plan::ScanSchedule schedule = scanStage(job, f.layers, planned.plan);
-    plan::saveScanPlan(planned.plan, outDir + "/plan.json");
-    writeScanFiles(schedule, planned.plan, outDir, job.simulation.writes("figures"));
     result.plan = {job.strategy, planned.plan.layers.size(), planned.plan.totalEnergy(),
                    planned.summary};
-    result.plan.planner["build_time_s"] = schedule.buildTime;
-    if (!schedule.scanOrder.is_null()) result.plan.planner["scan_order"] = schedule.scanOrder;
-    if (!schedule.pointStrategies.is_null())
-        result.plan.planner["point_build_time_s"] = schedule.pointStrategies;
-    if (!schedule.laser.is_null()) {  // the planner's fit (if any) and the plan's ranges
-        nlohmann::json& laser = result.plan.planner["laser"];
-        if (!laser.is_object()) laser = nlohmann::json::object();
-        laser.update(schedule.laser);
+    if (planResumed) {  // scanned and saved by the interrupted run, with its report figures
+        output.record("plan.json");
+    } else {
+        const plan::ScanSchedule schedule = scanStage(job, f.layers, planned.plan);
+        plan::saveScanPlan(planned.plan, outDir + "/plan.json");
+        writeScanFiles(schedule, planned.plan, outDir, job.simulation.writes("figures"));
+        addScheduleFigures(schedule, result.plan.planner);
     }
     if (saved) result.plan.strategy = "saved plan " + options.planFile;
     timer.finish("plan");
@@ -237,12 +248,10 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     // the surface): kept only for those outputs.
     const bool keepMesh = sim.writes("figures") || sim.writes("viewer");
     const std::vector<exposure::Tile> tiles = exposureTiles(*model, tileSide);
-    // Tiles are checkpointed, or shared over MPI ranks, when every consumer's state is small:
+    // Tiles are checkpointed, and shared over MPI ranks, when every consumer's state is small:
     // not for the whole-part pictures, 3D view or dose volume.
-    const bool smallStates = tiles.size() > 1 && !keepMesh && !volume;
-    const bool clustered = context.cluster && context.cluster->ranks() > 1;
-    const bool checkpointed = smallStates && !clustered, distributed = smallStates && clustered;
-    sendTileWork(context, distributed, tileSide, planned.plan, sim.writes("cured.stl"));
+    const bool checkpointed = tiles.size() > 1 && !keepMesh && !volume;
+    const bool distributed = checkpointed && context.cluster && context.cluster->ranks() > 1;
     const std::string partialStl = checkpointDirectory(outDir) + "/cured.stl.partial";
     if (checkpointed) createDirectories(checkpointDirectory(outDir));
     std::unique_ptr<validate::StreamingCuredSurface> cured =
@@ -271,42 +280,45 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
         sinks.push_back(sink(*layerSections));
     }
     if (volume) sinks.push_back(sink(*volume));
+    const TileConsumers consumers{validator, *cured, features};
     int firstTile = 0;
-    TileDone afterTile;
+    std::function<void(int)> tilesDone;  // checkpoints after each tile (each round over MPI)
     if (checkpointed) {
-        const std::string fingerprint = checkpointFingerprint(
-            job.document, outDir, {{"side_mm", tileSide}, {"count", tiles.size()}});
-        if (options.resume)
-            if (const auto done = loadCheckpoint(outDir, fingerprint)) {
-                validator.restoreState(done->consumers.at("validator"));
-                cured->restoreState(done->consumers.at("cured"));
-                features.restoreState(done->consumers.at("features").get<std::vector<double>>());
-                firstTile = done->tilesDone;
-                logInfo("resuming after tile " + std::to_string(firstTile) + " of " +
-                        std::to_string(tiles.size()));
-            }
-        afterTile = [&, fingerprint](const exposure::Tile& tile) {
-            saveCheckpoint(outDir, {fingerprint,
-                                    tile.index + 1,
-                                    {{"validator", validator.saveState()},
-                                     {"cured", cured->saveState()},
-                                     {"features", features.saveState()}}});
-            if (tile.index + 1 == options.stopAfterTiles)
-                throw InputError("stopped after tile " + std::to_string(tile.index + 1) +
+        TileCheckpoint state{
+            inputs,
+            checkpointFingerprint(inputs, outDir, {{"side_mm", tileSide}, {"count", tiles.size()}}),
+            sha256OfFile(outDir + "/plan.json"), result.plan.planner};
+        if (checkpoint) {
+            checkFingerprint(*checkpoint, outDir, state.fingerprint);
+            consumers.restore(checkpoint->consumers);
+            firstTile = checkpoint->tilesDone;
+            logInfo("resuming after tile " + std::to_string(firstTile) + " of " +
+                    std::to_string(tiles.size()));
+        }
+        tilesDone = [&, state](int done) mutable {
+            state.tilesDone = done;
+            state.consumers = consumers.save();
+            saveCheckpoint(outDir, state);
+            if (options.stopAfterTiles > 0 && done >= options.stopAfterTiles)
+                throw InputError("stopped after tile " + std::to_string(done) +
                                  " (RunOptions::stopAfterTiles)");
         };
     } else if (options.resume) {
         logInfo(
-            "--resume: this run keeps no checkpoint (one tile, MPI ranks, or figures, viewer "
-            "or exposure.vdb among the outputs); it starts from the first tile");
+            "--resume: this run keeps no checkpoint (one tile, or figures, viewer or "
+            "exposure.vdb among the outputs); it starts from the first tile");
     }
+    sendTileWork(context, distributed, tileSide, planned.plan, sim.writes("cured.stl"), firstTile);
+    TileDone afterTile;
     if (distributed) {  // the ranks expose the tiles; rank 0 merges them in order
-        exposeTilesOnRanks(job, f.part, *model, tiles, planned.plan, f.beam, context,
-                           sim.writes("cured.stl"), [&](const std::string& partial) {
-                               mergeTilePartial(partial, validator, *cured, features);
-                           });
+        exposeTilesOnRanks(
+            job, f.part, *model, tiles, planned.plan, f.beam, context, sim.writes("cured.stl"),
+            firstTile, [&](const std::string& partial) { mergeTilePartial(partial, consumers); },
+            tilesDone);
+        result.mpi["tiles"] = tileSplitJson(tiles.size(), context.cluster->ranks(), firstTile);
         firstTile = int(tiles.size());  // exposeStage: the summary only
-        result.mpi["tiles"] = tileSplitJson(tiles.size(), context.cluster->ranks());
+    } else if (checkpointed) {
+        afterTile = [&](const exposure::Tile& tile) { tilesDone(tile.index + 1); };
     }
     result.exposure = exposeStage(job, *model, tiles, planned.plan, sinks, f.beam, layers, context,
                                   firstTile, afterTile);
@@ -323,15 +335,13 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
 
     cureStage(*cured);
     result.curedVolume = cured->volume();
-    if (checkpointed) {  // the in-place STL becomes the output; the checkpoint has done its work
-        if (sim.writes("cured.stl")) {
-            std::error_code error;
-            std::filesystem::rename(partialStl, outDir + "/cured.stl", error);
-            if (error) throw InputError("cannot move the cured surface into place", partialStl);
-            output.record("cured.stl");
-        }
-        removeCheckpoint(outDir);
+    if (checkpointed && sim.writes("cured.stl")) {  // the in-place STL becomes the output
+        std::error_code error;
+        std::filesystem::rename(partialStl, outDir + "/cured.stl", error);
+        if (error) throw InputError("cannot move the cured surface into place", partialStl);
+        output.record("cured.stl");
     }
+    removeCheckpoint(outDir);  // it has done its work (or was of a run that keeps none)
     timer.finish("cure");
 
     result.validation = validateStage(job, f.part, *cured, validator.summary(), features.result(),

@@ -43,6 +43,18 @@ plan::ScanSchedule scanStage(const Job& job, const geometry::LayerStack& layers,
     return schedule;
 }
 
+void addScheduleFigures(const plan::ScanSchedule& schedule, nlohmann::json& planner) {
+    planner["build_time_s"] = schedule.buildTime;
+    if (!schedule.scanOrder.is_null()) planner["scan_order"] = schedule.scanOrder;
+    if (!schedule.pointStrategies.is_null())
+        planner["point_build_time_s"] = schedule.pointStrategies;
+    if (!schedule.laser.is_null()) {  // the planner's fit (if any) and the plan's ranges
+        nlohmann::json& laser = planner["laser"];
+        if (!laser.is_object()) laser = nlohmann::json::object();
+        laser.update(schedule.laser);
+    }
+}
+
 void writeScanFiles(const plan::ScanSchedule& schedule, const plan::ScanPlan& plan,
                     const std::string& outDir, bool figures) {
     // scan.cli is written by the job's exporters (exportStage), like every machine file.

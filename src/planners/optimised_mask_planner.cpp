@@ -166,6 +166,8 @@ public:
         return mArtefacts.planned ? optimisedMaskReview(inputs, mArtefacts) : PlanReview{};
     }
 
+    bool reviewNeedsPlanning() const override { return true; }  // its artefacts
+
 private:
     optimise::DlpMaskPlannerSettings mSettings;
     std::shared_ptr<const plan::GreyLevels> mLevels;

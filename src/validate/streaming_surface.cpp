@@ -118,6 +118,16 @@ struct StreamingCuredSurface::State {
         return (uint64_t(step) * uint64_t(Q - 1) + uint64_t(cj)) * uint64_t(P - 1) + uint64_t(ci);
     }
 
+    /// A fresh in-place STL, opened by the first tile made or merged (not by restoreState).
+    void openInPlace() {
+        if (inPlacePath.empty() || inPlace) return;
+        inPlace = std::make_unique<std::fstream>(
+            inPlacePath, std::ios::out | std::ios::trunc | std::ios::binary);
+        if (!*inPlace) throw InputError("cannot write the cured surface", inPlacePath);
+        stlOut = inPlace.get();
+        writeStlHeader(*stlOut);
+    }
+
     /// Starts the tile whose core cells are `w` (the whole grid when untiled).
     void startTile(const exposure::CellWindow& w) {
         if (started) closeTile();
@@ -417,13 +427,7 @@ void StreamingCuredSurface::add(const exposure::ExposureSlice& slice) {
         std::min(s.nx, w.i1 + 1) > values.firstI + values.nx ||
         std::min(s.ny, w.j1 + 1) > values.firstJ + values.ny || w.i1 > s.nx || w.j1 > s.ny)
         throw ResourceError("exposure slice does not match the cured-surface grid");
-    if (!s.inPlacePath.empty() && !s.inPlace) {  // a fresh in-place STL
-        s.inPlace = std::make_unique<std::fstream>(
-            s.inPlacePath, std::ios::out | std::ios::trunc | std::ios::binary);
-        if (!*s.inPlace) throw InputError("cannot write the cured surface", s.inPlacePath);
-        s.stlOut = s.inPlace.get();
-        writeStlHeader(*s.stlOut);
-    }
+    s.openInPlace();
     if (w.i0 != s.core.i0 || w.j0 != s.core.j0 || w.i1 != s.core.i1 || w.j1 != s.core.j1)
         s.startTile(w);
     s.advance(&values, slice.z);
@@ -542,6 +546,7 @@ void StreamingCuredSurface::mergeState(const nlohmann::json& later, const std::s
     } catch (const nlohmann::json::exception& e) {
         throw InputError(std::string("malformed cured-surface state: ") + e.what());
     }
+    s.openInPlace();
     if (s.stlOut) s.stlOut->write(stlBody.data(), std::streamsize(stlBody.size()));
 }
 

@@ -2,7 +2,8 @@
 # vpsim under `mpirun --oversubscribe -np 2` and `-np 4` on this machine: the collectives and the
 # split Monte Carlo (mpi_check), `vpsim run` of a small job (the kernel's photons split over the
 # ranks) giving the single process's report.json figures plus "mpi", the same job in x-y tiles
-# over 2 and 4 ranks (tiles dealt round-robin, merged in order), and a batch of 3 jobs over
+# over 2 and 4 ranks (tiles dealt round-robin, merged in order), stopped on 2 ranks and resumed
+# on 4 from its checkpoint, and a batch of 3 jobs over
 # 2 ranks giving the single process's per-job figures. Exits 77 (ctest: skipped) with a line
 # saying why when vpsim was built without MPI or mpirun is missing.
 # Usage: run_mpi_tests.sh VPSIM_BINARY MPI_CHECK_BINARY SOURCE_DIR WITH_MPI(ON|OFF)
@@ -75,6 +76,30 @@ for n in 2 4; do
         and (.mpi.tiles.tiles_of_rank | length) == $n and .mpi.tiles.tiles_of_rank[1][0] == 1' \
     "$work/tiled-$n/report.json" >/dev/null || fail "tiled-$n: mpi field $(jq -c .mpi.tiles "$work/tiled-$n/report.json")"
 done
+
+# Checkpoints over MPI (issue 22): the tiled job stopped after 6 tiles on 2 ranks (3 merged
+# rounds, as a pre-emption would stop it) and resumed on 4 ranks gives one process's figures and
+# cured.stl; the resumed run exposes the checkpoint's plan (its log line says so) and a finished
+# run leaves no checkpoint and a manifest.
+resumed="$work/tiled-resumed"
+VPSIM_CACHE_DIR="$work/cache-resumed" VPSIM_STOP_AFTER_TILES=6 mpi 2 "$vpsim" -q run "$job" \
+  --out "$resumed" $few "${tiled[@]}" >"$work/stopped.log" 2>&1 && fail "VPSIM_STOP_AFTER_TILES=6 did not stop the run"
+grep -q "stopped after tile 6" "$work/stopped.log" || { fail "no stop after tile 6"; cat "$work/stopped.log"; }
+jq -e '.tiles_done == 6' "$resumed/checkpoint/state.json" >/dev/null || fail "no checkpoint after 6 tiles"
+[[ ! -e "$resumed/manifest.json" ]] || fail "an interrupted run has a manifest"
+VPSIM_CACHE_DIR="$work/cache-resumed" VPSIM_LOG=info mpi 4 "$vpsim" run "$job" --out "$resumed" \
+  $few "${tiled[@]}" --resume >"$work/resumed.log" 2>&1 || { fail "--resume on 4 ranks"; cat "$work/resumed.log"; }
+grep -q "exposing the checkpoint's plan" "$work/resumed.log" || fail "the resumed run planned again"
+grep -q "resuming after tile 6 of 25" "$work/resumed.log" || fail "the resumed run did not resume after tile 6"
+[[ "$(figures "$work/tiled-one/report.json")" == "$(figures "$resumed/report.json")" ]] ||
+  { fail "resumed on 4 ranks: report figures differ from one process's"; diff <(figures "$work/tiled-one/report.json") \
+      <(figures "$resumed/report.json") | head -20; }
+cmp -s "$work/tiled-one/cured.stl" "$resumed/cured.stl" || fail "resumed on 4 ranks: cured.stl differs"
+[[ ! -e "$resumed/checkpoint" ]] || fail "a finished run left its checkpoint"
+jq -e '.mpi.tiles.resumed_after_tile == 6 and .mpi.tiles.tiles_of_rank[1][0] == 7' "$resumed/report.json" >/dev/null ||
+  fail "resumed: mpi field $(jq -c .mpi.tiles "$resumed/report.json")"
+jq -e '[.files[].name] | map(select(startswith("checkpoint"))) | length == 0' "$resumed/manifest.json" >/dev/null ||
+  fail "the manifest lists the checkpoint"
 
 # A batch of 3 jobs over 2 ranks: the same per-job figures as one process.
 cat >"$work/sweep.json" <<JSON

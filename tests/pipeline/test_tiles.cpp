@@ -189,7 +189,9 @@ TEST_CASE("a large part without figures fits in tiles", "[pipeline][tiles]") {
 
 // Checkpoint and --resume (issue 22): a tiled run stopped after tile 2 (as a pre-emption would
 // stop it) and resumed gives the uninterrupted run's report figures and cured.stl, byte for
-// byte; until then its directory has no manifest, and a checkpoint of another job is refused.
+// byte; until then its directory has no manifest. A checkpoint of another job, or of the same
+// job whose material file changed, is refused, and so is a malformed one; the resumed run
+// exposes the checkpoint's plan.json (a changed one is refused) instead of planning again.
 TEST_CASE("a tiled run resumed after an interruption gives the uninterrupted result",
           "[pipeline][tiles]") {
     nlohmann::json spec = tileJob("0.3 mm");
@@ -197,6 +199,12 @@ TEST_CASE("a tiled run resumed after an interruption gives the uninterrupted res
     spec["simulation"].erase("write_vdb");
     spec["simulation"]["outputs"] = {"cured.stl"};
     const auto tmp = std::filesystem::temp_directory_path();
+    // A file the job reads (not used by the given kernel, but its contents are the job's).
+    const std::string material = (tmp / "vpsim_tiles_material.json").string();
+    const std::string materialText =
+        readFile(std::string(VPSIM_SOURCE_DIR) + "/examples/materials/alumina-seed000.json");
+    std::ofstream(material, std::ios::binary | std::ios::trunc) << materialText;
+    spec["material"] = material;
     std::filesystem::remove_all(tmp / "vpsim_tiles_resume_whole");  // no earlier run's files
     const report::JobResult whole = runSpec("resume_whole", spec);
     REQUIRE(whole.exposure.grid[0] > 0);
@@ -222,6 +230,24 @@ TEST_CASE("a tiled run resumed after an interruption gives the uninterrupted res
     resume.resume = true;
     stop.resume = true;
     CHECK_THROWS_WITH(runSpec("resumed", other, resume), Catch::Contains("another job"));
+    // The same job document, but its material file edited (one more line break).
+    std::ofstream(material, std::ios::binary | std::ios::app) << "\n";
+    CHECK_THROWS_WITH(runSpec("resumed", spec, resume), Catch::Contains("another job"));
+    std::ofstream(material, std::ios::binary | std::ios::trunc) << materialText;
+    // The plan is the checkpoint's plan.json, not planned again: an edited one is refused.
+    const std::string planFile = (dir / "plan.json").string(), planText = readFile(planFile);
+    std::ofstream(planFile, std::ios::binary | std::ios::app) << " ";
+    CHECK_THROWS_WITH(
+        runSpec("resumed", spec, resume),
+        Catch::Contains("plan.json") && Catch::Contains("changed since the checkpoint"));
+    std::ofstream(planFile, std::ios::binary | std::ios::trunc) << planText;
+    // A malformed checkpoint: one error naming the file.
+    const std::string state = (dir / "checkpoint" / "state.json").string();
+    const std::string stateText = readFile(state);
+    std::ofstream(state, std::ios::binary | std::ios::trunc) << stateText.substr(0, 40);
+    CHECK_THROWS_WITH(runSpec("resumed", spec, resume),
+                      Catch::Contains("malformed checkpoint") && Catch::Contains("state.json"));
+    std::ofstream(state, std::ios::binary | std::ios::trunc) << stateText;
 
     stop.stopAfterTiles = 4;  // resumed after tile 2, stopped again after tile 4
     CHECK_THROWS_WITH(runSpec("resumed", spec, stop), Catch::Contains("after tile 4"));

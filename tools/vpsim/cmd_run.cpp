@@ -50,7 +50,8 @@ void runCommand(const RunOptions& options, const vpsim::cli::Globals& globals) {
     pipeline::RunOptions run;
     run.planFile = options.plan;
     run.resume = options.resume;
-    // A test hook (tests/pipeline/test_resume.sh): stop after this many checkpointed tiles.
+    // A test hook (tests/mpi/run_mpi_tests.sh): stop once this many tiles are checkpointed
+    // (over MPI ranks: after the first merged round that reaches it).
     if (const char* stop = std::getenv("VPSIM_STOP_AFTER_TILES")) {
         try {
             run.stopAfterTiles = std::stoi(stop);
@@ -88,7 +89,8 @@ void addRun(CLI::App& app, const vpsim::cli::Globals& globals, const std::string
     command->add_flag("--json", options->json, "print the report (or the estimate) as JSON");
     command->add_flag("--resume", options->resume,
                       "continue after the last tile of the checkpoint in --out (a pre-empted "
-                      "tiled run); without it a run starts over");
+                      "tiled run, on any number of MPI ranks), exposing its plan.json; without "
+                      "it a run starts over");
     command->add_flag("--dry-run", options->dryRun,
                       "print the job's memory, file and time estimate; compute and write nothing");
     command->callback([options, &globals] { runCommand(*options, globals); });

@@ -1,38 +1,58 @@
 #pragma once
 /// @file
 /// Per-tile checkpoints of a long tiled run (issue 22), so that `vpsim run JOB --out DIR --resume`
-/// continues after an interruption (a Slurm pre-emption) instead of starting over. After each
-/// tile, DIR/checkpoint/state.json holds the tiles done and the slice consumers' states (what
-/// the next tiles build on), with a fingerprint of the job, its part, its plan and its tiles so
-/// that a different job is refused; the cured STL grows in place beside it (cured.stl.partial).
-/// The checkpoint is no output: it is not in the manifest, and a run removes it before writing
-/// the manifest.
+/// continues after an interruption (a Slurm pre-emption) instead of starting over, in one process
+/// or over MPI ranks (on any number of them). After each tile (over MPI: each merged round of
+/// tiles), DIR/checkpoint/state.json holds the tiles done, the slice consumers' states (what the
+/// next tiles build on) and the report's planner figures, with fingerprints of the job and the
+/// contents of every file it reads (jobInputFiles), and of its part, its plan (DIR/plan.json,
+/// which a resumed run exposes again instead of planning) and its tiles, so that a different job
+/// is refused; the cured STL grows in place beside it (cured.stl.partial). The checkpoint is no
+/// output: it is not in the manifest, and a run removes it before writing the manifest.
 
 #include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "vpsim/pipeline/job.h"
+#include "vpsim/plan/scan_plan.h"
+
 namespace vpsim::pipeline {
 
 struct TileCheckpoint {
-    std::string fingerprint;  ///< of the job, part, plan and tiles (checkpointFingerprint)
-    int tilesDone = 0;        ///< tiles 0 .. tilesDone - 1 are in `consumers`
-    nlohmann::json consumers = nlohmann::json::object();  ///< each consumer's saveState()
+    std::string inputs;       ///< of the job and its input files (jobInputsFingerprint)
+    std::string fingerprint;  ///< of the inputs, part, plan and tiles (checkpointFingerprint)
+    std::string planSha256;   ///< of DIR/plan.json, the plan being exposed
+    /// report.json's "plan" "planner" as the run made it before the exposure
+    nlohmann::json planReport = nlohmann::json::object();
+    int tilesDone = 0;  ///< tiles 0 .. tilesDone - 1 are in `consumers`
+    nlohmann::json consumers = nlohmann::json::object();  ///< TileConsumers::save()
 };
 
 /// DIR/checkpoint.
 std::string checkpointDirectory(const std::string& outDir);
-/// A SHA-256 of the job document, the part and plan files written in `outDir`, and the tiles.
-std::string checkpointFingerprint(const nlohmann::json& jobDocument, const std::string& outDir,
+/// A SHA-256 of the job document and the contents of the files it reads (jobInputFiles).
+/// @throw InputError when one cannot be read
+std::string jobInputsFingerprint(const Job& job);
+/// A SHA-256 of the inputs' fingerprint, the part and plan files written in `outDir`, and the
+/// tiles.
+std::string checkpointFingerprint(const std::string& inputs, const std::string& outDir,
                                   const nlohmann::json& tiles);
 /// Writes DIR/checkpoint/state.json atomically (not recorded in the manifest).
 void saveCheckpoint(const std::string& outDir, const TileCheckpoint& checkpoint);
 /// The checkpoint in `outDir`, or none when there is none.
-/// @throw InputError when it is malformed or another job's (its fingerprint differs): the message
+/// @throw InputError naming state.json when it is malformed or another job's (`inputs`, the
+///        job's jobInputsFingerprint, differs: the job or a file it reads changed); the message
 ///        says to run without --resume to start over
-std::optional<TileCheckpoint> loadCheckpoint(const std::string& outDir,
-                                             const std::string& fingerprint);
+std::optional<TileCheckpoint> loadCheckpoint(const std::string& outDir, const std::string& inputs);
+/// @throw InputError as loadCheckpoint's when `fingerprint` (this run's checkpointFingerprint)
+///        is not the checkpoint's: another part, plan or tiling
+void checkFingerprint(const TileCheckpoint& checkpoint, const std::string& outDir,
+                      const std::string& fingerprint);
+/// The plan the checkpointed run was exposing: DIR/plan.json, read when its SHA-256 is the
+/// checkpoint's. @throw InputError naming plan.json when it changed (or as loadScanPlan)
+plan::ScanPlan checkpointPlan(const TileCheckpoint& checkpoint, const std::string& outDir);
 /// Removes DIR/checkpoint (a finished run, or a run that starts over).
 void removeCheckpoint(const std::string& outDir);
 

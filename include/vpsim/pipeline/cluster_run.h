@@ -26,26 +26,43 @@ namespace vpsim::pipeline {
 /// kernel, then the tiles rank 0 sends, when it does), nothing written. @throw as runJob's stages
 void runJobOnWorkerRank(const Job& job, const RunContext& context);
 
-/// Rank 0, once the plan is made (every run under MPI: the other ranks wait for it): the tiles
-/// to share, or none. `plan` is the plan to expose; `tileSide` exposureTiles' side.
-void sendTileWork(const RunContext& context, bool distributed, double tileSide,
-                  const plan::ScanPlan& plan, bool stl);
+/// The slice consumers whose states are small: what a tile's result, a checkpoint
+/// (checkpoint.h) and rank 0's merge carry. The one list of them: a consumer added here is
+/// saved, restored and merged everywhere.
+struct TileConsumers {
+    validate::SliceValidator& validator;
+    validate::StreamingCuredSurface& cured;
+    validate::FeatureProbes& features;
 
-/// Every rank: the tiles of `tiles` it owns (tile i on rank i % ranks), each exposed into fresh
-/// consumers, one round of a tile per rank at a time; on rank 0, `merge` takes each tile's
-/// partial result (consumers' saveState and its STL triangles) in the tiles' order.
+    nlohmann::json save() const;
+    /// Before the first slice: the state save() gave (a checkpoint's).
+    void restore(const nlohmann::json& state) const;
+    /// Appends the tiles of another set of consumers: its save() and its STL's triangles.
+    void merge(const nlohmann::json& later, const std::string& stlBody) const;
+};
+
+/// Rank 0, once the plan is made (every run under MPI: the other ranks wait for it): the tiles
+/// to share, or none. `plan` is the plan to expose; `tileSide` exposureTiles' side; the tiles
+/// before `firstTile` are done (a resumed run's).
+void sendTileWork(const RunContext& context, bool distributed, double tileSide,
+                  const plan::ScanPlan& plan, bool stl, int firstTile);
+
+/// Every rank: the tiles from `firstTile` on that it owns (tile firstTile + k on rank
+/// k % ranks), each exposed into fresh consumers, one round of a tile per rank at a time; on
+/// rank 0, `merge` takes each tile's partial result (consumers' saveState and its STL triangles)
+/// in the tiles' order, and `roundDone` the number of tiles done after each round's merge.
 void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
                         const exposure::ExposureModel& model,
                         const std::vector<exposure::Tile>& tiles, const plan::ScanPlan& plan,
-                        const BeamResult& beam, const RunContext& context, bool stl,
-                        const std::function<void(const std::string&)>& merge);
+                        const BeamResult& beam, const RunContext& context, bool stl, int firstTile,
+                        const std::function<void(const std::string&)>& merge,
+                        const std::function<void(int)>& roundDone);
 
 /// Rank 0: merges one tile's partial result into the run's consumers (call in the tiles' order).
-void mergeTilePartial(const std::string& partial, validate::SliceValidator& validator,
-                      validate::StreamingCuredSurface& cured, validate::FeatureProbes& features);
+void mergeTilePartial(const std::string& partial, const TileConsumers& consumers);
 
-/// report.json's "mpi" "tiles": how many and which rank exposed each.
-nlohmann::json tileSplitJson(size_t tiles, int ranks);
+/// report.json's "mpi" "tiles": how many and which rank exposed each (from `firstTile` on).
+nlohmann::json tileSplitJson(size_t tiles, int ranks, int firstTile);
 
 /// report.json's "mpi": the ranks and how the work was split; null in one process.
 nlohmann::json clusterSummary(const BeamResult& beam, const RunContext& context);

@@ -82,4 +82,7 @@ Job loadJob(const std::string& path, const Builtins& builtins,
 Job loadJob(const ConfigNode& root, const Builtins& builtins,
             std::shared_ptr<const geometry::Mesh> part = nullptr);
 
+/// The files the job names and a run reads (the material, the part's STL): resolved paths.
+std::vector<std::string> jobInputFiles(const Job& job);
+
 }  // namespace vpsim::pipeline

@@ -19,10 +19,12 @@ struct RunOptions {
     /// before anything in the output directory is replaced.
     std::string planFile;
     /// Continue after the last tile of the checkpoint in the output directory (checkpoint.h),
-    /// when there is one; a run without it removes any checkpoint and starts over.
+    /// when there is one, exposing its plan instead of planning; a run without it removes any
+    /// checkpoint and starts over.
     bool resume = false;
     /// A test hook: stop with an InputError once this many tiles are done and checkpointed
-    /// (0: never), as a pre-emption would.
+    /// (0: never; over MPI ranks, after the first round that reaches it), as a pre-emption
+    /// would.
     int stopAfterTiles = 0;
 };
 

@@ -67,6 +67,10 @@ PlanResult planStage(const Job& job, const geometry::LayerStack& layers,
 plan::ScanSchedule scanStage(const Job& job, const geometry::LayerStack& layers,
                              plan::ScanPlan& plan);
 
+/// Adds the schedule's figures (build time, scan order, laser use) to report.json's "plan"
+/// "planner" object `planner`.
+void addScheduleFigures(const plan::ScanSchedule& schedule, nlohmann::json& planner);
+
 /// Writes scan_path.svg (the busiest layer's marks, jumps and order) into `outDir` when
 /// `figures` (simulation.outputs) asks for it; the machine files (scan.cli, ...) come from
 /// exportStage.

@@ -123,6 +123,9 @@ public:
     /// seed's exposure-error metric (laser_exposure_review.h) and DLP plans nothing.
     /// @throw InputError when a figure cannot be written
     virtual PlanReview review(const PlanReviewInputs& inputs) const;
+    /// Whether review() needs what plan() kept besides the plan and summary(): a resumed run
+    /// (checkpoint.h) then plans again instead of exposing the checkpoint's plan.
+    virtual bool reviewNeedsPlanning() const { return false; }
 };
 
 using PlannerRegistry = Registry<Planner>;
