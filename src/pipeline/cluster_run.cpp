@@ -9,6 +9,7 @@
 #include "vpsim/cluster/communicator.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
+#include "vpsim/planners/laser_exposure_review.h"
 #include "vpsim/transport/mc_split.h"
 
 namespace vpsim::pipeline {
@@ -44,19 +45,22 @@ void runJobOnWorkerRank(const Job& job, const RunContext& context) {
 nlohmann::json TileConsumers::save() const {
     return {{"validator", validator.saveState()},
             {"cured", cured.saveState()},
-            {"features", features.saveState()}};
+            {"features", features.saveState()},
+            {"exposure_error", exposureError ? exposureError->saveState() : nlohmann::json()}};
 }
 
 void TileConsumers::restore(const nlohmann::json& state) const {
     validator.restoreState(state.at("validator"));
     cured.restoreState(state.at("cured"));
     features.restoreState(state.at("features").get<std::vector<double>>());
+    if (exposureError) exposureError->restoreState(state.at("exposure_error"));
 }
 
 void TileConsumers::merge(const nlohmann::json& later, const std::string& stlBody) const {
     validator.mergeState(later.at("validator"));
     cured.mergeState(later.at("cured"), stlBody);
     features.mergeState(later.at("features").get<std::vector<double>>());
+    if (exposureError) exposureError->mergeState(later.at("exposure_error"));
 }
 
 void sendTileWork(const RunContext& context, bool distributed, double tileSide,
@@ -78,10 +82,15 @@ void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
                         const std::function<void(int)>& roundDone) {
     const exposure::ExposureGrid& grid = model.grid();
     const double voxelHeight = job.machine.layerThickness / job.simulation.slicesPerLayer;
+    const geometry::LayerStack layers =  // the laser review's regions (rank 0's are the same)
+        job.machine.process == plan::Process::Laser ? sliceStage(job, part)
+                                                    : geometry::LayerStack{};
     auto work = [&](size_t i) {
         const exposure::Tile& tile = tiles[i];
         validate::SliceValidator validator(part, grid, *job.cure, voxelHeight);
         validate::FeatureProbes features(job.features, grid, *job.cure, voxelHeight);
+        const auto exposureError =
+            planners::laserExposureErrorSink(layers, job.machine, *job.cure, model, false);
         // The tile's triangles go through a file of this rank's (the STL writer's stream).
         const std::string stlPath =
             stl ? (std::filesystem::temp_directory_path() /
@@ -94,8 +103,10 @@ void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
             validator.add(slice);
             cured->add(slice);
             features.add(slice);
+            if (exposureError) exposureError->add(slice);
         });
-        const nlohmann::json state = TileConsumers{validator, *cured, features}.save();
+        const nlohmann::json state =
+            TileConsumers{validator, *cured, features, exposureError.get()}.save();
         std::string body;
         if (stl) {
             cured.reset();  // closes the file

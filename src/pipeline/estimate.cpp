@@ -235,6 +235,12 @@ void exposureTerms(const Job& job, const Sizes& s, JobEstimate& e) {
     add(e, "slice validation", s.coreCells * 12.0, Stage::Expose, Stage::Validate,
         "a reference raster and per-column arrays of " + fmt(s.coreCells) + " cells" + tiled,
         COARSER, true);
+    if (job.machine.process == plan::Process::Laser && !job.kernel.tabulated)  // the review's
+        add(e, "laser exposure error (from the slices)",  // masks, histograms, the figure's map
+            s.coreCells * 2.0 + 2 * MIB + (job.simulation.writes("figures") ? s.cells * 4.0 : 0),
+            Stage::Expose, Stage::Validate,
+            "two masks of " + fmt(s.coreCells) + " cells" + tiled + ", a histogram per thread",
+            COARSER, true);
     if (job.simulation.writes("figures"))
         add(e, "sections (pictures)",
             s.cells * 5.0 + s.nx * s.slices * 5.0 +

@@ -17,6 +17,7 @@
 #include "vpsim/pipeline/checkpoint.h"
 #include "vpsim/pipeline/cluster_run.h"
 #include "vpsim/pipeline/estimate.h"
+#include "vpsim/planners/laser_exposure_review.h"
 #include "vpsim/report/deviation_map.h"
 #include "vpsim/report/figures.h"
 #include "vpsim/report/html_report.h"
@@ -280,7 +281,10 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
         sinks.push_back(sink(*layerSections));
     }
     if (volume) sinks.push_back(sink(*volume));
-    const TileConsumers consumers{validator, *cured, features};
+    const auto exposureError =  // the laser review's, from the slices
+        planners::laserExposureErrorSink(f.layers, job.machine, law, *model, sim.writes("figures"));
+    if (exposureError) sinks.push_back(sink(*exposureError));
+    const TileConsumers consumers{validator, *cured, features, exposureError.get()};
     int firstTile = 0;
     std::function<void(int)> tilesDone;  // checkpoints after each tile (each round over MPI)
     if (checkpointed) {
@@ -353,10 +357,11 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
         timer.finish("kernel_mismatch");
     }
     // The planner's own work on the exposed plan (the laser exposure error, DLP comparisons).
-    const planners::PlanReview review = job.planner->review(
-        {f.part, f.layers, f.bounds, planned.plan, job.machine, f.beam.beam, law, job.features,
-         result.validation.features, job.simulation.voxel, voxelHeight, *model,
-         result.validation.slices, job.strategy, outDir, sim.writes("figures")});
+    const planners::PlanReview review =
+        job.planner->review({f.part, f.layers, f.bounds, planned.plan, job.machine, f.beam.beam,
+                             law, job.features, result.validation.features, job.simulation.voxel,
+                             voxelHeight, *model, result.validation.slices, job.strategy, outDir,
+                             sim.writes("figures"), exposureError.get()});
     result.plan.planner.merge_patch(review.report);
     result.sections = review.sections;
     timer.finish("review");

@@ -9,7 +9,11 @@
 
 #include "vpsim/core/config.h"
 #include "vpsim/core/io.h"
+#include "vpsim/exposure/exposure_engine.h"
+#include "vpsim/optimise/laser/exposure_error.h"
 #include "vpsim/pipeline/run_job.h"
+#include "vpsim/pipeline/stages.h"
+#include "vpsim/plan/scan_plan.h"
 
 using namespace vpsim;
 
@@ -57,4 +61,48 @@ TEST_CASE("every laser strategy reports the exposure error and its pictures", "[
             CHECK(readFile((out / "index.html").string()).find(file) != std::string::npos);
         }
     }
+}
+
+// vpsim run takes the metric from its own slices (the top slice of each layer, dz/2 below the
+// top, brought to the surface by exp(dz/(2 De))) on the run's grid. The standalone metric,
+// exposing the saved plan again layer by layer on that grid, is the same quantity computed
+// another way: the same cells count, the figures agree to float rounding (1e-5 relative).
+TEST_CASE("vpsim run's exposure error from its slices equals the plan exposed again",
+          "[pipeline]") {
+    auto spec = loadJsonFile(writeLaserJob("aces"));
+    spec["part"] = {{"test_part", "l-shape"}, {"size", "0.8 mm"}, {"height", "0.15 mm"}};
+    spec["simulation"]["slices_per_layer"] = 4;
+    spec["simulation"].erase("write_vdb");
+    spec["simulation"]["outputs"] = {"cured.stl"};
+    const auto file = std::filesystem::temp_directory_path() / "vpsim_job_laser_streamed.json";
+    std::ofstream(file) << spec.dump(1);
+    const auto out = std::filesystem::temp_directory_path() / "vpsim_job_laser_streamed";
+    const pipeline::Job job = pipeline::loadJob(file.string(), pipeline::makeBuiltins());
+    const RunContext context{nullptr, false, ""};
+    pipeline::runJob(job, out.string(), context);
+    const nlohmann::json streamed =
+        loadJsonFile((out / "report.json").string()).at("layer_exposure_error");
+
+    const geometry::Mesh part = pipeline::partStage(job);
+    const pipeline::BeamResult beam = pipeline::beamStage(job, context);
+    std::vector<geometry::PolygonSet> regions;
+    for (const auto& layer : pipeline::sliceStage(job, part).layers)
+        regions.push_back(layer.region);
+    REQUIRE(regions.size() == 3);
+    exposure::ExposureEngine engine(pipeline::exposureGrid(job, part.bounds(), beam), beam.beam,
+                                    job.machine.layerThickness);
+    const nlohmann::json standalone =
+        optimise::planExposureError(engine, plan::loadScanPlan((out / "plan.json").string()),
+                                    regions, streamed["target_dose_mJ_per_cm2"].get<double>() / 100,
+                                    streamed["band_um"].get<double>() / 1e3);
+    REQUIRE(streamed["layers"].size() == 3);
+    for (size_t k = 0; k < 3; ++k)
+        for (const char* key : {"sse_mJ2_per_mm4", "rms_over_Etar", "max_over_Etar"}) {
+            INFO("layer " << k << " " << key);
+            CHECK(streamed["layers"][k][key].get<double>() ==
+                  Approx(standalone["layers"][k][key].get<double>()).epsilon(1e-5));
+        }
+    CHECK(streamed["sse_mJ2_per_mm4"].get<double>() ==
+          Approx(standalone["sse_mJ2_per_mm4"].get<double>()).epsilon(1e-5));
+    CHECK(streamed["layers"][0]["sse_mJ2_per_mm4"].get<double>() > 0);
 }

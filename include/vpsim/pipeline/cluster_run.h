@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "vpsim/core/run_context.h"
+#include "vpsim/optimise/laser/exposure_error_sink.h"
 #include "vpsim/pipeline/job.h"
 #include "vpsim/pipeline/stages.h"
 #include "vpsim/validate/feature_probe.h"
@@ -33,6 +34,8 @@ struct TileConsumers {
     validate::SliceValidator& validator;
     validate::StreamingCuredSurface& cured;
     validate::FeatureProbes& features;
+    /// The laser review's exposure error (planners::laserExposureErrorSink), or nullptr.
+    optimise::ExposureErrorSink* exposureError = nullptr;
 
     nlohmann::json save() const;
     /// Before the first slice: the state save() gave (a checkpoint's).

@@ -28,6 +28,10 @@
 #include "vpsim/validate/feature_probe.h"
 #include "vpsim/validate/slice_validator.h"
 
+namespace vpsim::optimise {
+class ExposureErrorSink;
+}
+
 namespace vpsim::planners {
 
 /// Everything a planner may use. References stay valid during plan().
@@ -93,6 +97,9 @@ struct PlanReviewInputs {
     const std::string& strategy;                         ///< the registered name, for captions
     const std::string& outDir;                           ///< where figures go
     bool figures;  ///< simulation.outputs asks for figures (else the review writes none)
+    /// The exposure error the run took from its slices (laserExposureErrorSink), or nullptr:
+    /// the laser review then exposes the plan again on the planning grid.
+    optimise::ExposureErrorSink* exposureError = nullptr;
 };
 
 /// What a review adds to the run's report.

@@ -27,7 +27,8 @@ struct ExposureError {
     std::vector<float> sortedRelative;  ///< |E - Etm| / Etar, ascending (Fig. 23)
 };
 
-/// Cells whose centre lies in `region`, row-major on `grid`'s cells (1 inside).
+/// Cells whose centre lies in `region`, row-major on `grid`'s cells (1 inside); a window of a
+/// larger grid (firstI, firstJ) gets the larger grid's cells, bit for bit.
 std::vector<char> insideMask(const geometry::PolygonSet& region, const exposure::SurfaceGrid& grid);
 
 /// The metric above. @throw InputError for a non-positive Etar or a negative band
