@@ -113,14 +113,21 @@ ExposureEngine::Blur ExposureEngine::blurOf() const {
 ExposureEngine::~ExposureEngine() = default;
 
 void ExposureEngine::blurAndAccumulateCpu(SurfaceGrid& deposit, SurfaceGrid& running, float decay,
-                                          double& seconds) {
+                                          double& seconds, SurfaceGrid& pass) {
     const Blur b = blurOf();
     auto start = std::chrono::steady_clock::now();
-    SurfaceGrid pass(deposit.nx, deposit.ny, deposit.originX, deposit.originY, deposit.pitch);
+    // Every cell of `pass` is written by the first pass: a reused buffer needs no clearing.
+    if (pass.nx != deposit.nx || pass.ny != deposit.ny)
+        pass = SurfaceGrid(deposit.nx, deposit.ny, deposit.originX, deposit.originY, deposit.pitch);
     blurPassCpu(deposit, pass, 0, b.halfWidth, b.sigmaCells, b.normX);
     blurPassCpu(pass, deposit, 1, b.halfWidth, b.sigmaCells, b.normY);
-    for (size_t c = 0; c < running.values.size(); ++c)
-        running.values[c] = glsl::printThroughStep(deposit.values[c], running.values[c], decay);
+    float* sum = running.values.data();
+    const float* blurred = deposit.values.data();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, running.values.size(), 1 << 16),
+                      [&](const tbb::blocked_range<size_t>& cells) {
+                          for (size_t c = cells.begin(); c < cells.end(); ++c)
+                              sum[c] = glsl::printThroughStep(blurred[c], sum[c], decay);
+                      });
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
@@ -132,9 +139,9 @@ SurfaceGrid ExposureEngine::layerMap(const SurfaceGrid& deposit, double depth) {
         mGpu->downloadRunning(running);
         mGpuRunningStale = true;
     } else {
-        SurfaceGrid blurred = deposit;
+        SurfaceGrid blurred = deposit, pass;
         double seconds = 0;
-        blurAndAccumulateCpu(blurred, running, 0.0f, seconds);
+        blurAndAccumulateCpu(blurred, running, 0.0f, seconds, pass);
     }
     const float attenuation = float(std::exp(-depth / mBeam.attenuationLength));
     for (float& v : running.values) v *= attenuation;
@@ -156,7 +163,7 @@ double ExposureEngine::addLayer(int k, SurfaceGrid& deposit) {
     const float decay = float(std::exp(-mLayerThickness / mBeam.attenuationLength));
     double seconds = 0;
     if (!mGpu) {
-        blurAndAccumulateCpu(deposit, mRunning, decay, seconds);
+        blurAndAccumulateCpu(deposit, mRunning, decay, seconds, mPass);
         return seconds;
     }
     if (mGpuRunningStale) mGpu->setRunning(mRunning);
