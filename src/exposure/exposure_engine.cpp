@@ -25,13 +25,30 @@ std::vector<float> blurTaps(int halfWidth, float sigmaCells) {
     return taps;
 }
 
-/// sum[i] += tap * in[i] over a row: the blur's inner loop. Built for AVX2 too (chosen at run
-/// time where the processor has it): twice the lanes of the baseline's SSE2, the same
-/// multiply and add per element (AVX2 alone has no FMA, so nothing is contracted and every sum
-/// is bit for bit the baseline's).
-VPSIM_AVX2_CLONES void addTap(float* __restrict sum, const float* __restrict in, float tap,
-                              int first, int last) {
-    for (int i = first; i < last; ++i) sum[i] += tap * in[i];
+/// sum[i] = taps[0] * in[at + i] + taps[1] * in[at + step + i] + ... (added in that order, from
+/// 0) for i in [first, last): the blur's inner loop. Blocks of cells are summed over every tap in
+/// registers before they are stored (instead of a pass over the row per tap, which loads and
+/// stores the sums once per tap); each cell's sum is the same, term for term. Built for AVX2
+/// too (chosen at run time where the processor has it): AVX2 alone has no FMA, so nothing is
+/// contracted and every sum is bit for bit the baseline's.
+VPSIM_AVX2_CLONES void sumTaps(float* __restrict sum, const float* __restrict in, ptrdiff_t at,
+                               ptrdiff_t step, const float* taps, int count, int first, int last) {
+    constexpr int BLOCK = 64;  // eight AVX2 registers: eight sums in flight per tap
+    int i = first;
+    for (; i + BLOCK <= last; i += BLOCK) {
+        float block[BLOCK] = {};
+        for (int t = 0; t < count; ++t) {
+            const float tap = taps[t];
+            const float* cells = in + (at + t * step + i);
+            for (int k = 0; k < BLOCK; ++k) block[k] += tap * cells[k];
+        }
+        for (int k = 0; k < BLOCK; ++k) sum[i + k] = block[k];
+    }
+    for (; i < last; ++i) {
+        float cell = 0.0f;
+        for (int t = 0; t < count; ++t) cell += taps[t] * in[at + t * step + i];
+        sum[i] = cell;
+    }
 }
 
 /// One 1D Gaussian pass on the CPU: the same sums as shaders/exposure_blur.comp.
@@ -39,25 +56,32 @@ void blurPassCpu(const SurfaceGrid& source, SurfaceGrid& target, int axis, int h
                  float sigmaCells, float norm) {
     const int nx = source.nx, ny = source.ny;
     const std::vector<float> taps = blurTaps(halfWidth, sigmaCells);
-    // Each cell sums its taps in the order o = lo..hi, as the shader does; the loops run over
-    // a row of cells per tap (contiguous, so the compiler vectorises them) instead of over the
-    // taps per cell, which gives every cell the same sum in the same order.
+    // Each cell sums its taps in the order o = lo..hi, as the shader does; taps beyond the grid
+    // are left out (not added as zeros), as the shader leaves them out.
     tbb::parallel_for(tbb::blocked_range<int>(0, ny, 4), [&](const tbb::blocked_range<int>& rows) {
         std::vector<float> sum(nx);
         for (int j = rows.begin(); j < rows.end(); ++j) {
             const float* row = &source.values[size_t(j) * nx];
             float* out = &target.values[size_t(j) * nx];
-            std::fill(sum.begin(), sum.end(), 0.0f);
             if (axis == 0) {
-                for (int o = -halfWidth; o <= halfWidth; ++o) {
-                    const float tap = taps[o + halfWidth];
-                    addTap(sum.data(), row + o, tap, std::max(0, -o), std::min(nx, nx - o));
+                // The cells with every tap inside the row, then those near its ends one by one.
+                const int inner0 = std::min(halfWidth, nx),
+                          inner1 = std::max(inner0, nx - halfWidth);
+                sumTaps(sum.data(), row, -halfWidth, 1, taps.data(), 2 * halfWidth + 1, inner0,
+                        inner1);
+                for (int i = 0; i < nx; ++i) {
+                    if (i == inner0) i = inner1;
+                    if (i >= nx) break;
+                    float cell = 0.0f;
+                    for (int o = std::max(-halfWidth, -i); o <= std::min(halfWidth, nx - 1 - i);
+                         ++o)
+                        cell += taps[o + halfWidth] * row[i + o];
+                    sum[i] = cell;
                 }
             } else {
                 const int lo = std::max(-halfWidth, -j), hi = std::min(halfWidth, ny - 1 - j);
-                for (int o = lo; o <= hi; ++o) {
-                    addTap(sum.data(), row + ptrdiff_t(o) * nx, taps[o + halfWidth], 0, nx);
-                }
+                sumTaps(sum.data(), row, ptrdiff_t(lo) * nx, nx, &taps[lo + halfWidth], hi - lo + 1,
+                        0, nx);
             }
             for (int i = 0; i < nx; ++i) out[i] = sum[i] / norm;
         }
