@@ -25,6 +25,13 @@ std::vector<float> blurTaps(int halfWidth, float sigmaCells) {
     return taps;
 }
 
+/// sum[i] += tap * in[i] over [first, last): a tap at a time, for the cells outside sumTaps'
+/// blocks (also built for AVX2; without FMA, so nothing is contracted).
+VPSIM_AVX2_CLONES void addTap(float* __restrict sum, const float* __restrict in, float tap,
+                              int first, int last) {
+    for (int i = first; i < last; ++i) sum[i] += tap * in[i];
+}
+
 /// sum[i] = taps[0] * in[at + i] + taps[1] * in[at + step + i] + ... (added in that order, from
 /// 0) for i in [first, last): the blur's inner loop. Blocks of cells are summed over every tap in
 /// registers before they are stored (instead of a pass over the row per tap, which loads and
@@ -44,11 +51,8 @@ VPSIM_AVX2_CLONES void sumTaps(float* __restrict sum, const float* __restrict in
         }
         for (int k = 0; k < BLOCK; ++k) sum[i + k] = block[k];
     }
-    for (; i < last; ++i) {
-        float cell = 0.0f;
-        for (int t = 0; t < count; ++t) cell += taps[t] * in[at + t * step + i];
-        sum[i] = cell;
-    }
+    std::fill(sum + i, sum + last, 0.0f);
+    for (int t = 0; t < count; ++t) addTap(sum, in + (at + t * step), taps[t], i, last);
 }
 
 /// One 1D Gaussian pass on the CPU: the same sums as shaders/exposure_blur.comp.
@@ -64,19 +68,18 @@ void blurPassCpu(const SurfaceGrid& source, SurfaceGrid& target, int axis, int h
             const float* row = &source.values[size_t(j) * nx];
             float* out = &target.values[size_t(j) * nx];
             if (axis == 0) {
-                // The cells with every tap inside the row, then those near its ends one by one.
+                // The cells with every tap inside the row, then those near its ends a tap at a
+                // time.
                 const int inner0 = std::min(halfWidth, nx),
                           inner1 = std::max(inner0, nx - halfWidth);
                 sumTaps(sum.data(), row, -halfWidth, 1, taps.data(), 2 * halfWidth + 1, inner0,
                         inner1);
-                for (int i = 0; i < nx; ++i) {
-                    if (i == inner0) i = inner1;
-                    if (i >= nx) break;
-                    float cell = 0.0f;
-                    for (int o = std::max(-halfWidth, -i); o <= std::min(halfWidth, nx - 1 - i);
-                         ++o)
-                        cell += taps[o + halfWidth] * row[i + o];
-                    sum[i] = cell;
+                std::fill(sum.begin(), sum.begin() + inner0, 0.0f);
+                std::fill(sum.begin() + inner1, sum.end(), 0.0f);
+                for (int o = -halfWidth; o <= halfWidth; ++o) {
+                    const float tap = taps[o + halfWidth];
+                    addTap(sum.data(), row + o, tap, std::max(0, -o), std::min(inner0, nx - o));
+                    addTap(sum.data(), row + o, tap, std::max(inner1, -o), std::min(nx, nx - o));
                 }
             } else {
                 const int lo = std::max(-halfWidth, -j), hi = std::min(halfWidth, ny - 1 - j);
