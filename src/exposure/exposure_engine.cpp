@@ -25,13 +25,34 @@ std::vector<float> blurTaps(int halfWidth, float sigmaCells) {
     return taps;
 }
 
-/// sum[i] += tap * in[i] over a row: the blur's inner loop. Built for AVX2 too (chosen at run
-/// time where the processor has it): twice the lanes of the baseline's SSE2, the same
-/// multiply and add per element (AVX2 alone has no FMA, so nothing is contracted and every sum
-/// is bit for bit the baseline's).
+/// sum[i] += tap * in[i] over [first, last): a tap at a time, for the cells outside sumTaps'
+/// blocks (also built for AVX2; without FMA, so nothing is contracted).
 VPSIM_AVX2_CLONES void addTap(float* __restrict sum, const float* __restrict in, float tap,
                               int first, int last) {
     for (int i = first; i < last; ++i) sum[i] += tap * in[i];
+}
+
+/// sum[i] = taps[0] * in[at + i] + taps[1] * in[at + step + i] + ... (added in that order, from
+/// 0) for i in [first, last): the blur's inner loop. Blocks of cells are summed over every tap in
+/// registers before they are stored (instead of a pass over the row per tap, which loads and
+/// stores the sums once per tap); each cell's sum is the same, term for term. Built for AVX2
+/// too (chosen at run time where the processor has it): AVX2 alone has no FMA, so nothing is
+/// contracted and every sum is bit for bit the baseline's.
+VPSIM_AVX2_CLONES void sumTaps(float* __restrict sum, const float* __restrict in, ptrdiff_t at,
+                               ptrdiff_t step, const float* taps, int count, int first, int last) {
+    constexpr int BLOCK = 64;  // eight AVX2 registers: eight sums in flight per tap
+    int i = first;
+    for (; i + BLOCK <= last; i += BLOCK) {
+        float block[BLOCK] = {};
+        for (int t = 0; t < count; ++t) {
+            const float tap = taps[t];
+            const float* cells = in + (at + t * step + i);
+            for (int k = 0; k < BLOCK; ++k) block[k] += tap * cells[k];
+        }
+        for (int k = 0; k < BLOCK; ++k) sum[i + k] = block[k];
+    }
+    std::fill(sum + i, sum + last, 0.0f);
+    for (int t = 0; t < count; ++t) addTap(sum, in + (at + t * step), taps[t], i, last);
 }
 
 /// One 1D Gaussian pass on the CPU: the same sums as shaders/exposure_blur.comp.
@@ -39,25 +60,31 @@ void blurPassCpu(const SurfaceGrid& source, SurfaceGrid& target, int axis, int h
                  float sigmaCells, float norm) {
     const int nx = source.nx, ny = source.ny;
     const std::vector<float> taps = blurTaps(halfWidth, sigmaCells);
-    // Each cell sums its taps in the order o = lo..hi, as the shader does; the loops run over
-    // a row of cells per tap (contiguous, so the compiler vectorises them) instead of over the
-    // taps per cell, which gives every cell the same sum in the same order.
+    // Each cell sums its taps in the order o = lo..hi, as the shader does; taps beyond the grid
+    // are left out (not added as zeros), as the shader leaves them out.
     tbb::parallel_for(tbb::blocked_range<int>(0, ny, 4), [&](const tbb::blocked_range<int>& rows) {
         std::vector<float> sum(nx);
         for (int j = rows.begin(); j < rows.end(); ++j) {
             const float* row = &source.values[size_t(j) * nx];
             float* out = &target.values[size_t(j) * nx];
-            std::fill(sum.begin(), sum.end(), 0.0f);
             if (axis == 0) {
+                // The cells with every tap inside the row, then those near its ends a tap at a
+                // time.
+                const int inner0 = std::min(halfWidth, nx),
+                          inner1 = std::max(inner0, nx - halfWidth);
+                sumTaps(sum.data(), row, -halfWidth, 1, taps.data(), 2 * halfWidth + 1, inner0,
+                        inner1);
+                std::fill(sum.begin(), sum.begin() + inner0, 0.0f);
+                std::fill(sum.begin() + inner1, sum.end(), 0.0f);
                 for (int o = -halfWidth; o <= halfWidth; ++o) {
                     const float tap = taps[o + halfWidth];
-                    addTap(sum.data(), row + o, tap, std::max(0, -o), std::min(nx, nx - o));
+                    addTap(sum.data(), row + o, tap, std::max(0, -o), std::min(inner0, nx - o));
+                    addTap(sum.data(), row + o, tap, std::max(inner1, -o), std::min(nx, nx - o));
                 }
             } else {
                 const int lo = std::max(-halfWidth, -j), hi = std::min(halfWidth, ny - 1 - j);
-                for (int o = lo; o <= hi; ++o) {
-                    addTap(sum.data(), row + ptrdiff_t(o) * nx, taps[o + halfWidth], 0, nx);
-                }
+                sumTaps(sum.data(), row, ptrdiff_t(lo) * nx, nx, &taps[lo + halfWidth], hi - lo + 1,
+                        0, nx);
             }
             for (int i = 0; i < nx; ++i) out[i] = sum[i] / norm;
         }
@@ -113,14 +140,21 @@ ExposureEngine::Blur ExposureEngine::blurOf() const {
 ExposureEngine::~ExposureEngine() = default;
 
 void ExposureEngine::blurAndAccumulateCpu(SurfaceGrid& deposit, SurfaceGrid& running, float decay,
-                                          double& seconds) {
+                                          double& seconds, SurfaceGrid& pass) {
     const Blur b = blurOf();
     auto start = std::chrono::steady_clock::now();
-    SurfaceGrid pass(deposit.nx, deposit.ny, deposit.originX, deposit.originY, deposit.pitch);
+    // Every cell of `pass` is written by the first pass: a reused buffer needs no clearing.
+    if (pass.nx != deposit.nx || pass.ny != deposit.ny)
+        pass = SurfaceGrid(deposit.nx, deposit.ny, deposit.originX, deposit.originY, deposit.pitch);
     blurPassCpu(deposit, pass, 0, b.halfWidth, b.sigmaCells, b.normX);
     blurPassCpu(pass, deposit, 1, b.halfWidth, b.sigmaCells, b.normY);
-    for (size_t c = 0; c < running.values.size(); ++c)
-        running.values[c] = glsl::printThroughStep(deposit.values[c], running.values[c], decay);
+    float* sum = running.values.data();
+    const float* blurred = deposit.values.data();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, running.values.size(), 1 << 16),
+                      [&](const tbb::blocked_range<size_t>& cells) {
+                          for (size_t c = cells.begin(); c < cells.end(); ++c)
+                              sum[c] = glsl::printThroughStep(blurred[c], sum[c], decay);
+                      });
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
@@ -132,9 +166,9 @@ SurfaceGrid ExposureEngine::layerMap(const SurfaceGrid& deposit, double depth) {
         mGpu->downloadRunning(running);
         mGpuRunningStale = true;
     } else {
-        SurfaceGrid blurred = deposit;
+        SurfaceGrid blurred = deposit, pass;
         double seconds = 0;
-        blurAndAccumulateCpu(blurred, running, 0.0f, seconds);
+        blurAndAccumulateCpu(blurred, running, 0.0f, seconds, pass);
     }
     const float attenuation = float(std::exp(-depth / mBeam.attenuationLength));
     for (float& v : running.values) v *= attenuation;
@@ -156,7 +190,7 @@ double ExposureEngine::addLayer(int k, SurfaceGrid& deposit) {
     const float decay = float(std::exp(-mLayerThickness / mBeam.attenuationLength));
     double seconds = 0;
     if (!mGpu) {
-        blurAndAccumulateCpu(deposit, mRunning, decay, seconds);
+        blurAndAccumulateCpu(deposit, mRunning, decay, seconds, mPass);
         return seconds;
     }
     if (mGpuRunningStale) mGpu->setRunning(mRunning);

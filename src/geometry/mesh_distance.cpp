@@ -89,6 +89,7 @@ MeshDistance::MeshDistance(const Mesh& mesh) {
     mFaceNormal.resize(n);
     mEdgeNormal.resize(n);
     mVertexNormal.resize(n);
+    mTriangleBox.resize(n);
     for (size_t s = 0; s < n; ++s) {
         const uint32_t t = mOrder[s];
         const auto& tri = mesh.triangles[t];
@@ -99,6 +100,7 @@ MeshDistance::MeshDistance(const Mesh& mesh) {
             mVertexNormal[s][k] = vertex[a];
         }
         mFaceNormal[s] = face[t];
+        mTriangleBox[s] = {mBoxLo[t], mBoxHi[t]};
     }
     mCentroid = {};
     mBoxLo = {};
@@ -139,8 +141,33 @@ uint32_t MeshDistance::build(uint32_t first, uint32_t count) {
 }
 
 double MeshDistance::signedDistance(const glm::dvec3& p) const {
+    uint32_t hint = NO_HINT;
+    return signedDistance(p, hint);
+}
+
+double MeshDistance::signedDistance(const glm::dvec3& p, uint32_t& hint) const {
     double best = 1e300;
     glm::dvec3 bestPoint(0.0), bestNormal(0.0);
+    uint32_t bestSlot = NO_HINT;
+    auto visit = [&](uint32_t s) {
+        // A triangle's own box is as far as the triangle at least: most fall behind the bound.
+        if (boxDistanceSquared(p, mTriangleBox[s][0], mTriangleBox[s][1]) >= best) return;
+        int feature = 0;
+        const auto& c = mCorners[s];
+        const glm::dvec3 q = closestOnTriangle(p, c[0], c[1], c[2], feature);
+        const double d = glm::dot(p - q, p - q);
+        if (d < best) {
+            best = d;
+            bestPoint = q;
+            bestSlot = s;
+            bestNormal = feature == 0   ? mFaceNormal[s]
+                         : feature <= 3 ? mEdgeNormal[s][feature - 1]
+                                        : mVertexNormal[s][feature - 4];
+        }
+    };
+    // A neighbouring query's nearest triangle is most often this one's too: its distance bounds
+    // the search from the start, so the traversal skips most boxes.
+    if (hint < mCorners.size()) visit(hint);
     uint32_t stack[128];
     int top = 0;
     stack[top++] = 0;
@@ -148,19 +175,8 @@ double MeshDistance::signedDistance(const glm::dvec3& p) const {
         const Node& node = mNodes[stack[--top]];
         if (boxDistanceSquared(p, node.lo, node.hi) >= best) continue;
         if (node.count > 0) {
-            for (uint32_t s = node.first; s < node.first + node.count; ++s) {
-                int feature = 0;
-                const auto& c = mCorners[s];
-                const glm::dvec3 q = closestOnTriangle(p, c[0], c[1], c[2], feature);
-                const double d = glm::dot(p - q, p - q);
-                if (d < best) {
-                    best = d;
-                    bestPoint = q;
-                    bestNormal = feature == 0   ? mFaceNormal[s]
-                                 : feature <= 3 ? mEdgeNormal[s][feature - 1]
-                                                : mVertexNormal[s][feature - 4];
-                }
-            }
+            for (uint32_t s = node.first; s < node.first + node.count; ++s)
+                if (s != hint) visit(s);
             continue;
         }
         const Node& l = mNodes[node.left];
@@ -174,6 +190,7 @@ double MeshDistance::signedDistance(const glm::dvec3& p) const {
             stack[top++] = node.right;
         }
     }
+    hint = bestSlot;
     const double distance = std::sqrt(best);
     return glm::dot(p - bestPoint, bestNormal) < 0 ? -distance : distance;
 }

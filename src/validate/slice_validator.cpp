@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "exposure/avx2_clones.h"
 #include "vpsim/core/error.h"
 #include "vpsim/geometry/raster.h"
 #include "vpsim/geometry/slicer.h"
@@ -24,12 +25,19 @@ double LayerComparison::xyContourError() const {
 
 namespace {
 
+/// One row's counts, summed in row order after the rows' parallel loop.
+struct RowCounts {
+    uint64_t inter = 0, cured = 0, reference = 0, unionCount = 0, exposed = 0;
+    long downFacing = 0;
+    float maxDose = 0;
+};
+
 /// One row's voxel counts, written so the compiler vectorises it: integer sums of 0/1 flags,
 /// and the maximum taken on the float bits (the same order as the floats for doses >= 0; the
 /// maximum starts at 0, so negative doses, which the engines never give, leave it as before).
-template <typename Counts>
-void countRow(const float* dose, const uint8_t* reference, int n, float curedAt, float storeLevel,
-              Counts& row) {
+/// Built for AVX2 too (chosen at run time): integer counts and an exact maximum, so the same.
+VPSIM_AVX2_CLONES void countRow(const float* dose, const uint8_t* reference, int n, float curedAt,
+                                float storeLevel, RowCounts& row) {
     uint32_t inter = 0, cured = 0, ref = 0, unionCount = 0, exposed = 0;
     int32_t maxBits = 0;
     for (int i = 0; i < n; ++i) {
@@ -157,11 +165,6 @@ void SliceValidator::add(const exposure::ExposureSlice& slice) {
     const float curedAt = s.law.curedFloatThreshold();  // d >= curedAt: isCured(d), exactly
     const float storeLevel = float(0.02 * s.law.criticalDose());  // as the DoseVolume keeps
     const float dz = float(s.voxelHeight);
-    struct RowCounts {
-        uint64_t inter = 0, cured = 0, reference = 0, unionCount = 0, exposed = 0;
-        long downFacing = 0;
-        float maxDose = 0;
-    };
     std::vector<RowCounts> rows(ny);
     tbb::parallel_for(tbb::blocked_range<int>(0, ny, 8), [&](const tbb::blocked_range<int>& range) {
         std::vector<float> finished;

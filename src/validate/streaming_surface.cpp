@@ -81,6 +81,9 @@ struct StreamingCuredSurface::State {
     PaddedSlice above, below;
     bool started = false, finished = false, referenceSet = false;
     std::vector<uint32_t> layerAbove, layerBelow;  ///< vertex per cube, (W - 1) x (H - 1)
+    /// The cubes given a vertex in layerAbove and layerBelow: only those are cleared for the
+    /// next layer (the whole layer would be 4 bytes a cell per slice).
+    std::vector<uint32_t> filledAbove, filledBelow;
     /// Vertices of the cubes the tiles own and their deviations: all of them when the
     /// triangles are kept, else from the layer above on (trimVertices), vertices[0] being the
     /// run's vertex number `base`: memory follows a layer of the tile, not the surface.
@@ -149,6 +152,8 @@ struct StreamingCuredSurface::State {
         layerStart = base + vertices.size();  // nothing of an earlier tile is referred to
         layerAbove.assign(size_t(W - 1) * (H - 1), NONE);
         layerBelow = layerAbove;
+        filledAbove.clear();
+        filledBelow.clear();
         rowVertices.resize(H - 1);
         rowTriangles.resize(H);
         rowVolume.assign(H, 0.0);
@@ -189,11 +194,14 @@ struct StreamingCuredSurface::State {
             float* v = &target.value[sample(0, lj)];
             uint8_t* in = &target.in[sample(0, lj)];
             const int cj = sy0 + lj - 1;
-            std::fill(v, v + W, 0.0f);
             if (values && cj >= 0 && cj < ny && liLo < liHi) {
                 const float* row = &values->values[size_t(cj - values->firstJ) * values->nx +
                                                    size_t(sx0 + liLo - 1 - values->firstI)];
+                std::fill(v, v + liLo, 0.0f);
                 std::memcpy(v + liLo, row, sizeof(float) * size_t(liHi - liLo));
+                std::fill(v + liHi, v + W, 0.0f);
+            } else {
+                std::fill(v, v + W, 0.0f);
             }
             for (int li = 0; li < W; ++li) in[li] = v[li] >= curedAt;  // CureLaw::isCured
         });
@@ -237,7 +245,8 @@ struct StreamingCuredSurface::State {
     /// numbered in row order.
     void buildLayer() {
         trimVertices();
-        std::fill(layerBelow.begin(), layerBelow.end(), NONE);
+        for (uint32_t c : filledBelow) layerBelow[c] = NONE;
+        filledBelow.clear();
         tbb::parallel_for(0, H - 1, [&](int lj) {
             auto& out = rowVertices[lj];
             out.clear();
@@ -268,13 +277,15 @@ struct StreamingCuredSurface::State {
         deviations.resize(first[H - 1]);
         tbb::parallel_for(0, H - 1, [&](int lj) {
             size_t v = first[lj];
+            uint32_t nearest =
+                geometry::MeshDistance::NO_HINT;  // the row's vertices are neighbours
             for (const auto& [li, p] : rowVertices[lj]) {
                 if (!ownsCube(sx0 + li, sy0 + lj)) continue;
                 vertices[v] = p;
                 deviations[v] =
-                    distance
-                        ? float(std::clamp(distance->signedDistance(glm::dvec3(p)), -band, band))
-                        : 0.0f;
+                    distance ? float(std::clamp(distance->signedDistance(glm::dvec3(p), nearest),
+                                                -band, band))
+                             : 0.0f;
                 layerBelow[cube(li, lj)] = uint32_t(v);
                 ++v;
             }
@@ -283,6 +294,7 @@ struct StreamingCuredSurface::State {
         for (int lj = 0; lj < H - 1; ++lj)
             for (const auto& [li, p] : rowVertices[lj]) {
                 const int ci = sx0 + li, cj = sy0 + lj;
+                filledBelow.push_back(uint32_t(cube(li, lj)));
                 if (!ownsCube(ci, cj)) {
                     layerBelow[cube(li, lj)] = HALO | uint32_t(haloVertices.size());
                     haloVertices.push_back(p);
@@ -380,6 +392,7 @@ struct StreamingCuredSurface::State {
         emitQuads();
         std::swap(above, below);
         std::swap(layerAbove, layerBelow);
+        std::swap(filledAbove, filledBelow);
         ++step;
     }
 };

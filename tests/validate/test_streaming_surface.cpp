@@ -81,9 +81,13 @@ TEST_CASE("the mesh distance is exact and signed at faces, edges and corners", "
         state = state * 6364136223846793005ull + 1442695040888963407ull;
         return double(state >> 11) / double(1ull << 53);
     };
+    uint32_t hint = geometry::MeshDistance::NO_HINT;  // the last point's nearest triangle
     for (int n = 0; n < 20000; ++n) {
         const glm::dvec3 p(3 * uniform() - 1.5, 3 * uniform() - 1.5, 2 * uniform() - 0.5);
         CHECK(distance.signedDistance(p) == Approx(exact(p)).margin(1e-12));
+        // Seeded with a triangle that is mostly not the nearest: the same distance.
+        CHECK(distance.signedDistance(p, hint) == Approx(exact(p)).margin(1e-12));
+        CHECK(hint != geometry::MeshDistance::NO_HINT);
     }
     // Corners and edges approached from outside along their diagonals.
     CHECK(distance.signedDistance({1.1, 1.1, 1.1}) == Approx(std::sqrt(0.03)));

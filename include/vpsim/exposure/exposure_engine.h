@@ -68,15 +68,17 @@ private:
         float sigmaCells, normX, normY;
     };
     Blur blurOf() const;
-    /// Blurs `deposit` in place and updates running = B + decay running, on the CPU.
+    /// Blurs `deposit` in place and updates running = B + decay running, on the CPU; `pass`
+    /// holds the first pass (sized here when it is not the deposit's size).
     void blurAndAccumulateCpu(SurfaceGrid& deposit, SurfaceGrid& running, float decay,
-                              double& seconds);
+                              double& seconds, SurfaceGrid& pass);
 
     ExposureGrid mGrid;
     kernel::FittedBeam mBeam;
     double mLayerThickness;
     std::unique_ptr<GpuState> mGpu;
     SurfaceGrid mRunning, mSlice;   ///< the recursion's running sum, the slice handed to sinks
+    SurfaceGrid mPass;              ///< the blur's first pass, kept from layer to layer
     bool mGpuRestart = true;        ///< the next layer starts the device's running sum afresh
     bool mGpuRunningStale = false;  ///< layerMap overwrote the device's running sum
 };

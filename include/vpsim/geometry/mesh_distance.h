@@ -23,6 +23,12 @@ public:
     explicit MeshDistance(const Mesh& mesh);
     /// Signed distance (mm): positive outside the mesh, negative inside. Thread-safe.
     double signedDistance(const glm::dvec3& p) const;
+    static constexpr uint32_t NO_HINT = UINT32_MAX;
+    /// The same for a run of nearby points (a row of the cured surface's vertices): `hint` is
+    /// the nearest triangle of the previous point (NO_HINT at first) and becomes this one's.
+    /// Ties between equally near triangles may resolve to another of them; the distance is the
+    /// same.
+    double signedDistance(const glm::dvec3& p, uint32_t& hint) const;
 
 private:
     struct Node {
@@ -36,6 +42,7 @@ private:
     std::vector<glm::dvec3> mFaceNormal;                   ///< unit face normals
     std::vector<std::array<glm::dvec3, 3>> mEdgeNormal;    ///< edges ab, bc, ca (sums)
     std::vector<std::array<glm::dvec3, 3>> mVertexNormal;  ///< angle-weighted at a, b, c
+    std::vector<std::array<glm::dvec3, 2>> mTriangleBox;   ///< bounds of each triangle
     std::vector<glm::dvec3> mCentroid, mBoxLo, mBoxHi;     ///< per triangle, while building
     std::vector<uint32_t> mOrder;
 };
