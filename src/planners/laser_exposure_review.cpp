@@ -105,7 +105,7 @@ PlanReview laserExposureReview(const PlanReviewInputs& in) {
     const double ec = in.cure.criticalDose();
     optimise::writeExposureMapFigure(in.outDir + "/exposure_top_layer",
                                      "Surface exposure of the top layer (" + in.strategy + ")", map,
-                                     &regions[k], etar, ec);
+                                     &regions[k], etar, ec, 2 * b.radius);
     review.sections.push_back(
         {"Exposure error of the plan (seed 000 Fig. 23)",
          {},

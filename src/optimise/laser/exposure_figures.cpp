@@ -27,9 +27,41 @@ void writeSortedErrorFigure(const std::string& stem, const std::string& title,
     plot::writeLineFigure(stem, f);
 }
 
+namespace {
+
+/// `values` (nx x ny) averaged over squares of (2 r + 1) cells, clipped at the borders: a running
+/// sum along x, then along y.
+std::vector<float> boxAverage(const std::vector<float>& values, int nx, int ny, int r) {
+    std::vector<float> rows(values.size()), out(values.size());
+    for (int j = 0; j < ny; ++j) {
+        const float* in = &values[size_t(j) * nx];
+        double sum = 0;
+        for (int i = 0; i < std::min(r, nx); ++i) sum += in[i];
+        for (int i = 0; i < nx; ++i) {
+            if (i + r < nx) sum += in[i + r];
+            if (i - r - 1 >= 0) sum -= in[i - r - 1];
+            rows[size_t(j) * nx + i] =
+                float(sum / (std::min(nx - 1, i + r) - std::max(0, i - r) + 1));
+        }
+    }
+    for (int i = 0; i < nx; ++i) {
+        double sum = 0;
+        for (int j = 0; j < std::min(r, ny); ++j) sum += rows[size_t(j) * nx + i];
+        for (int j = 0; j < ny; ++j) {
+            if (j + r < ny) sum += rows[size_t(j + r) * nx + i];
+            if (j - r - 1 >= 0) sum -= rows[size_t(j - r - 1) * nx + i];
+            out[size_t(j) * nx + i] =
+                float(sum / (std::min(ny - 1, j + r) - std::max(0, j - r) + 1));
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
 void writeExposureMapFigure(const std::string& stem, const std::string& title,
                             const exposure::SurfaceGrid& map, const geometry::PolygonSet* region,
-                            double targetDose, double criticalDose) {
+                            double targetDose, double criticalDose, double smoothing) {
     constexpr double PER_CM2 = 100.0;  // mJ/mm^2 -> mJ/cm^2
     plot::MapFigure f;
     f.title = title;
@@ -45,11 +77,23 @@ void writeExposureMapFigure(const std::string& stem, const std::string& title,
     }
     f.scale = {plot::ColourMap::Sequential,     0.0,   hi,
                "surface exposure (mJ/cm#u2#d)", false, above > 0};
-    f.outlines.push_back({"E#dtar#u = " + formatNumber(targetDose * PER_CM2, 3) + " mJ/cm#u2#d",
-                          {},
-                          targetDose * PER_CM2,
-                          {255, 80, 200},
-                          true});
+    // Smoothed, the line marks where the averaged exposure falls 10% below Etar (inside, the
+    // average is Etar to within the ripple left, which would otherwise wander about the level).
+    const int reach = int(std::floor(0.5 * smoothing / map.pitch));
+    if (reach > 0)
+        f.outlines.push_back({"0.9 E#dtar#u = " + formatNumber(0.9 * targetDose * PER_CM2, 3) +
+                                  " mJ/cm#u2#d, averaged over " +
+                                  formatQuantity(smoothing * 1e3, "um") + " squares",
+                              boxAverage(f.values, f.nx, f.ny, reach),
+                              0.9 * targetDose * PER_CM2,
+                              {255, 80, 200},
+                              true});
+    else
+        f.outlines.push_back({"E#dtar#u = " + formatNumber(targetDose * PER_CM2, 3) + " mJ/cm#u2#d",
+                              {},
+                              targetDose * PER_CM2,
+                              {255, 80, 200},
+                              true});
     if (criticalDose > 0)
         f.outlines.push_back({"E#dc#u = " + formatNumber(criticalDose * PER_CM2, 3) + " mJ/cm#u2#d",
                               {},

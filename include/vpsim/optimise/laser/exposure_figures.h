@@ -21,9 +21,13 @@ void writeSortedErrorFigure(const std::string& stem, const std::string& title,
 
 /// The surface exposure (mJ/mm^2 on `map`) as a map in mJ/cm^2 from 0 to 1.5 Etar with mm axes,
 /// the iso-exposure lines at Etar and at `criticalDose` (Ec: the cured edge), and the model's
-/// outline `region` when given. @throw InputError when a file cannot be written
+/// outline `region` when given. With `smoothing` (mm, at least the hatch spacing) the Etar line
+/// becomes the line at 0.9 Etar of the map averaged over squares of that side: inside a hatched
+/// region the exposure ripples about Etar at the hatch spacing, and a line at Etar through every
+/// ripple of a whole part is megabytes of SVG that says nothing; the averaged line shows where
+/// the exposure falls short (the part's edges). @throw InputError when a file cannot be written
 void writeExposureMapFigure(const std::string& stem, const std::string& title,
                             const exposure::SurfaceGrid& map, const geometry::PolygonSet* region,
-                            double targetDose, double criticalDose);
+                            double targetDose, double criticalDose, double smoothing = 0);
 
 }  // namespace vpsim::optimise
