@@ -127,12 +127,12 @@ WallTables tabulate(const AcesParameters& p, const geometry::PolygonSet& region,
 double meanWallError(const WallTables& w, const ProfileTable& profile, double e,
                      std::vector<double>& meanByDepth) {
     const int steps = WallTables::STEPS, depths = WallTables::DEPTHS;
-    std::vector<double> field(steps);
+    std::vector<double> own(steps), field(steps);  // the layer's own profile: the same everywhere
+    for (int i = 0; i < steps; ++i) own[i] = profile((-w.T + i * w.dt + e) / w.W);
     meanByDepth.assign(depths, 0.0);
     double sum = 0;
     for (size_t s = 0; s < w.samples.size(); ++s) {
-        for (int i = 0; i < steps; ++i)
-            field[i] = profile((-w.T + i * w.dt + e) / w.W) + w.sent[s * steps + i];
+        for (int i = 0; i < steps; ++i) field[i] = own[i] + w.sent[s * steps + i];
         for (int m = 0; m < depths; ++m) {
             int i = steps - 1;
             while (i >= 0 && field[i] < w.levels[m]) --i;
