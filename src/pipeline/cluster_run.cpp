@@ -49,11 +49,17 @@ nlohmann::json TileConsumers::save() const {
             {"exposure_error", exposureError ? exposureError->saveState() : nlohmann::json()}};
 }
 
-void TileConsumers::restore(const nlohmann::json& state) const {
-    validator.restoreState(state.at("validator"));
-    cured.restoreState(state.at("cured"));
-    features.restoreState(state.at("features").get<std::vector<double>>());
-    if (exposureError) exposureError->restoreState(state.at("exposure_error"));
+void TileConsumers::restore(const nlohmann::json& state, const std::string& file) const {
+    try {
+        validator.restoreState(state.at("validator"));
+        cured.restoreState(state.at("cured"));
+        features.restoreState(state.at("features").get<std::vector<double>>());
+        if (exposureError) exposureError->restoreState(state.at("exposure_error"));
+    } catch (const nlohmann::json::exception& e) {  // a checkpoint of an older vpsim, or edited
+        throw InputError(std::string("malformed checkpoint (") + e.what() +
+                             "); run without --resume to start over",
+                         file);
+    }
 }
 
 void TileConsumers::merge(const nlohmann::json& later, const std::string& stlBody) const {

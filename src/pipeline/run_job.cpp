@@ -294,7 +294,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
             sha256OfFile(outDir + "/plan.json"), result.plan.planner};
         if (checkpoint) {
             checkFingerprint(*checkpoint, outDir, state.fingerprint);
-            consumers.restore(checkpoint->consumers);
+            consumers.restore(checkpoint->consumers, checkpointDirectory(outDir) + "/state.json");
             firstTile = checkpoint->tilesDone;
             logInfo("resuming after tile " + std::to_string(firstTile) + " of " +
                     std::to_string(tiles.size()));

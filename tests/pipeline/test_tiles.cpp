@@ -247,6 +247,13 @@ TEST_CASE("a tiled run resumed after an interruption gives the uninterrupted res
     std::ofstream(state, std::ios::binary | std::ios::trunc) << stateText.substr(0, 40);
     CHECK_THROWS_WITH(runSpec("resumed", spec, resume),
                       Catch::Contains("malformed checkpoint") && Catch::Contains("state.json"));
+    // A consumer's state missing (a checkpoint of an older vpsim): the same.
+    nlohmann::json older = nlohmann::json::parse(stateText);
+    older["consumers"].erase("features");
+    std::ofstream(state, std::ios::binary | std::ios::trunc) << older.dump();
+    CHECK_THROWS_WITH(runSpec("resumed", spec, resume), Catch::Contains("malformed checkpoint") &&
+                                                            Catch::Contains("state.json") &&
+                                                            Catch::Contains("features"));
     std::ofstream(state, std::ios::binary | std::ios::trunc) << stateText;
 
     stop.stopAfterTiles = 4;  // resumed after tile 2, stopped again after tile 4

@@ -38,8 +38,9 @@ struct TileConsumers {
     optimise::ExposureErrorSink* exposureError = nullptr;
 
     nlohmann::json save() const;
-    /// Before the first slice: the state save() gave (a checkpoint's).
-    void restore(const nlohmann::json& state) const;
+    /// Before the first slice: the state save() gave (a checkpoint's, read from `file`).
+    /// @throw InputError naming `file` when a consumer's state is missing or malformed
+    void restore(const nlohmann::json& state, const std::string& file) const;
     /// Appends the tiles of another set of consumers: its save() and its STL's triangles.
     void merge(const nlohmann::json& later, const std::string& stlBody) const;
 };
