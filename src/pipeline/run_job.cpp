@@ -1,6 +1,5 @@
 #include "vpsim/pipeline/run_job.h"
 
-#include <chrono>
 #include <filesystem>
 
 #include "vpsim/cluster/communicator.h"
@@ -27,25 +26,10 @@
 #include "vpsim/validate/slice_validator.h"
 #include "vpsim/validate/streaming_surface.h"
 
+#include "stage_timer.h"
+
 namespace vpsim::pipeline {
 namespace {
-
-/// Wall-clock seconds of each stage, logged as it finishes.
-class StageTimer {
-public:
-    explicit StageTimer(std::vector<std::pair<std::string, double>>& out) : mOut(out) {}
-    void finish(const std::string& stage) {
-        auto now = std::chrono::steady_clock::now();
-        double seconds = std::chrono::duration<double>(now - mStart).count();
-        mOut.emplace_back(stage, seconds);
-        logInfo("stage " + stage + ": " + formatNumber(seconds, 3) + " s");
-        mStart = now;
-    }
-
-private:
-    std::vector<std::pair<std::string, double>>& mOut;
-    std::chrono::steady_clock::time_point mStart = std::chrono::steady_clock::now();
-};
 
 /// The job file and its material as written, for the report's inputs (both were read and
 /// checked by loadJob, under its limits).
