@@ -1,0 +1,277 @@
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+#include <glm/geometric.hpp>
+
+#include "vpsim/core/error.h"
+
+#include "streaming_surface_state.h"
+
+namespace vpsim::validate {
+
+using namespace surface_detail;
+
+void StreamingCuredSurface::State::openInPlace() {
+    if (inPlacePath.empty() || inPlace) return;
+    inPlace = std::make_unique<std::fstream>(inPlacePath,
+                                             std::ios::out | std::ios::trunc | std::ios::binary);
+    if (!*inPlace) throw InputError("cannot write the cured surface", inPlacePath);
+    stlOut = inPlace.get();
+    writeStlHeader(*stlOut);
+}
+
+void StreamingCuredSurface::State::startTile(const exposure::CellWindow& w) {
+    if (started) closeTile();
+    core = w;
+    own = {w.i0 == 0 ? 0 : w.i0 + 1, w.j0 == 0 ? 0 : w.j0 + 1, w.i1 == nx ? P : w.i1 + 1,
+           w.j1 == ny ? Q : w.j1 + 1};
+    sx0 = std::max(0, own.i0 - 1);
+    sy0 = std::max(0, own.j0 - 1);
+    W = std::min(P, own.i1 + 1) - sx0;
+    H = std::min(Q, own.j1 + 1) - sy0;
+    for (PaddedSlice* slice : {&above, &below}) {
+        slice->value.assign(size_t(W) * H, 0.0f);
+        slice->in.assign(size_t(W) * H, 0);
+    }
+    if (!keep) {  // only the kept triangles refer to earlier tiles'
+        haloVertices.clear();
+        haloAbove = 0;
+    }
+    layerStart = base + vertices.size();  // nothing of an earlier tile is referred to
+    layerAbove.assign(size_t(W - 1) * (H - 1), NONE);
+    layerBelow = layerAbove;
+    filledAbove.clear();
+    filledBelow.clear();
+    rowVertices.resize(H - 1);
+    rowTriangles.resize(H);
+    rowVolume.assign(H, 0.0);
+    step = 0;
+}
+
+void StreamingCuredSurface::State::closeTile() {
+    advance(nullptr, above.z - voxelHeight);
+    started = false;
+    statistics.merge(tileStatistics);
+    tileStatistics = DeviationStatistics(statistics.band());
+    volume += tileVolume;
+    tileVolume = 0;
+}
+
+void StreamingCuredSurface::State::trimVertices() {
+    if (keep) return;
+    const uint64_t drop = layerStart - base;
+    const size_t haloDrop = haloAbove;
+    if (drop == 0 && haloDrop == 0) return;
+    vertices.erase(vertices.begin(), vertices.begin() + std::ptrdiff_t(drop));
+    deviations.erase(deviations.begin(), deviations.begin() + std::ptrdiff_t(drop));
+    haloVertices.erase(haloVertices.begin(), haloVertices.begin() + std::ptrdiff_t(haloDrop));
+    base = layerStart;
+    for (uint32_t& index : layerAbove)
+        if (index != NONE) index -= uint32_t(index & HALO ? haloDrop : drop);
+}
+
+void StreamingCuredSurface::State::load(PaddedSlice& target, const exposure::SurfaceGrid* values,
+                                        double z) {
+    target.z = z;
+    // Samples of the whole grid's cells (pi - 1, pj - 1) come from the slice; the padding
+    // around the whole grid is zero.
+    const int liLo = std::max(0, 1 - sx0), liHi = std::min(W, nx + 1 - sx0);
+    tbb::parallel_for(0, H, [&](int lj) {
+        float* v = &target.value[sample(0, lj)];
+        uint8_t* in = &target.in[sample(0, lj)];
+        const int cj = sy0 + lj - 1;
+        if (values && cj >= 0 && cj < ny && liLo < liHi) {
+            const float* row = &values->values[size_t(cj - values->firstJ) * values->nx +
+                                               size_t(sx0 + liLo - 1 - values->firstI)];
+            std::fill(v, v + liLo, 0.0f);
+            std::memcpy(v + liLo, row, sizeof(float) * size_t(liHi - liLo));
+            std::fill(v + liHi, v + W, 0.0f);
+        } else {
+            std::fill(v, v + W, 0.0f);
+        }
+        for (int li = 0; li < W; ++li) in[li] = v[li] >= curedAt;  // CureLaw::isCured
+    });
+}
+
+glm::dvec3 StreamingCuredSurface::State::cubeVertex(int li, int lj) const {
+    glm::dvec3 sum(0.0);
+    int count = 0;
+    auto edge = [&](const PaddedSlice& sa, size_t a, const PaddedSlice& sb, size_t b,
+                    const glm::dvec3& pa, const glm::dvec3& pb) {
+        if (sa.in[a] == sb.in[b]) return;
+        const double va = sa.value[a], vb = sb.value[b];
+        const double t = std::clamp((iso - va) / (vb - va), 0.0, 1.0);
+        sum += pa + t * (pb - pa);
+        ++count;
+    };
+    const int ci = sx0 + li, cj = sy0 + lj;
+    for (int s = 0; s < 2; ++s) {
+        const PaddedSlice& sl = s == 0 ? above : below;
+        for (int dj = 0; dj < 2; ++dj)  // x edges
+            edge(sl, sample(li, lj + dj), sl, sample(li + 1, lj + dj), position(ci, cj + dj, sl.z),
+                 position(ci + 1, cj + dj, sl.z));
+        for (int di = 0; di < 2; ++di)  // y edges
+            edge(sl, sample(li + di, lj), sl, sample(li + di, lj + 1), position(ci + di, cj, sl.z),
+                 position(ci + di, cj + 1, sl.z));
+    }
+    for (int dj = 0; dj < 2; ++dj)  // z edges
+        for (int di = 0; di < 2; ++di)
+            edge(above, sample(li + di, lj + dj), below, sample(li + di, lj + dj),
+                 position(ci + di, cj + dj, above.z), position(ci + di, cj + dj, below.z));
+    return sum / double(std::max(count, 1));
+}
+
+bool StreamingCuredSurface::State::ownsCube(int ci, int cj) const {
+    return ci >= own.i0 && ci < own.i1 && cj >= own.j0 && cj < own.j1;
+}
+
+void StreamingCuredSurface::State::buildLayer() {
+    trimVertices();
+    for (uint32_t c : filledBelow) layerBelow[c] = NONE;
+    filledBelow.clear();
+    tbb::parallel_for(0, H - 1, [&](int lj) {
+        auto& out = rowVertices[lj];
+        out.clear();
+        const uint8_t *a0 = &above.in[sample(0, lj)], *a1 = &above.in[sample(0, lj + 1)],
+                      *b0 = &below.in[sample(0, lj)], *b1 = &below.in[sample(0, lj + 1)];
+        for (int li = 0; li < W - 1; ++li) {
+            if (li % 8 == 0 && li + 8 < W && uniform8(a0 + li, a1 + li, b0 + li, b1 + li)) {
+                li += 7;  // eight cubes all inside or all outside: no vertex
+                continue;
+            }
+            const int sum = a0[li] + a0[li + 1] + a1[li] + a1[li + 1] + b0[li] + b0[li + 1] +
+                            b1[li] + b1[li + 1];
+            if (sum == 0 || sum == 8) continue;
+            out.emplace_back(li, glm::vec3(cubeVertex(li, lj)));
+        }
+    });
+    // Owned vertices are numbered in row order; the halo's are kept apart.
+    std::vector<size_t> first(H, vertices.size());
+    for (int lj = 0; lj < H - 1; ++lj) {
+        size_t owned = 0;
+        for (const auto& entry : rowVertices[lj]) owned += ownsCube(sx0 + entry.first, sy0 + lj);
+        first[lj + 1] = first[lj] + owned;
+    }
+    layerStart = base + vertices.size();
+    haloAbove = haloVertices.size();
+    vertices.resize(first[H - 1]);
+    deviations.resize(first[H - 1]);
+    tbb::parallel_for(0, H - 1, [&](int lj) {
+        size_t v = first[lj];
+        uint32_t nearest = geometry::MeshDistance::NO_HINT;  // the row's vertices are neighbours
+        for (const auto& [li, p] : rowVertices[lj]) {
+            if (!ownsCube(sx0 + li, sy0 + lj)) continue;
+            vertices[v] = p;
+            deviations[v] = distance
+                                ? float(std::clamp(distance->signedDistance(glm::dvec3(p), nearest),
+                                                   -band, band))
+                                : 0.0f;
+            layerBelow[cube(li, lj)] = uint32_t(v);
+            ++v;
+        }
+    });
+    for (size_t v = first[0]; v < first[H - 1]; ++v) tileStatistics.add(deviations[v]);
+    for (int lj = 0; lj < H - 1; ++lj)
+        for (const auto& [li, p] : rowVertices[lj]) {
+            const int ci = sx0 + li, cj = sy0 + lj;
+            filledBelow.push_back(uint32_t(cube(li, lj)));
+            if (!ownsCube(ci, cj)) {
+                layerBelow[cube(li, lj)] = HALO | uint32_t(haloVertices.size());
+                haloVertices.push_back(p);
+                if (keep) haloKeys.push_back(cubeKey(ci, cj));
+            } else if (keep &&
+                       ((ci == own.i1 - 1 && own.i1 < P) || (cj == own.j1 - 1 && own.j1 < Q))) {
+                seamVertices.emplace(cubeKey(ci, cj), layerBelow[cube(li, lj)]);
+            }
+        }
+}
+
+void StreamingCuredSurface::State::emitQuads() {
+    const int ljLo = own.j0 - sy0, ljHi = std::min(own.j1, Q - 1) - sy0;
+    const int liLo = own.i0 - sx0, liHi = std::min(own.i1, P - 1) - sx0;
+    tbb::parallel_for(ljLo, ljHi, [&](int lj) {
+        auto& out = rowTriangles[lj];
+        out.clear();
+        double moment = 0;
+        auto quad = [&](uint32_t q0, uint32_t q1, uint32_t q2, uint32_t q3, bool flip) {
+            if (flip) std::swap(q1, q3);
+            const std::array<uint32_t, 3> t[2] = {{q0, q1, q2}, {q0, q2, q3}};
+            for (const auto& tri : t) {
+                out.push_back(tri);
+                const glm::dvec3 a = glm::dvec3(vertex(tri[0])) - reference,
+                                 b = glm::dvec3(vertex(tri[1])) - reference,
+                                 c = glm::dvec3(vertex(tri[2])) - reference;
+                moment += glm::dot(a, glm::cross(b, c));
+            }
+        };
+        const int pj = sy0 + lj;
+        const bool realRow = pj >= 1 && pj <= ny;
+        for (int li = liLo; li < liHi; ++li) {
+            if ((li - liLo) % 8 == 0 && li + 8 <= liHi) {
+                const size_t s = sample(li, lj);
+                if (noEdge8(&above.in[s], &below.in[s], W)) {
+                    li += 7;  // eight samples without a crossing edge: no quad
+                    continue;
+                }
+            }
+            const int pi = sx0 + li;
+            const size_t s = sample(li, lj);
+            const bool realColumn = pi >= 1 && pi <= nx;
+            if (realRow && realColumn && above.in[s] != below.in[s])  // z edge
+                quad(layerBelow[cube(li - 1, lj - 1)], layerBelow[cube(li, lj - 1)],
+                     layerBelow[cube(li, lj)], layerBelow[cube(li - 1, lj)],
+                     !(below.in[s] && !above.in[s]));
+            if (realRow && above.in[s] != above.in[s + 1])  // x edge (pi, pi + 1)
+                quad(layerBelow[cube(li, lj - 1)], layerBelow[cube(li, lj)],
+                     layerAbove[cube(li, lj)], layerAbove[cube(li, lj - 1)],
+                     !(above.in[s] && !above.in[s + 1]));
+            if (realColumn && above.in[s] != above.in[s + W])  // y edge (pj, pj + 1)
+                quad(layerBelow[cube(li - 1, lj)], layerAbove[cube(li - 1, lj)],
+                     layerAbove[cube(li, lj)], layerBelow[cube(li, lj)],
+                     !(above.in[s] && !above.in[s + W]));
+        }
+        rowVolume[lj] = moment;
+    });
+    for (int lj = ljLo; lj < ljHi; ++lj) {
+        tileVolume += rowVolume[lj] / 6.0;
+        write(rowTriangles[lj]);
+    }
+}
+
+void StreamingCuredSurface::State::write(const std::vector<std::array<uint32_t, 3>>& triangles) {
+    triangleCount += triangles.size();
+    if (keep) kept.insert(kept.end(), triangles.begin(), triangles.end());
+    if (!stlOut) return;
+    buffer.resize(triangles.size() * 50);
+    char* p = buffer.data();
+    for (const auto& tri : triangles) {
+        const glm::vec3 &a = vertex(tri[0]), &b = vertex(tri[1]), &c = vertex(tri[2]);
+        glm::vec3 n = glm::cross(b - a, c - a);
+        const float length = glm::length(n);
+        n = length > 0 ? n / length : glm::vec3(0.0f);
+        const float f[12] = {n.x, n.y, n.z, a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z};
+        std::memcpy(p, f, sizeof f);
+        std::memset(p + 48, 0, 2);
+        p += 50;
+    }
+    stlOut->write(buffer.data(), std::streamsize(buffer.size()));
+}
+
+void StreamingCuredSurface::State::advance(const exposure::SurfaceGrid* values, double z) {
+    if (!started) {
+        load(above, nullptr, z + voxelHeight);
+        if (!referenceSet) reference = position(0, 0, z);
+        referenceSet = true;
+        started = true;
+    }
+    load(below, values, z);
+    buildLayer();
+    emitQuads();
+    std::swap(above, below);
+    std::swap(layerAbove, layerBelow);
+    std::swap(filledAbove, filledBelow);
+    ++step;
+}
+
+}  // namespace vpsim::validate

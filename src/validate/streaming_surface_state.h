@@ -1,0 +1,149 @@
+#pragma once
+// Private to src/validate: the state of StreamingCuredSurface (streaming_surface.cpp: the public
+// calls; streaming_surface_layers.cpp: meshing a layer of cubes between two slices and writing
+// its triangles; streaming_surface_state.cpp: the checkpoint state).
+
+#include <array>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "vpsim/core/io.h"
+#include "vpsim/geometry/mesh_distance.h"
+#include "vpsim/validate/streaming_surface.h"
+
+namespace vpsim::validate {
+namespace surface_detail {
+
+inline void writeStlHeader(std::ostream& out) {
+    char header[84] = {};
+    const std::string text = "vpsim binary STL, mm: cured";
+    std::memcpy(header, text.data(), text.size());
+    out.write(header, 84);
+}
+
+constexpr uint32_t NONE = UINT32_MAX;
+constexpr uint32_t HALO = 0x80000000u;  ///< a vertex index into the halo's vertices
+
+/// A slice padded with one zero cell on every side: (nx + 2) x (ny + 2) values and cured flags.
+struct PaddedSlice {
+    std::vector<float> value;
+    std::vector<uint8_t> in;
+    double z = 0;
+};
+
+inline uint64_t load8(const uint8_t* p) {
+    uint64_t word;
+    std::memcpy(&word, p, 8);
+    return word;
+}
+
+/// Whether the eight cubes from each pointer on (rows j, j + 1 of the slices above and below,
+/// 0/1 flags) are each all inside or all outside.
+inline bool uniform8(const uint8_t* a0, const uint8_t* a1, const uint8_t* b0, const uint8_t* b1) {
+    const uint64_t x = load8(a0);
+    return ((x ^ load8(a0 + 1)) | (x ^ load8(a1)) | (x ^ load8(a1 + 1)) | (x ^ load8(b0)) |
+            (x ^ load8(b0 + 1)) | (x ^ load8(b1)) | (x ^ load8(b1 + 1))) == 0;
+}
+
+/// Whether none of eight samples from `above` on has a crossing z, x or y edge (row width W).
+inline bool noEdge8(const uint8_t* above, const uint8_t* below, int width) {
+    const uint64_t x = load8(above);
+    return ((x ^ load8(below)) | (x ^ load8(above + 1)) | (x ^ load8(above + width))) == 0;
+}
+
+}  // namespace surface_detail
+
+struct StreamingCuredSurface::State {
+    exposure::ExposureGrid grid;
+    double voxelHeight, iso, band;
+    float curedAt = 0;  ///< v >= curedAt exactly when double(v) >= iso (CureLaw::floatAtLeast)
+    std::unique_ptr<geometry::MeshDistance> distance;
+    std::unique_ptr<AtomicFileStream> stl;
+    /// The STL written in place (resumable: it survives a kill), opened at the first slice or
+    /// by restoreState.
+    std::string inPlacePath;
+    std::unique_ptr<std::fstream> inPlace;
+    std::ostream* stlOut = nullptr;  ///< the STL's stream, or none
+    int nx, ny, P, Q;                ///< whole grid's cells; its padded width and height
+    // The current tile, in padded samples of the whole grid: it owns the samples (and the edges
+    // and cubes that start there) in [own.i0, own.i1) x [own.j0, own.j1) and holds the samples
+    // in [sx0, sx0 + W) x [sy0, sy0 + H): one more on each side, for the cubes its edges join.
+    exposure::CellWindow core{0, 0, -1, -1}, own;
+    int sx0 = 0, sy0 = 0, W = 0, H = 0;
+    int step = 0;  ///< cube layers made in this tile (every tile makes the same layers)
+    surface_detail::PaddedSlice above, below;
+    bool started = false, finished = false, referenceSet = false;
+    std::vector<uint32_t> layerAbove, layerBelow;  ///< vertex per cube, (W - 1) x (H - 1)
+    /// The cubes given a vertex in layerAbove and layerBelow: only those are cleared for the
+    /// next layer (the whole layer would be 4 bytes a cell per slice).
+    std::vector<uint32_t> filledAbove, filledBelow;
+    /// Vertices of the cubes the tiles own and their deviations: all of them when the
+    /// triangles are kept, else from the layer above on (trimVertices), vertices[0] being the
+    /// run's vertex number `base`: memory follows a layer of the tile, not the surface.
+    std::vector<glm::vec3> vertices;
+    std::vector<float> deviations;
+    uint64_t base = 0, layerStart = 0;  ///< numbers of vertices[0] and of the layer above's first
+    /// Deviations of this tile (in the order made) and of the finished tiles (merged in order).
+    DeviationStatistics tileStatistics, statistics;
+    /// Cubes beside the tile that another tile owns: their vertices are made again (from the
+    /// same values, so at the same positions) and referred to as HALO | index.
+    std::vector<glm::vec3> haloVertices;
+    std::vector<uint64_t> haloKeys;  ///< cube keys of haloVertices (when triangles are kept)
+    size_t haloAbove = 0;            ///< haloVertices before the layer above's
+    std::unordered_map<uint64_t, uint32_t> seamVertices;  ///< owned cubes a neighbour makes too
+    std::vector<std::vector<std::pair<int, glm::vec3>>> rowVertices;
+    std::vector<std::vector<std::array<uint32_t, 3>>> rowTriangles;
+    std::vector<double> rowVolume;
+    std::vector<std::array<uint32_t, 3>> kept;
+    bool keep = false;
+    uint64_t triangleCount = 0;
+    double volume = 0, tileVolume = 0;  ///< the finished tiles', and this tile's (merged in order)
+    glm::dvec3 reference{0.0};  ///< volume moments are taken about this point (less rounding)
+    std::vector<char> buffer;
+
+    size_t sample(int li, int lj) const { return size_t(lj) * W + li; }
+    size_t cube(int li, int lj) const { return size_t(lj) * (W - 1) + li; }
+    /// Position of the whole grid's padded sample (pi, pj).
+    glm::dvec3 position(int pi, int pj, double z) const {
+        return {grid.originX + (pi - 0.5) * grid.pitch, grid.originY + (pj - 0.5) * grid.pitch, z};
+    }
+    const glm::vec3& vertex(uint32_t index) const {
+        return index & surface_detail::HALO ? haloVertices[index & ~surface_detail::HALO]
+                                            : vertices[index];
+    }
+    uint64_t cubeKey(int ci, int cj) const {
+        return (uint64_t(step) * uint64_t(Q - 1) + uint64_t(cj)) * uint64_t(P - 1) + uint64_t(ci);
+    }
+
+    /// A fresh in-place STL, opened by the first tile made or merged (not by restoreState).
+    void openInPlace();
+    /// Starts the tile whose core cells are `w` (the whole grid when untiled).
+    void startTile(const exposure::CellWindow& w);
+    /// The tile's bottom: the zero padding below its last slice closes its part of the mesh.
+    void closeTile();
+    /// Without kept triangles, only the layer above's vertices are referred to again: drops the
+    /// older ones (owned and halo) and renumbers layerAbove's references.
+    void trimVertices();
+    void load(surface_detail::PaddedSlice& target, const exposure::SurfaceGrid* values, double z);
+    /// The vertex of local cube (li, lj) between `above` and `below`: the mean of its edge
+    /// crossings.
+    glm::dvec3 cubeVertex(int li, int lj) const;
+    bool ownsCube(int ci, int cj) const;
+    /// Vertices of the cubes between `above` and `below` into layerBelow, rows in parallel and
+    /// numbered in row order.
+    void buildLayer();
+    /// Quads of the z edges between `above` and `below` and of the x and y edges in the plane of
+    /// `above` (its cubes above: layerAbove, below: layerBelow), each split in two triangles:
+    /// those of the edges that start at a sample the tile owns.
+    void emitQuads();
+    void write(const std::vector<std::array<uint32_t, 3>>& triangles);
+    void advance(const exposure::SurfaceGrid* values, double z);
+};
+
+}  // namespace vpsim::validate
