@@ -12,6 +12,7 @@
 #include "vpsim/kernel/beam_kernel.h"
 #include "vpsim/pipeline/stages.h"
 #include "vpsim/report/layer_sections.h"
+#include "vpsim/report/viewer3d.h"
 
 // Where each term comes from (bytes; keep in step with the code, tests/pipeline/test_estimate.cpp
 // compares the peak with a measured one):
@@ -206,9 +207,24 @@ std::string tileText(const Sizes& s) {
     return ", per tile of " + fmt(s.tiles) + " (" + fmt(s.coreCells) + " cells and a halo)";
 }
 
-/// Whether the run keeps every cured vertex (runJob: the report's figures and 3D view).
+/// Whether the run keeps a picture of the cured surface (runJob: the report's figures and 3D
+/// view).
 bool keepsSurface(const SimulationSpec& sim) {
     return sim.writes("figures") || sim.writes("viewer");
+}
+
+/// Whether that picture is every cured vertex (a surface within the view's budget), not one
+/// clustered as it is made (report::viewCell).
+bool keepsEverySurfaceVertex(const Job& job, const Sizes& s) {
+    return keepsSurface(job.simulation) &&
+           report::viewCell(s.area, job.simulation.voxel, s.voxelHeight) == 0;
+}
+
+/// The surface voxels the report's picture keeps: all, or the clustered view's (about two of its
+/// triangles each).
+double pictureSurfaceVoxels(const Job& job, const Sizes& s) {
+    if (!keepsSurface(job.simulation)) return 0;
+    return keepsEverySurfaceVertex(job, s) ? s.surfaceVoxels : report::CURED_VIEW_BUDGET / 2.0;
 }
 
 void exposureTerms(const Job& job, const Sizes& s, JobEstimate& e) {
@@ -253,10 +269,11 @@ void exposureTerms(const Job& job, const Sizes& s, JobEstimate& e) {
         "two padded slices with cured flags and two layers of vertex indices of " +
             fmt(s.windowCells) + " cells" + tiled,
         COARSER, true);
-    // Every vertex is kept only for the report's figures and 3D view; otherwise the mesher
-    // holds two layers of vertices (at most one per cell, a flat top face) and the deviations
-    // become running statistics (validate::DeviationStatistics, two 512 KiB histograms).
-    if (keepsSurface(job.simulation))
+    // Every vertex is kept only for the report's figures and 3D view of a surface within the
+    // view's budget; otherwise the mesher holds two layers of vertices (at most one per cell, a
+    // flat top face) and the deviations become running statistics
+    // (validate::DeviationStatistics, two 1 MiB histograms).
+    if (keepsEverySurfaceVertex(job, s))
         add(e, "cured-surface vertices and deviations", s.surfaceVoxels * 16.0, Stage::Expose,
             Stage::Validate, fmt(s.surfaceVoxels) + " vertices (the triangles stream to cured.stl)",
             COARSER);
@@ -289,18 +306,23 @@ void validateTerms(const Job& job, const geometry::Mesh& part, const Sizes& s, J
                 fmt(options.voxelSize * 1e3) + " um (only for the output reference.vdb)",
             "a smaller part (the reference level set uses max(simulation.voxel, 20 um))");
     }
-    if (keepsSurface(sim))
-        add(e, "surface deviations", s.surfaceVoxels * 8.0, Stage::Validate, Stage::Validate,
-            "one per cured vertex (for the figures and 3D view)");
-    // The report draws the top view and the 3D view from the cured triangles, which the mesher
-    // keeps for it (2 per surface voxel, 12 B), then copies into a mesh (vertices 24 B, triangles
-    // 24 B) and encodes for the viewer; the plotting library's images are a few tens of MiB.
-    // Only for the outputs figures and viewer (simulation.outputs).
+    // The report draws the top view and the 3D view from the cured surface's picture, which the
+    // mesher keeps for it: every triangle (2 per surface voxel, 12 B) of a surface within the
+    // view's budget, else the clusters (validate::SurfaceClusters: 64 B and a hash entry each,
+    // one per two triangles) and their triangles. The report copies it into a mesh (vertices
+    // 24 B, triangles 24 B) and encodes it for the viewer; the plotting library's images are a
+    // few tens of MiB. Only for the outputs figures and viewer (simulation.outputs).
     const char* FEWER = "simulation.outputs without figures and viewer, or a smaller part";
     if (keepsSurface(sim)) {
-        add(e, "cured triangles kept for the report", s.surfaceVoxels * 24.0, Stage::Expose,
-            Stage::Validate, fmt(2 * s.surfaceVoxels) + " triangles", FEWER);
-        add(e, "report: cured mesh, 3D view data, pictures", s.surfaceVoxels * 120.0 + 32.0 * MIB,
+        const double kept = pictureSurfaceVoxels(job, s);
+        if (keepsEverySurfaceVertex(job, s))
+            add(e, "cured triangles kept for the report", kept * 24.0, Stage::Expose,
+                Stage::Validate, fmt(2 * kept) + " triangles", FEWER);
+        else
+            add(e, "cured surface's clustered picture", kept * (112.0 + 24.0), Stage::Expose,
+                Stage::Validate, fmt(kept) + " clusters and " + fmt(2 * kept) + " triangles",
+                FEWER);
+        add(e, "report: cured mesh, 3D view data, pictures", kept * 120.0 + 32.0 * MIB,
             Stage::Validate, Stage::Validate,
             "a mesh copy and its encoded 3D view, and the picture buffers", FEWER);
     }

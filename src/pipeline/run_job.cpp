@@ -229,8 +229,8 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
                                                         float(0.02 * law.criticalDose()));
     validate::SliceValidator validator(f.part, grid, law, voxelHeight);
     const SimulationSpec& sim = job.simulation;
-    // The report's top view and 3D viewer need the cured triangles (their memory grows with
-    // the surface): kept only for those outputs.
+    // The report's top view and 3D viewer need a picture of the cured surface: kept only for
+    // those outputs, clustered as it is made when the whole surface would outgrow the view.
     const bool keepMesh = sim.writes("figures") || sim.writes("viewer");
     const std::vector<exposure::Tile> tiles = exposureTiles(*model, tileSide);
     // Tiles are checkpointed, and shared over MPI ranks, when every consumer's state is small:
@@ -245,7 +245,8 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
                          : checkpointed           ? partialStl
                                                   : outDir + "/cured.stl",
                          checkpointed);
-    cured->keepTriangles(keepMesh);
+    if (keepMesh)
+        cured->keepView(report::viewCell(f.part.area(), job.simulation.voxel, voxelHeight));
     const int middle = layers / 2;
     std::vector<geometry::PolygonSet> regions;
     for (const auto& layer : f.layers.layers) regions.push_back(layer.region);
@@ -353,20 +354,20 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     Progress progress("report: section, deviation, 3D view and layer error figures", 4);
     if (sections) sections->write(outDir);
     progress.advance();
-    // The report's pictures and 3D view need the cured triangles, which the mesher kept (memory
-    // grows with the surface, not the volume); cured.stl was written as they were made.
-    const geometry::Mesh curedMesh = keepMesh ? cured->mesh() : geometry::Mesh{};
+    // The report's pictures and 3D view: the cured surface as the mesher kept it for them;
+    // cured.stl was written as it was made.
+    const validate::StreamingCuredSurface::View curedView =
+        keepMesh ? cured->view() : validate::StreamingCuredSurface::View{};
+    const validate::DeviationStatistics& deviations = result.validation.deviationStatistics;
     const report::DeviationScale scale =
-        sim.writes("figures") ? report::writeDeviationFigures(
-                                    outDir, curedMesh, result.validation.vertexDeviations, f.part)
-        : keepMesh ? report::deviationScale(result.validation.vertexDeviations)
-                   : report::deviationScale(result.validation.deviationStatistics);
+        sim.writes("figures") ? report::writeDeviationFigures(outDir, curedView, deviations, f.part)
+                              : report::deviationScale(deviations);
     result.deviationLimit = scale.limit;
     result.beyondDeviationLimit = scale.beyond;
     progress.advance();
     if (sim.writes("viewer"))
-        result.viewer = report::writeViewer3d(outDir, curedMesh, result.validation.vertexDeviations,
-                                              f.part, scale.limit, job.machine.layerThickness);
+        result.viewer = report::writeViewer3d(outDir, curedView, f.part, scale.limit,
+                                              job.machine.layerThickness);
     progress.advance();
     if (sim.writes("figures"))
         report::writeLayerErrorPlot(outDir + "/xy_error_per_layer", result.validation.slices);

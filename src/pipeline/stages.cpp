@@ -229,12 +229,6 @@ report::ValidationReport validateStage(const Job& job, const geometry::Mesh& par
     report::ValidationReport report;
     report.deviationStatistics = cured.statistics();
     report.deviation = report.deviationStatistics.summary();
-    // With the triangles kept (figures, viewer) every deviation is at hand: the exact percentile.
-    if (cured.deviations().size() == report.deviationStatistics.count()) {
-        report.vertexDeviations = cured.deviations();
-        report.deviation.p95 =
-            validate::summarizeDeviations(report.vertexDeviations, deviationBand(job)).p95;
-    }
     report.slices = std::move(slices);
     report.features = std::move(features);
     return report;

@@ -79,20 +79,6 @@ double roundLimit(double p95) {
 
 }  // namespace
 
-DeviationScale deviationScale(const std::vector<float>& deviations) {
-    DeviationScale s;
-    if (deviations.empty()) return s;
-    std::vector<float> magnitude(deviations.size());
-    for (size_t i = 0; i < deviations.size(); ++i) magnitude[i] = std::abs(deviations[i]);
-    const size_t k = magnitude.size() * 95 / 100;
-    std::nth_element(magnitude.begin(), magnitude.begin() + k, magnitude.end());
-    s.limit = roundLimit(magnitude[k]);
-    size_t beyond = 0;
-    for (float d : deviations) beyond += std::abs(d) > s.limit;
-    s.beyond = double(beyond) / double(deviations.size());
-    return s;
-}
-
 DeviationScale deviationScale(const validate::DeviationStatistics& statistics) {
     DeviationScale s;
     if (statistics.count() == 0) return s;
@@ -101,23 +87,24 @@ DeviationScale deviationScale(const validate::DeviationStatistics& statistics) {
     return s;
 }
 
-DeviationScale writeDeviationFigures(const std::string& directory, const geometry::Mesh& cured,
-                                     const std::vector<float>& deviations,
+DeviationScale writeDeviationFigures(const std::string& directory,
+                                     const validate::StreamingCuredSurface::View& cured,
+                                     const validate::DeviationStatistics& statistics,
                                      const geometry::Mesh& part) {
-    if (deviations.empty() || deviations.size() != cured.vertices.size()) return {};
-    const DeviationScale scale = deviationScale(deviations);
-    float lo = *std::min_element(deviations.begin(), deviations.end());
-    float hi = *std::max_element(deviations.begin(), deviations.end());
-    const double limit = std::max(1e-6, double(std::max(std::abs(lo), std::abs(hi))));
+    const std::vector<float>& deviations = cured.deviations;
+    if (statistics.count() == 0 || deviations.empty() ||
+        deviations.size() != cured.mesh.vertices.size())
+        return {};
+    const DeviationScale scale = deviationScale(statistics);
+    const double lo = statistics.minimum(), hi = statistics.maximum();
+    const double limit = std::max(1e-6, std::max(std::abs(lo), std::abs(hi)));
     const int bins = 60;
     plot::Curve histogram{"", {}, {}, {31, 119, 180}, false};
-    std::vector<double> counts(bins, 0.0);
-    for (float d : deviations)
-        counts[std::clamp(int((d + limit) / (2 * limit) * bins), 0, bins - 1)] += 1;
+    const std::vector<uint64_t> counts = statistics.histogram(-limit, limit, bins);
     for (int b = 0; b < bins; ++b) {  // a step outline of the histogram, in µm
         const double x0 = -limit + 2 * limit * b / bins, x1 = -limit + 2 * limit * (b + 1) / bins;
         histogram.x.insert(histogram.x.end(), {x0 * 1000, x1 * 1000});
-        histogram.y.insert(histogram.y.end(), {counts[b], counts[b]});
+        histogram.y.insert(histogram.y.end(), {double(counts[b]), double(counts[b])});
     }
     plot::LineFigure h;
     h.title = "Signed deviation of the cured surface from the model";
@@ -126,13 +113,13 @@ DeviationScale writeDeviationFigures(const std::string& directory, const geometr
     h.curves = {histogram};
     plot::writeLineFigure(directory + "/deviation_histogram", h);
 
-    geometry::Bounds b = cured.bounds();
+    geometry::Bounds b = cured.mesh.bounds();
     const geometry::Bounds pb = part.bounds();
     b.add(pb.lo), b.add(pb.hi);
     TopView curedView = topView(b), modelView = curedView;
     std::vector<float> microns(deviations.size());
     for (size_t i = 0; i < deviations.size(); ++i) microns[i] = deviations[i] * 1000.0f;
-    curedView.draw(cured, microns);
+    curedView.draw(cured.mesh, microns);
     modelView.draw(part, {});
     plot::MapFigure f;
     f.title = "Cured surface from above: deviation of its top surface";

@@ -105,6 +105,26 @@ void StreamingCuredSurface::keepTriangles(bool keep) {
     mState->keep = keep;
 }
 
+void StreamingCuredSurface::keepView(double cell) {
+    State& s = *mState;
+    if (s.started || s.triangleCount) throw InputError("the view is kept from the first slice on");
+    if (cell > 0) {
+        s.keep = false;
+        s.clusters = std::make_unique<SurfaceClusters>(cell);
+    } else {
+        s.keep = true;
+        s.clusters.reset();
+    }
+}
+
+StreamingCuredSurface::View StreamingCuredSurface::view() const {
+    const State& s = *mState;
+    if (s.clusters)
+        return {s.clusters->mesh(), s.clusters->values(), s.clusters->cell(), s.triangleCount};
+    if (!s.keep) return {{}, {}, 0.0, s.triangleCount};
+    return {mesh(), s.deviations, 0.0, s.triangleCount};
+}
+
 geometry::Mesh StreamingCuredSurface::mesh() const {
     const State& s = *mState;
     geometry::Mesh mesh;

@@ -36,6 +36,7 @@ void StreamingCuredSurface::State::startTile(const exposure::CellWindow& w) {
     }
     if (!keep) {  // only the kept triangles refer to earlier tiles'
         haloVertices.clear();
+        haloCluster.clear();
         haloAbove = 0;
     }
     layerStart = base + vertices.size();  // nothing of an earlier tile is referred to
@@ -66,9 +67,15 @@ void StreamingCuredSurface::State::trimVertices() {
     vertices.erase(vertices.begin(), vertices.begin() + std::ptrdiff_t(drop));
     deviations.erase(deviations.begin(), deviations.begin() + std::ptrdiff_t(drop));
     haloVertices.erase(haloVertices.begin(), haloVertices.begin() + std::ptrdiff_t(haloDrop));
+    if (clusters) {
+        vertexCluster.erase(vertexCluster.begin(), vertexCluster.begin() + std::ptrdiff_t(drop));
+        haloCluster.erase(haloCluster.begin(), haloCluster.begin() + std::ptrdiff_t(haloDrop));
+    }
     base = layerStart;
-    for (uint32_t& index : layerAbove)
-        if (index != NONE) index -= uint32_t(index & HALO ? haloDrop : drop);
+    for (uint32_t c : filledAbove) {  // the cubes with a vertex in layerAbove
+        uint32_t& index = layerAbove[c];
+        index -= uint32_t(index & HALO ? haloDrop : drop);
+    }
 }
 
 void StreamingCuredSurface::State::load(PaddedSlice& target, const exposure::SurfaceGrid* values,
@@ -172,6 +179,11 @@ void StreamingCuredSurface::State::buildLayer() {
         }
     });
     for (size_t v = first[0]; v < first[H - 1]; ++v) tileStatistics.add(deviations[v]);
+    if (clusters) {  // in the vertices' order: the picture does not depend on the threads
+        vertexCluster.resize(first[H - 1]);
+        for (size_t v = first[0]; v < first[H - 1]; ++v)
+            vertexCluster[v] = clusters->add(glm::dvec3(vertices[v]), deviations[v]);
+    }
     for (int lj = 0; lj < H - 1; ++lj)
         for (const auto& [li, p] : rowVertices[lj]) {
             const int ci = sx0 + li, cj = sy0 + lj;
@@ -179,6 +191,8 @@ void StreamingCuredSurface::State::buildLayer() {
             if (!ownsCube(ci, cj)) {
                 layerBelow[cube(li, lj)] = HALO | uint32_t(haloVertices.size());
                 haloVertices.push_back(p);
+                // At its owner's position (made from the same values): the owner's cluster.
+                if (clusters) haloCluster.push_back(clusters->add(glm::dvec3(p), 0.0f, false));
                 if (keep) haloKeys.push_back(cubeKey(ci, cj));
             } else if (keep &&
                        ((ci == own.i1 - 1 && own.i1 < P) || (cj == own.j1 - 1 && own.j1 < Q))) {
@@ -242,6 +256,9 @@ void StreamingCuredSurface::State::emitQuads() {
 void StreamingCuredSurface::State::write(const std::vector<std::array<uint32_t, 3>>& triangles) {
     triangleCount += triangles.size();
     if (keep) kept.insert(kept.end(), triangles.begin(), triangles.end());
+    if (clusters)
+        for (const auto& tri : triangles)
+            clusters->addTriangle(clusterOf(tri[0]), clusterOf(tri[1]), clusterOf(tri[2]));
     if (!stlOut) return;
     buffer.resize(triangles.size() * 50);
     char* p = buffer.data();

@@ -10,10 +10,10 @@ namespace vpsim::validate {
 
 nlohmann::json StreamingCuredSurface::saveState() {
     State& s = *mState;
-    if (s.keep || s.stl || s.finished)
+    if (s.keep || s.clusters || s.stl || s.finished)
         throw InputError(
             "the cured surface's state is saved only for an in-place STL, without "
-            "kept triangles, before finish()");
+            "kept triangles or view, before finish()");
     if (s.started) s.closeTile();
     uint64_t stlBytes = 0;
     if (s.stlOut) {
@@ -65,7 +65,7 @@ void StreamingCuredSurface::restoreState(const nlohmann::json& state) {
 
 void StreamingCuredSurface::mergeState(const nlohmann::json& later, const std::string& stlBody) {
     State& s = *mState;
-    if (s.started || s.keep || s.finished)
+    if (s.started || s.keep || s.clusters || s.finished)
         throw InputError("the cured surface merges other tiles only between its own");
     try {
         s.triangleCount += later.at("triangles").get<uint64_t>();

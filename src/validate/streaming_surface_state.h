@@ -16,6 +16,7 @@
 #include "vpsim/core/io.h"
 #include "vpsim/geometry/mesh_distance.h"
 #include "vpsim/validate/streaming_surface.h"
+#include "vpsim/validate/surface_clusters.h"
 
 namespace vpsim::validate {
 namespace surface_detail {
@@ -102,6 +103,10 @@ struct StreamingCuredSurface::State {
     std::vector<double> rowVolume;
     std::vector<std::array<uint32_t, 3>> kept;
     bool keep = false;
+    /// The report's clustered picture of the surface (keepClusteredView), and the cluster of
+    /// each vertex in `vertices` and `haloVertices`.
+    std::unique_ptr<SurfaceClusters> clusters;
+    std::vector<uint32_t> vertexCluster, haloCluster;
     uint64_t triangleCount = 0;
     double volume = 0, tileVolume = 0;  ///< the finished tiles', and this tile's (merged in order)
     glm::dvec3 reference{0.0};  ///< volume moments are taken about this point (less rounding)
@@ -116,6 +121,10 @@ struct StreamingCuredSurface::State {
     const glm::vec3& vertex(uint32_t index) const {
         return index & surface_detail::HALO ? haloVertices[index & ~surface_detail::HALO]
                                             : vertices[index];
+    }
+    uint32_t clusterOf(uint32_t index) const {
+        return index & surface_detail::HALO ? haloCluster[index & ~surface_detail::HALO]
+                                            : vertexCluster[index];
     }
     uint64_t cubeKey(int ci, int cj) const {
         return (uint64_t(step) * uint64_t(Q - 1) + uint64_t(cj)) * uint64_t(P - 1) + uint64_t(ci);

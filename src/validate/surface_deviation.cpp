@@ -45,22 +45,29 @@ SurfaceDeviation summarizeDeviations(const std::vector<float>& d, double bandHal
     return out;
 }
 
-DeviationStatistics::DeviationStatistics(double band) : mBand(band), mHistogram(BINS, 0) {
+DeviationStatistics::DeviationStatistics(double band) : mBand(band), mHistogram(2 * BINS, 0) {
     if (!(band > 0)) throw InputError("deviation statistics need a positive band");
 }
 
 void DeviationStatistics::add(float deviation) {
     const double magnitude = std::abs(deviation);
+    mMin = mCount ? std::min(mMin, double(deviation)) : deviation;
+    mMax = mCount ? std::max(mMax, double(deviation)) : deviation;
     ++mCount;
     mSum += deviation;
     mSumSq += double(deviation) * deviation;
     mMaxAbs = std::max(mMaxAbs, magnitude);
     mBeyondBand += magnitude >= mBand * (1.0 - 1e-6);
-    ++mHistogram[size_t(std::min<double>(BINS - 1, magnitude / mBand * BINS))];
+    const size_t k = size_t(std::min<double>(BINS - 1, magnitude / mBand * BINS));
+    ++mHistogram[deviation < 0 ? BINS - 1 - k : BINS + k];
 }
 
 void DeviationStatistics::merge(const DeviationStatistics& later) {
     if (later.mBand != mBand) throw InputError("merging deviation statistics of different bands");
+    if (later.mCount) {
+        mMin = mCount ? std::min(mMin, later.mMin) : later.mMin;
+        mMax = mCount ? std::max(mMax, later.mMax) : later.mMax;
+    }
     mCount += later.mCount;
     mSum += later.mSum;
     mSumSq += later.mSumSq;
@@ -71,8 +78,8 @@ void DeviationStatistics::merge(const DeviationStatistics& later) {
 
 double DeviationStatistics::magnitudeAtRank(uint64_t k) const {
     uint64_t below = 0;
-    for (size_t b = 0; b < mHistogram.size(); ++b) {
-        below += mHistogram[b];
+    for (size_t b = 0; b < BINS; ++b) {
+        below += magnitudeCount(b);
         if (below > k) return std::min(mMaxAbs, double(b + 1) * mBand / BINS);
     }
     return mMaxAbs;
@@ -80,9 +87,21 @@ double DeviationStatistics::magnitudeAtRank(uint64_t k) const {
 
 uint64_t DeviationStatistics::countAbove(double limit) const {
     uint64_t above = 0;
-    for (size_t b = 0; b < mHistogram.size(); ++b)
-        if ((double(b) + 0.5) * mBand / BINS > limit) above += mHistogram[b];
+    for (size_t b = 0; b < BINS; ++b)
+        if ((double(b) + 0.5) * mBand / BINS > limit) above += magnitudeCount(b);
     return above;
+}
+
+std::vector<uint64_t> DeviationStatistics::histogram(double lo, double hi, int bins) const {
+    if (!(hi > lo) || bins < 1) throw InputError("a deviation histogram needs lo < hi and bins");
+    std::vector<uint64_t> counts(size_t(bins), 0);
+    for (size_t b = 0; b < mHistogram.size(); ++b) {
+        if (!mHistogram[b]) continue;
+        const double middle = (double(b) - BINS + 0.5) * mBand / BINS;
+        counts[size_t(std::clamp(int(std::floor((middle - lo) / (hi - lo) * bins)), 0,
+                                 bins - 1))] += mHistogram[b];
+    }
+    return counts;
 }
 
 SurfaceDeviation DeviationStatistics::summary() const {
@@ -98,11 +117,12 @@ SurfaceDeviation DeviationStatistics::summary() const {
 }
 
 nlohmann::json DeviationStatistics::toJson() const {
-    nlohmann::json bins = nlohmann::json::array();  // [bin, count] of the filled bins
+    nlohmann::json bins = nlohmann::json::array();  // [bin, count] of the filled signed bins
     for (size_t b = 0; b < mHistogram.size(); ++b)
         if (mHistogram[b]) bins.push_back({b, mHistogram[b]});
-    return {{"band", mBand},    {"count", mCount},    {"beyond_band", mBeyondBand}, {"sum", mSum},
-            {"sum_sq", mSumSq}, {"max_abs", mMaxAbs}, {"histogram", bins}};
+    return {{"band", mBand}, {"count", mCount},  {"beyond_band", mBeyondBand},
+            {"sum", mSum},   {"sum_sq", mSumSq}, {"max_abs", mMaxAbs},
+            {"min", mMin},   {"max", mMax},      {"signed_histogram", bins}};
 }
 
 DeviationStatistics DeviationStatistics::fromJson(const nlohmann::json& state) {
@@ -113,7 +133,9 @@ DeviationStatistics DeviationStatistics::fromJson(const nlohmann::json& state) {
         s.mSum = state.at("sum").get<double>();
         s.mSumSq = state.at("sum_sq").get<double>();
         s.mMaxAbs = state.at("max_abs").get<double>();
-        for (const auto& bin : state.at("histogram"))
+        s.mMin = state.at("min").get<double>();
+        s.mMax = state.at("max").get<double>();
+        for (const auto& bin : state.at("signed_histogram"))
             s.mHistogram.at(bin.at(0).get<size_t>()) = bin.at(1).get<uint64_t>();
         return s;
     } catch (const nlohmann::json::exception& e) {

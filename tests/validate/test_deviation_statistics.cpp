@@ -1,12 +1,14 @@
 // The cured surface's deviation statistics (issue 22: statistics that do not grow with the
 // surface): without kept triangles the mesher holds a layer of vertices, not the surface, and
 // its running statistics match brute force over every vertex's deviation (kept with the
-// triangles), untiled and in x-y tiles.
+// triangles), untiled and in x-y tiles; so does the clustered picture kept for the report.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
+#include <map>
 
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
@@ -15,6 +17,7 @@
 #include "vpsim/exposure/tiles.h"
 #include "vpsim/geometry/test_parts.h"
 #include "vpsim/validate/streaming_surface.h"
+#include "vpsim/validate/surface_clusters.h"
 
 using namespace vpsim;
 
@@ -46,16 +49,23 @@ size_t feed(validate::StreamingCuredSurface& surface, const exposure::ExposureGr
     return held;
 }
 
+/// The box [-0.25, 0.25]^2 x [0, 0.7] (the part) and a 20 um grid around it.
+geometry::Mesh boxPart() {
+    geometry::TestPartOptions options;
+    options.size = 0.5;
+    options.height = 0.7;
+    return geometry::makeTestPart("box", options);
+}
+exposure::ExposureGrid boxGrid() {
+    return exposure::ExposureGrid::covering(-0.4, -0.4, 0.4, 0.4, 0.0, 0.02, 1);
+}
+
 }  // namespace
 
 TEST_CASE("deviation statistics without the vertices match brute force, tiled or not",
           "[validate]") {
-    geometry::TestPartOptions options;
-    options.size = 0.5;
-    options.height = 0.7;
-    const geometry::Mesh part =
-        geometry::makeTestPart("box", options);  // [-0.25, 0.25]^2 x [0, 0.7]
-    const auto grid = exposure::ExposureGrid::covering(-0.4, -0.4, 0.4, 0.4, 0.0, 0.02, 1);
+    const geometry::Mesh part = boxPart();
+    const auto grid = boxGrid();
     const auto whole = exposure::tileLayout(grid, 0, 2);
     const auto tiled = exposure::tileLayout(grid, 13, 2);
     REQUIRE(tiled.size() > 4);
@@ -127,17 +137,129 @@ TEST_CASE("deviation statistics merge in order and survive their JSON state", "[
     CHECK_THROWS(validate::DeviationStatistics(0.25).summary());
 }
 
+// The report's histogram of the signed deviation comes from the statistics, not from a value per
+// vertex: the same counts as binning the samples (but for samples within a fine bin of a coarse
+// bin's edge), the extremes exact, and the end bins taking what lies outside.
+TEST_CASE("deviation statistics give the signed histogram and the extremes", "[validate]") {
+    validate::DeviationStatistics s(0.25);
+    std::vector<float> samples;
+    for (int i = 0; i < 5000; ++i) samples.push_back(float(0.2 * std::sin(0.61 * i) - 0.03));
+    for (float d : samples) s.add(d);
+    CHECK(s.minimum() == double(*std::min_element(samples.begin(), samples.end())));
+    CHECK(s.maximum() == double(*std::max_element(samples.begin(), samples.end())));
+    const double lo = -0.15, hi = 0.15, fine = 0.25 / validate::DeviationStatistics::BINS;
+    const int bins = 12;
+    const std::vector<uint64_t> counts = s.histogram(lo, hi, bins);
+    REQUIRE(counts.size() == size_t(bins));
+    std::vector<double> exact(bins, 0.0), nearEdge(bins, 0.0);
+    for (float d : samples) {
+        const double x = (d - lo) / (hi - lo) * bins;
+        exact[std::clamp(int(std::floor(x)), 0, bins - 1)] += 1;
+        const double edge = std::round(x);
+        if (std::abs(x - edge) * (hi - lo) / bins <= fine && edge > 0 && edge < bins) {
+            nearEdge[int(edge) - 1] += 1;  // may fall on either side
+            nearEdge[int(edge)] += 1;
+        }
+    }
+    double total = 0;
+    for (int b = 0; b < bins; ++b) {
+        CHECK(std::abs(double(counts[b]) - exact[b]) <= nearEdge[b]);
+        total += double(counts[b]);
+    }
+    CHECK(total == double(samples.size()));
+    CHECK(exact.front() > 0);  // the end bins hold what lies beyond [lo, hi]
+    CHECK(exact.back() > 0);
+    CHECK_THROWS(s.histogram(0.1, 0.1, 4));
+}
+
+// The report's picture of a large cured surface is clustered while the mesher makes it
+// (keepView): the same clusters, mean positions, mean deviations and triangles as clustering
+// every vertex of the whole mesh afterwards (brute force by cell below), untiled or in tiles
+// (the halo's vertices join their owner's cluster), in a fraction of the triangles.
+TEST_CASE("the clustered view made while meshing is the whole mesh clustered, tiled or not",
+          "[validate]") {
+    const geometry::Mesh part = boxPart();
+    const auto grid = boxGrid();
+    const double cell = 0.05;
+    validate::StreamingCuredSurface kept(grid, DZ, 1.0, &part, BAND, "");
+    kept.keepTriangles(true);
+    feed(kept, grid, exposure::tileLayout(grid, 0, 2));
+    const geometry::Mesh whole = kept.mesh();
+    const std::vector<float>& deviations = kept.deviations();
+    REQUIRE(deviations.size() == whole.vertices.size());
+
+    // Brute force: every vertex into its cell; a triangle as the cells of its corners.
+    using Key = std::array<int64_t, 3>;
+    auto keyOf = [&](const glm::dvec3& p) {
+        return Key{int64_t(std::floor(p.x / cell)), int64_t(std::floor(p.y / cell)),
+                   int64_t(std::floor(p.z / cell))};
+    };
+    struct Sum {
+        glm::dvec3 position{0.0};
+        double deviation = 0;
+        int count = 0;
+    };
+    std::map<Key, Sum> expected;
+    for (size_t v = 0; v < whole.vertices.size(); ++v) {
+        Sum& sum = expected[keyOf(whole.vertices[v])];
+        sum.position += whole.vertices[v];
+        sum.deviation += deviations[v];
+        ++sum.count;
+    }
+    std::map<std::array<Key, 3>, int> expectedTriangles;
+    for (const auto& t : whole.triangles) {
+        const std::array<Key, 3> k{keyOf(whole.vertices[t[0]]), keyOf(whole.vertices[t[1]]),
+                                   keyOf(whole.vertices[t[2]])};
+        if (k[0] != k[1] && k[1] != k[2] && k[0] != k[2]) ++expectedTriangles[k];
+    }
+    size_t expectedCount = 0;
+    for (const auto& entry : expectedTriangles) expectedCount += size_t(entry.second);
+
+    for (int side : {0, 13}) {
+        INFO("tile side " << side);
+        validate::StreamingCuredSurface streamed(grid, DZ, 1.0, &part, BAND, "");
+        streamed.keepView(cell);
+        feed(streamed, grid, exposure::tileLayout(grid, side, 2));
+        const validate::StreamingCuredSurface::View view = streamed.view();
+        CHECK(view.cell == cell);
+        CHECK(view.madeTriangles == kept.triangles());
+        REQUIRE(view.mesh.vertices.size() == expected.size());
+        REQUIRE(view.deviations.size() == expected.size());
+        std::vector<Key> keys;
+        int wrong = 0;
+        for (size_t c = 0; c < view.mesh.vertices.size(); ++c) {
+            // A cluster's mean lies in its cell (a box holds the mean of its points).
+            keys.push_back(keyOf(view.mesh.vertices[c]));
+            const auto it = expected.find(keys.back());
+            if (it == expected.end()) {
+                ++wrong;
+                continue;
+            }
+            const Sum& sum = it->second;
+            wrong += glm::length(view.mesh.vertices[c] - sum.position / double(sum.count)) > 1e-9 ||
+                     std::abs(view.deviations[c] - sum.deviation / sum.count) > 1e-6;
+        }
+        CHECK(wrong == 0);
+        std::map<std::array<Key, 3>, int> triangles;
+        for (const auto& t : view.mesh.triangles) ++triangles[{keys[t[0]], keys[t[1]], keys[t[2]]}];
+        CHECK(triangles == expectedTriangles);
+        CHECK(view.mesh.triangles.size() == expectedCount);
+        CHECK(view.mesh.triangles.size() * 4 < whole.triangles.size());
+    }
+    validate::StreamingCuredSurface late(grid, DZ, 1.0, &part, BAND, "");
+    feed(late, grid, exposure::tileLayout(grid, 0, 2));
+    CHECK_THROWS(late.keepView(cell));  // only from the first slice on
+    CHECK_THROWS(validate::SurfaceClusters(0.0));
+}
+
 // What MPI ranks do with a job's tiles (pipeline/cluster_run.h): each tile into a fresh surface
 // with an in-place STL, its saved state and STL triangles merged in the tiles' order into
 // another surface, gives one surface fed every tile: the same counts, volume and statistics to
 // the bit, and the same STL bytes.
 TEST_CASE("cured surfaces of single tiles merged in order are the surface of all tiles",
           "[validate]") {
-    geometry::TestPartOptions options;
-    options.size = 0.5;
-    options.height = 0.7;
-    const geometry::Mesh part = geometry::makeTestPart("box", options);
-    const auto grid = exposure::ExposureGrid::covering(-0.4, -0.4, 0.4, 0.4, 0.0, 0.02, 1);
+    const geometry::Mesh part = boxPart();
+    const auto grid = boxGrid();
     const auto tiles = exposure::tileLayout(grid, 13, 2);
     const auto dir = std::filesystem::temp_directory_path();
     const std::string oneStl = (dir / "vpsim_merge_one.stl").string(),

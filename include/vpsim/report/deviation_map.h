@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "vpsim/geometry/mesh.h"
+#include "vpsim/validate/streaming_surface.h"
 #include "vpsim/validate/surface_deviation.h"
 
 namespace vpsim::report {
@@ -19,15 +20,15 @@ struct DeviationScale {
     double limit = 0;   ///< mm
     double beyond = 0;  ///< fraction of the samples with |deviation| > limit
 };
-DeviationScale deviationScale(const std::vector<float>& deviations);
-/// The same from running statistics (the percentile and the share to the histogram's bin).
+/// From the running statistics of every vertex (the percentile and the share to their bin).
 DeviationScale deviationScale(const validate::DeviationStatistics& statistics);
 
-/// Writes deviation_histogram and deviation_map_top (.svg and .png) into `directory`; nothing
-/// when there are no deviations. Returns the scale used. @throw InputError when a file cannot be
-/// written
-DeviationScale writeDeviationFigures(const std::string& directory, const geometry::Mesh& cured,
-                                     const std::vector<float>& deviations,
+/// Writes deviation_histogram (of every vertex: `statistics`) and deviation_map_top (the cured
+/// surface as kept for pictures) as .svg and .png into `directory`; nothing when there are no
+/// deviations. Returns the scale used. @throw InputError when a file cannot be written
+DeviationScale writeDeviationFigures(const std::string& directory,
+                                     const validate::StreamingCuredSurface::View& cured,
+                                     const validate::DeviationStatistics& statistics,
                                      const geometry::Mesh& part);
 
 }  // namespace vpsim::report

@@ -58,9 +58,8 @@ struct ExposureSummary {
 struct ValidationReport {
     validate::SliceValidationSummary slices;  ///< IoU, over-cure, XY contour errors
     validate::SurfaceDeviation deviation;     ///< signed surface deviation of the cured mesh
-    std::vector<float> vertexDeviations;      ///< mm, per cured-mesh vertex (pictures), when kept
-    /// Running statistics of every vertex's deviation (the figures when vertexDeviations is not
-    /// kept: large parts, or no figures or viewer among the outputs).
+    /// Running statistics of every cured-surface vertex's deviation (the percentiles, the
+    /// report's histogram and scale).
     validate::DeviationStatistics deviationStatistics;
     validate::FeatureMeasurements features;
 };

@@ -15,6 +15,7 @@
 #include "vpsim/geometry/mesh.h"
 #include "vpsim/report/job_result.h"
 #include "vpsim/report/summary_tables.h"
+#include "vpsim/validate/streaming_surface.h"
 
 namespace vpsim::report {
 
@@ -39,11 +40,20 @@ inline constexpr const char* VIEWER_FILES[] = {"three.min.js", "OrbitControls.js
 /// their mean (values averaged), triangles that collapse are dropped. cell <= 0 copies.
 geometry::Mesh clusterMesh(const geometry::Mesh& mesh, double cell, std::vector<float>* values);
 
-/// Writes the view's files into `outDir`. `deviations` are mm per cured vertex; `limitMm` the
-/// colour scale's ends. Without three.js installed nothing is written and `missing` says why.
+/// The cured surface's share of the view's triangles (the model has the rest).
+constexpr size_t CURED_VIEW_BUDGET = VIEW_TRIANGLE_BUDGET * 5 / 6;
+/// The cell (mm) on which the mesher clusters the cured surface for the pictures
+/// (StreamingCuredSurface::keepView), from the part's area (mm^2), which the cured surface's is
+/// near: 0 (every triangle) when the mesher's own triangles, about 3 area / (voxel min(voxel,
+/// height)) (12e6 measured on the 400 mm^2 block at 10 um), fit CURED_VIEW_BUDGET.
+double viewCell(double partArea, double voxel, double voxelHeight);
+
+/// Writes the view's files into `outDir`: the cured surface as kept (deviations in mm per
+/// vertex), clustered further if still above the budget; `limitMm` the colour scale's ends.
+/// Without three.js installed nothing is written and `missing` says why.
 /// @throw InputError when a file cannot be written
-ViewerSummary writeViewer3d(const std::string& outDir, const geometry::Mesh& cured,
-                            const std::vector<float>& deviations, const geometry::Mesh& part,
-                            double limitMm, double layerThickness);
+ViewerSummary writeViewer3d(const std::string& outDir,
+                            const validate::StreamingCuredSurface::View& cured,
+                            const geometry::Mesh& part, double limitMm, double layerThickness);
 
 }  // namespace vpsim::report

@@ -59,6 +59,18 @@ public:
     geometry::Mesh mesh() const;
     /// Keep the triangles in memory for mesh() (off by default: they stream to the STL).
     void keepTriangles(bool keep);
+    /// Keep a picture of the surface for the report (before the first slice): its vertices
+    /// merged on a grid of `cell` mm as they are made (SurfaceClusters), so memory follows the
+    /// picture, not the surface; cell 0 keeps every triangle (keepTriangles).
+    void keepView(double cell);
+    /// The kept picture: the mesh and each vertex's (mean) deviation from the part, mm.
+    struct View {
+        geometry::Mesh mesh;
+        std::vector<float> deviations;
+        double cell = 0;         ///< the clustering cell, mm; 0: every triangle as made
+        uint64_t madeTriangles;  ///< the cured surface's own triangles (cured.stl's)
+    };
+    View view() const;
 
     /// Between two tiles (after a tile's last slice), without kept triangles and with an
     /// in-place STL or none: closes the tile and returns what the next tiles build on (counts,

@@ -27,8 +27,9 @@ struct SurfaceDeviation {
 
 /// Running statistics of signed deviations clamped to +-band (mm), so a run need not keep one
 /// value per cured vertex: count, sum and sum of squares (in the order added; parts merge in a
-/// fixed order), the extremes, and a histogram of |deviation| in BINS equal bins over [0, band]
-/// for percentiles (to band / BINS: 4 nm for the 0.25 mm band).
+/// fixed order), the extremes, and a histogram of the signed deviation in 2 BINS equal bins over
+/// [-band, band] for percentiles of |deviation| and the report's histogram (to band / BINS: 4 nm
+/// for the 0.25 mm band).
 class DeviationStatistics {
 public:
     static constexpr int BINS = 1 << 16;
@@ -42,6 +43,12 @@ public:
     double magnitudeAtRank(uint64_t k) const;
     /// Samples with |deviation| > `limit`, to a bin (a bin counts when its middle is above).
     uint64_t countAbove(double limit) const;
+    /// The smallest and the largest signed deviation (0 when there are none).
+    double minimum() const { return mMin; }
+    double maximum() const { return mMax; }
+    /// Counts in `bins` equal bins over [lo, hi] (lo < hi), to a bin of the histogram (each of
+    /// its bins counts where its middle falls); samples outside go to the end bins.
+    std::vector<uint64_t> histogram(double lo, double hi, int bins) const;
     /// mean, rms, max and beyond_band as summarizeDeviations gives them; p95 to a bin.
     /// @throw InputError when there are none (nothing cured)
     SurfaceDeviation summary() const;
@@ -53,8 +60,12 @@ public:
 private:
     double mBand;
     uint64_t mCount = 0, mBeyondBand = 0;
-    double mSum = 0, mSumSq = 0, mMaxAbs = 0;
-    std::vector<uint64_t> mHistogram;
+    double mSum = 0, mSumSq = 0, mMaxAbs = 0, mMin = 0, mMax = 0;
+    std::vector<uint64_t> mHistogram;  ///< 2 BINS: bin BINS + k holds [k, k + 1) band / BINS
+    /// The magnitude bin k's count: both signs.
+    uint64_t magnitudeCount(size_t k) const {
+        return mHistogram[BINS + k] + mHistogram[BINS - 1 - k];
+    }
 };
 
 /// @throw InputError when the cured mesh is empty (nothing cured)
