@@ -247,21 +247,34 @@ void StreamingCuredSurface::State::emitQuads() {
         }
         rowVolume[lj] = moment;
     });
-    for (int lj = ljLo; lj < ljHi; ++lj) {
-        tileVolume += rowVolume[lj] / 6.0;
-        write(rowTriangles[lj]);
+    // The STL records of a group of rows are made in parallel, then written in row order; a
+    // group at a time, so that a flat face (two triangles a cell) needs no slice-sized buffer.
+    for (int group = ljLo; group < ljHi; group += STL_ROWS) {
+        const int end = std::min(ljHi, group + STL_ROWS);
+        if (stlOut)
+            tbb::parallel_for(group, end,
+                              [&](int lj) { formatStl(rowTriangles[lj], rowStl[lj - group]); });
+        for (int lj = group; lj < end; ++lj) {
+            tileVolume += rowVolume[lj] / 6.0;
+            write(rowTriangles[lj], rowStl[lj - group]);
+        }
     }
 }
 
-void StreamingCuredSurface::State::write(const std::vector<std::array<uint32_t, 3>>& triangles) {
+void StreamingCuredSurface::State::write(const std::vector<std::array<uint32_t, 3>>& triangles,
+                                         const std::vector<char>& stlRecords) {
     triangleCount += triangles.size();
     if (keep) kept.insert(kept.end(), triangles.begin(), triangles.end());
     if (clusters)
         for (const auto& tri : triangles)
             clusters->addTriangle(clusterOf(tri[0]), clusterOf(tri[1]), clusterOf(tri[2]));
-    if (!stlOut) return;
-    buffer.resize(triangles.size() * 50);
-    char* p = buffer.data();
+    if (stlOut) stlOut->write(stlRecords.data(), std::streamsize(stlRecords.size()));
+}
+
+void StreamingCuredSurface::State::formatStl(const std::vector<std::array<uint32_t, 3>>& triangles,
+                                             std::vector<char>& records) const {
+    records.resize(triangles.size() * 50);
+    char* p = records.data();
     for (const auto& tri : triangles) {
         const glm::vec3 &a = vertex(tri[0]), &b = vertex(tri[1]), &c = vertex(tri[2]);
         glm::vec3 n = glm::cross(b - a, c - a);
@@ -272,7 +285,6 @@ void StreamingCuredSurface::State::write(const std::vector<std::array<uint32_t, 
         std::memset(p + 48, 0, 2);
         p += 50;
     }
-    stlOut->write(buffer.data(), std::streamsize(buffer.size()));
 }
 
 void StreamingCuredSurface::State::advance(const exposure::SurfaceGrid* values, double z) {

@@ -110,7 +110,9 @@ struct StreamingCuredSurface::State {
     uint64_t triangleCount = 0;
     double volume = 0, tileVolume = 0;  ///< the finished tiles', and this tile's (merged in order)
     glm::dvec3 reference{0.0};  ///< volume moments are taken about this point (less rounding)
-    std::vector<char> buffer;
+    static constexpr int STL_ROWS = 32;
+    /// The triangles of a group of STL_ROWS rows as STL records.
+    std::vector<std::vector<char>> rowStl = std::vector<std::vector<char>>(STL_ROWS);
 
     size_t sample(int li, int lj) const { return size_t(lj) * W + li; }
     size_t cube(int li, int lj) const { return size_t(lj) * (W - 1) + li; }
@@ -151,7 +153,12 @@ struct StreamingCuredSurface::State {
     /// `above` (its cubes above: layerAbove, below: layerBelow), each split in two triangles:
     /// those of the edges that start at a sample the tile owns.
     void emitQuads();
-    void write(const std::vector<std::array<uint32_t, 3>>& triangles);
+    /// Counts a row's triangles, keeps them for the picture and writes their STL records.
+    void write(const std::vector<std::array<uint32_t, 3>>& triangles,
+               const std::vector<char>& stlRecords);
+    /// The triangles as binary STL records (normal, corners, no attribute): rows in parallel.
+    void formatStl(const std::vector<std::array<uint32_t, 3>>& triangles,
+                   std::vector<char>& records) const;
     void advance(const exposure::SurfaceGrid* values, double z);
 };
 
