@@ -2,14 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 #include "plplot_page.h"
-#include "vpsim/core/base64.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/image.h"
-#include "vpsim/core/io.h"
 #include "vpsim/core/text.h"
 #include "vpsim/plot/plot.h"
 
@@ -34,10 +31,8 @@ Rgb mapColour(ColourMap map, double t) {
     return c;
 }
 
-/// The map's cells as a PNG (rows from the top), no data in grey, as an SVG <image> over the
-/// plot area at (left, top) of size (w, h) in the page's units.
-std::string svgRaster(const std::string& stem, const MapFigure& f, double left, double top,
-                      double w, double h) {
+/// The map's cells as pixels (rows from the top), no data in grey.
+RgbImage cellColours(const MapFigure& f) {
     RgbImage image(f.nx, f.ny, 150);
     for (int j = 0; j < f.ny; ++j)
         for (int i = 0; i < f.nx; ++i) {
@@ -46,16 +41,7 @@ std::string svgRaster(const std::string& stem, const MapFigure& f, double left, 
             const Rgb c = mapColour(f.scale.map, (v - f.scale.lo) / (f.scale.hi - f.scale.lo));
             image.set(i, f.ny - 1 - j, c.r, c.g, c.b);
         }
-    const std::string file = stem + ".raster.png";  // read back and removed
-    writePng(file, image);
-    const std::string png = readFile(file);
-    std::remove(file.c_str());
-    char head[200];
-    std::snprintf(head, sizeof head,
-                  "<image x='%.2f' y='%.2f' width='%.2f' height='%.2f' preserveAspectRatio='none' "
-                  "style='image-rendering:pixelated' xlink:href='data:image/png;base64,",
-                  left, top, w, h);
-    return head + base64(png) + "'/>";
+    return image;
 }
 
 /// PLplot's cmap1 as mapColour gives it.
@@ -175,25 +161,15 @@ void writeMapFigure(const std::string& stem, const MapFigure& figure) {
     const int width = int(left + std::max(pw, 200.0) + right),
               height = int(top + std::max(ph, 60.0) + bottom);
     const ColourScale& s = f.scale;
-    const std::string raster = svgRaster(stem, f, left, top, pw, ph);
+    // The cells under the plot area, which PLplot's viewport puts `bottom` above the page's foot.
+    const Underlay cells{cellColours(f), left, height - bottom - ph, pw, ph};
     plotTwice(
         stem, width, height,
-        [&](bool svg) {
+        [&](bool) {
             plvpor(left / width, (left + pw) / width, bottom / height, (bottom + ph) / height);
             plwind(f.x0, f.x1, f.y0, f.y1);
-            PLFLT bx[] = {f.x0, f.x1, f.x1, f.x0}, by[] = {f.y0, f.y0, f.y1, f.y1};
-            setColourMap(s.map);
+            setColourMap(s.map);  // the colour bar's
             const double noData = -std::numeric_limits<double>::max();
-            if (!svg) {        // the SVG has the raster under its drawing already
-                plcol0(GREY);  // where there is no data
-                plfill(4, bx, by);
-                std::vector<float> clamped(f.values);
-                for (float& v : clamped)
-                    if (std::isfinite(v)) v = float(std::clamp(double(v), s.lo, s.hi));
-                Matrix image(clamped, f.nx, f.ny, noData);
-                plimagefr(image.rows.data(), f.nx, f.ny, f.x0, f.x1, f.y0, f.y1, s.lo, s.hi, s.lo,
-                          s.hi, nullptr, nullptr);
-            }
             GridTransform transform{f.x0, f.y0, (f.x1 - f.x0) / f.nx, (f.y1 - f.y0) / f.ny};
             std::vector<LegendEntry> entries;
             PLINT index = FIRST_FREE;
@@ -245,7 +221,7 @@ void writeMapFigure(const std::string& stem, const MapFigure& figure) {
                 plmtex("b", 7.2 + (entries.empty() ? 0 : 0.5) + 1.6 * std::max(0, legendRows - 1),
                        0.0, 0.0, f.note.c_str());
         },
-        raster);
+        &cells);
 }
 
 }  // namespace vpsim::plot

@@ -1,8 +1,10 @@
 // The plotting layer: what a figure shows is in its SVG as text (title, axis labels, tick labels,
 // colour bar label, legend, note), maps keep the data's aspect ratio, large grids are averaged
 // down to MAX_MAP_CELLS (checked against a brute-force mean), and both files are written.
+#include <png.h>
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <regex>
@@ -40,6 +42,36 @@ double rasterAspect(const std::string& svg) {
                               std::regex(R"(<image x='[^']*' y='[^']*' width='([0-9.]+)' )"
                                          R"(height='([0-9.]+)')")));
     return std::stod(m[1]) / std::stod(m[2]);
+}
+
+/// (x, y, width, height) of the SVG's embedded raster in the page's pixels.
+std::array<double, 4> rasterRectangle(const std::string& svg) {
+    std::smatch m;
+    REQUIRE(std::regex_search(svg, m,
+                              std::regex(R"(<image x='([0-9.]+)' y='([0-9.]+)' width='([0-9.]+)' )"
+                                         R"(height='([0-9.]+)')")));
+    return {std::stod(m[1]), std::stod(m[2]), std::stod(m[3]), std::stod(m[4])};
+}
+
+struct PngPixels {
+    int width = 0, height = 0;
+    std::vector<uint8_t> rgb;
+    std::array<int, 3> at(int x, int y) const {
+        const uint8_t* p = &rgb[(size_t(y) * width + x) * 3];
+        return {p[0], p[1], p[2]};
+    }
+};
+
+PngPixels readPng(const std::string& path) {
+    const std::string data = readWhole(path);
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    REQUIRE(png_image_begin_read_from_memory(&image, data.data(), data.size()));
+    image.format = PNG_FORMAT_RGB;
+    PngPixels pixels{int(image.width), int(image.height), {}};
+    pixels.rgb.resize(PNG_IMAGE_SIZE(image));
+    REQUIRE(png_image_finish_read(&image, nullptr, pixels.rgb.data(), 0, nullptr));
+    return pixels;
 }
 
 }  // namespace
@@ -110,6 +142,40 @@ TEST_CASE("map figure: colour bar, outlines in the legend, true aspect ratio", "
     CHECK(std::filesystem::file_size(stem + ".png") > 1000);
     const plot::MapFigure empty;
     CHECK_THROWS_AS(plot::writeMapFigure(stem, empty), InputError);
+    std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("map figure's PNG: the cells under the SVG's raster, edge pixels by area", "[plot]") {
+    const auto dir = scratch("vpsim_test_plot_map_png");
+    plot::MapFigure f;  // three columns: the scale's bottom, no data, the scale's top
+    f.nx = 3, f.ny = 2;
+    f.x0 = 0, f.x1 = 3, f.y0 = 0, f.y1 = 1;
+    f.values = {0, NAN, 1, 0, NAN, 1};
+    f.scale = {plot::ColourMap::Sequential, 0, 1, "exposure", false, false};
+    f.scaleBar = false;
+    const std::string stem = (dir / "cells").string();
+    plot::writeMapFigure(stem, f);
+    const auto [left, top, width, height] = rasterRectangle(readWhole(stem + ".svg"));
+    const PngPixels png = readPng(stem + ".png");
+    const int y = int(top + height / 4);  // the middle of the top row of cells
+    using Colour = std::array<int, 3>;
+    auto near = [](Colour a, Colour b) {
+        for (int k = 0; k < 3; ++k)
+            if (std::abs(a[k] - b[k]) > 1) return false;
+        return true;
+    };
+    // Viridis's ends (matplotlib's table) and the no-data grey, at the columns' centres.
+    CHECK(near(png.at(int(left + width / 6), y), {68, 1, 84}));
+    CHECK(near(png.at(int(left + width / 2), y), {150, 150, 150}));
+    CHECK(near(png.at(int(left + 5 * width / 6), y), {253, 231, 37}));
+    // The pixel across the first columns' edge: each colour by the length of it that it covers.
+    const double edge = left + width / 3;
+    const int x = int(std::floor(edge));
+    const double first = edge - x;
+    INFO("edge at " << edge);
+    CHECK(near(png.at(x, y), {int(std::lround(first * 68 + (1 - first) * 150)),
+                              int(std::lround(first * 1 + (1 - first) * 150)),
+                              int(std::lround(first * 84 + (1 - first) * 150))}));
     std::filesystem::remove_all(dir);
 }
 
