@@ -55,31 +55,25 @@ void setColourMap(ColourMap map) {
     plscmap1(r, g, b, 256);
 }
 
-struct GridTransform {
-    double x0, y0, dx, dy;
-};
-
-void cellCentre(PLFLT i, PLFLT j, PLFLT* x, PLFLT* y, PLPointer data) {
-    const auto* t = static_cast<const GridTransform*>(data);
-    *x = t->x0 + (i + 0.5) * t->dx;
-    *y = t->y0 + (j + 0.5) * t->dy;
-}
-
-/// A field as PLplot's column-major matrix (m[i][j], i along x).
-struct Matrix {
-    std::vector<PLFLT> storage;
-    std::vector<const PLFLT*> rows;
-    Matrix(const std::vector<float>& values, int nx, int ny, double noData)
-        : storage(size_t(nx) * ny), rows(nx) {
-        for (int i = 0; i < nx; ++i) {
-            for (int j = 0; j < ny; ++j) {
-                const float v = values[size_t(j) * nx + i];
-                storage[size_t(i) * ny + j] = std::isfinite(v) ? double(v) : noData;
-            }
-            rows[i] = &storage[size_t(i) * ny];
+/// The outlines' contour lines in the map's units, each outline's polylines broken by NaN (traced
+/// once for both devices).
+std::vector<Curve> outlineCurves(const MapFigure& f) {
+    std::vector<Curve> curves;
+    const double dx = (f.x1 - f.x0) / f.nx, dy = (f.y1 - f.y0) / f.ny;
+    for (const Outline& o : f.outlines) {
+        const std::vector<float>& field = o.field.empty() ? f.values : o.field;
+        if (field.size() != f.values.size()) continue;
+        Curve c{o.label, {}, {}, o.colour, o.dashed};
+        for (const ContourLine& line : contourLines(field, f.nx, f.ny, o.level)) {
+            for (size_t k = 0; k < line.x.size(); ++k)
+                c.x.push_back(f.x0 + (line.x[k] + 0.5) * dx),
+                    c.y.push_back(f.y0 + (line.y[k] + 0.5) * dy);
+            c.x.push_back(NAN), c.y.push_back(NAN);
         }
+        curves.push_back(std::move(c));
     }
-};
+    return curves;
+}
 
 std::string formatLength(double length, const std::string& unit) {
     if (unit == "mm" && length < 1)
@@ -163,27 +157,21 @@ void writeMapFigure(const std::string& stem, const MapFigure& figure) {
     const ColourScale& s = f.scale;
     // The cells under the plot area, which PLplot's viewport puts `bottom` above the page's foot.
     const Underlay cells{cellColours(f), left, height - bottom - ph, pw, ph};
+    const std::vector<Curve> outlines = outlineCurves(f);
     plotTwice(
         stem, width, height,
         [&](bool) {
             plvpor(left / width, (left + pw) / width, bottom / height, (bottom + ph) / height);
             plwind(f.x0, f.x1, f.y0, f.y1);
             setColourMap(s.map);  // the colour bar's
-            const double noData = -std::numeric_limits<double>::max();
-            GridTransform transform{f.x0, f.y0, (f.x1 - f.x0) / f.nx, (f.y1 - f.y0) / f.ny};
             std::vector<LegendEntry> entries;
             PLINT index = FIRST_FREE;
-            for (const Outline& o : f.outlines) {
-                const std::vector<float>& field = o.field.empty() ? f.values : o.field;
-                if (field.size() != f.values.size()) continue;
-                Matrix m(field, f.nx, f.ny, noData);
-                useColour(index, o.colour);
-                pllsty(o.dashed ? 2 : 1);
+            for (const Curve& c : outlines) {
+                useColour(index, c.colour);
+                pllsty(c.dashed ? 2 : 1);
                 plwidth(2);
-                PLFLT level = o.level;
-                plcont(m.rows.data(), f.nx, f.ny, 1, f.nx, 1, f.ny, &level, 1, cellCentre,
-                       &transform);
-                entries.push_back({o.label, index, o.dashed ? 2 : 1, false});
+                polyline(c.x, c.y);
+                entries.push_back({c.label, index, c.dashed ? 2 : 1, false});
                 ++index;
             }
             for (const Curve& c : f.lines) {

@@ -218,6 +218,53 @@ TEST_CASE("large maps are averaged down to MAX_MAP_CELLS, their edges kept", "[p
     CHECK(plot::downsampled(small).values == small.values);
 }
 
+TEST_CASE("contour lines: joined polylines at the interpolated crossings", "[plot]") {
+    const int n = 41;
+    auto field = [&](auto value) {
+        std::vector<float> f;
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) f.push_back(float(value(i, j)));
+        return f;
+    };
+    // A cone: one closed line, on the circle of the level's radius, enclosing its area.
+    const double cx = 20.3, cy = 19.6, r = 12;
+    auto distance = [&](double i, double j) { return std::hypot(i - cx, j - cy); };
+    std::vector<plot::ContourLine> lines = plot::contourLines(field(distance), n, n, r);
+    REQUIRE(lines.size() == 1);
+    const plot::ContourLine& circle = lines[0];
+    REQUIRE(circle.x.size() > 50);
+    CHECK(circle.x.front() == circle.x.back());
+    CHECK(circle.y.front() == circle.y.back());
+    double area = 0;
+    for (size_t k = 0; k < circle.x.size(); ++k) {
+        CHECK(distance(circle.x[k], circle.y[k]) == Approx(r).margin(0.03));
+        if (k > 0) area += circle.x[k - 1] * circle.y[k] - circle.x[k] * circle.y[k - 1];
+    }
+    CHECK(std::abs(area) / 2 == Approx(M_PI * r * r).epsilon(0.01));
+    // Two separate bumps: two lines.
+    auto bumps = [&](double i, double j) {
+        return std::max(5 - std::hypot(i - 10, j - 10), 5 - std::hypot(i - 30, j - 30));
+    };
+    CHECK(plot::contourLines(field(bumps), n, n, 1.0).size() == 2);
+    // A ramp across the grid: one open line from edge to edge at the interpolated x.
+    lines = plot::contourLines(field([](int i, int) { return i; }), n, n, 10.25);
+    REQUIRE(lines.size() == 1);
+    CHECK(lines[0].x.size() == size_t(n));
+    for (double x : lines[0].x) CHECK(x == Approx(10.25));
+    CHECK(std::min(lines[0].y.front(), lines[0].y.back()) == 0);
+    CHECK(std::max(lines[0].y.front(), lines[0].y.back()) == n - 1);
+    // A cell without data inside a field above the level: the line goes round it through its
+    // neighbours' centres.
+    std::vector<float> hole = field([](int, int) { return 1.0; });
+    hole[size_t(5) * n + 5] = NAN;
+    lines = plot::contourLines(hole, n, n, 0.5);
+    REQUIRE(lines.size() == 1);
+    CHECK(lines[0].x.size() == 5);
+    for (size_t k = 0; k < lines[0].x.size(); ++k)
+        CHECK(std::abs(lines[0].x[k] - 5) + std::abs(lines[0].y[k] - 5) == 1.0);
+    CHECK(plot::contourLines(hole, n, n, 2.0).empty());
+}
+
 TEST_CASE("figure stems from a user's FILE.svg", "[plot]") {
     CHECK(plot::figureStem("out/wc.svg") == "out/wc");
     CHECK(plot::figureStem("out/wc") == "out/wc");
