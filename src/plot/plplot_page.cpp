@@ -84,7 +84,7 @@ std::vector<unsigned char> pageWithUnderlay(int width, int height, const Underla
 /// The underlay as an SVG <image>: its cells as an embedded PNG.
 std::string svgImage(const std::string& stem, const Underlay& u) {
     const std::string file = stem + ".raster.png";  // read back and removed
-    writePng(file, u.cells);
+    writePng(file, u.cells, PngEffort::Quick);
     const std::string png = readFile(file);
     std::remove(file.c_str());
     char head[200];
@@ -153,7 +153,7 @@ void plotTwice(const std::string& stem, int width, int height,
     RgbImage image(width, height);
     for (size_t p = 0; p < size_t(width) * height; ++p)
         std::copy_n(&page[p * 4], 3, &image.pixels[p * 3]);
-    writePng(stem + ".png", image);
+    writePng(stem + ".png", image, PngEffort::Quick);
 }
 
 }  // namespace vpsim::plot

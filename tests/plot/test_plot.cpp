@@ -2,8 +2,10 @@
 // colour bar label, legend, note), maps keep the data's aspect ratio, large grids are averaged
 // down to MAX_MAP_CELLS (checked against a brute-force mean), and both files are written.
 #include <png.h>
+#include <zlib.h>
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
@@ -11,6 +13,7 @@
 
 #include "support/svg_text.h"
 #include "vpsim/core/error.h"
+#include "vpsim/core/image.h"
 #include "vpsim/plot/plot.h"
 
 using namespace vpsim;
@@ -263,6 +266,44 @@ TEST_CASE("contour lines: joined polylines at the interpolated crossings", "[plo
     for (size_t k = 0; k < lines[0].x.size(); ++k)
         CHECK(std::abs(lines[0].x[k] - 5) + std::abs(lines[0].y[k] - 5) == 1.0);
     CHECK(plot::contourLines(hole, n, n, 2.0).empty());
+}
+
+/// The filter byte of each row of an 8-bit RGB PNG (its IDAT chunks inflated).
+std::vector<int> rowFilters(const std::string& png, int width, int height) {
+    std::string deflated;
+    for (size_t at = 8; at + 8 <= png.size();) {
+        const size_t length = size_t(uint8_t(png[at])) << 24 | size_t(uint8_t(png[at + 1])) << 16 |
+                              size_t(uint8_t(png[at + 2])) << 8 | size_t(uint8_t(png[at + 3]));
+        if (png.compare(at + 4, 4, "IDAT") == 0) deflated += png.substr(at + 8, length);
+        at += 12 + length;
+    }
+    std::vector<unsigned char> rows(size_t(height) * (1 + 3 * size_t(width)));
+    uLongf size = uLongf(rows.size());
+    REQUIRE(uncompress(rows.data(), &size, reinterpret_cast<const Bytef*>(deflated.data()),
+                       uLong(deflated.size())) == Z_OK);
+    std::vector<int> filters;
+    for (int y = 0; y < height; ++y) filters.push_back(rows[size_t(y) * (1 + 3 * size_t(width))]);
+    return filters;
+}
+
+TEST_CASE("PNG effort: Quick writes unfiltered rows of the same pixels", "[plot]") {
+    const auto dir = scratch("vpsim_test_png_effort");
+    RgbImage image(120, 40);  // a figure's kind of picture: a ramp beside flat colour
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < 60; ++x) image.set(x, y, uint8_t(4 * x), uint8_t(6 * y), 90);
+    const std::string quick = (dir / "quick.png").string(), small = (dir / "small.png").string();
+    writePng(quick, image, PngEffort::Quick);
+    writePng(small, image);
+    for (const std::string& path : {quick, small}) {
+        const PngPixels read = readPng(path);
+        CHECK(read.width == image.width);
+        CHECK(read.rgb == image.pixels);
+    }
+    const std::vector<int> unfiltered = rowFilters(readWhole(quick), image.width, image.height);
+    CHECK(std::all_of(unfiltered.begin(), unfiltered.end(), [](int f) { return f == 0; }));
+    const std::vector<int> chosen = rowFilters(readWhole(small), image.width, image.height);
+    CHECK(std::any_of(chosen.begin(), chosen.end(), [](int f) { return f != 0; }));
+    std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("figure stems from a user's FILE.svg", "[plot]") {
