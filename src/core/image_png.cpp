@@ -11,7 +11,7 @@ namespace vpsim {
 namespace {
 
 void writePngFile(const std::string& path, int width, int height, int colourType, int channels,
-                  const std::vector<uint8_t>& pixels) {
+                  const std::vector<uint8_t>& pixels, PngEffort effort = PngEffort::Smallest) {
     if (width <= 0 || height <= 0 || pixels.size() != size_t(width) * height * channels)
         throw InputError("internal: image size does not match its pixels", path);
     writePathAtomic(path, [&](const std::string& temporary) {
@@ -27,6 +27,7 @@ void writePngFile(const std::string& path, int width, int height, int colourType
         png_init_io(png, file);
         png_set_IHDR(png, info, width, height, 8, colourType, PNG_INTERLACE_NONE,
                      PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+        if (effort == PngEffort::Quick) png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_NONE);
         png_write_info(png, info);
         for (int y = 0; y < height; ++y)
             png_write_row(png, const_cast<png_bytep>(&pixels[size_t(y) * width * channels]));
@@ -54,8 +55,8 @@ void RgbImage::line(double x0, double y0, double x1, double y1, uint8_t r, uint8
     }
 }
 
-void writePng(const std::string& path, const RgbImage& image) {
-    writePngFile(path, image.width, image.height, PNG_COLOR_TYPE_RGB, 3, image.pixels);
+void writePng(const std::string& path, const RgbImage& image, PngEffort effort) {
+    writePngFile(path, image.width, image.height, PNG_COLOR_TYPE_RGB, 3, image.pixels, effort);
 }
 
 void writePngGrey(const std::string& path, int width, int height,

@@ -2,14 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 #include "plplot_page.h"
-#include "vpsim/core/base64.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/image.h"
-#include "vpsim/core/io.h"
 #include "vpsim/core/text.h"
 #include "vpsim/plot/plot.h"
 
@@ -34,10 +31,8 @@ Rgb mapColour(ColourMap map, double t) {
     return c;
 }
 
-/// The map's cells as a PNG (rows from the top), no data in grey, as an SVG <image> over the
-/// plot area at (left, top) of size (w, h) in the page's units.
-std::string svgRaster(const std::string& stem, const MapFigure& f, double left, double top,
-                      double w, double h) {
+/// The map's cells as pixels (rows from the top), no data in grey.
+RgbImage cellColours(const MapFigure& f) {
     RgbImage image(f.nx, f.ny, 150);
     for (int j = 0; j < f.ny; ++j)
         for (int i = 0; i < f.nx; ++i) {
@@ -46,16 +41,7 @@ std::string svgRaster(const std::string& stem, const MapFigure& f, double left, 
             const Rgb c = mapColour(f.scale.map, (v - f.scale.lo) / (f.scale.hi - f.scale.lo));
             image.set(i, f.ny - 1 - j, c.r, c.g, c.b);
         }
-    const std::string file = stem + ".raster.png";  // read back and removed
-    writePng(file, image);
-    const std::string png = readFile(file);
-    std::remove(file.c_str());
-    char head[200];
-    std::snprintf(head, sizeof head,
-                  "<image x='%.2f' y='%.2f' width='%.2f' height='%.2f' preserveAspectRatio='none' "
-                  "style='image-rendering:pixelated' xlink:href='data:image/png;base64,",
-                  left, top, w, h);
-    return head + base64(png) + "'/>";
+    return image;
 }
 
 /// PLplot's cmap1 as mapColour gives it.
@@ -69,31 +55,25 @@ void setColourMap(ColourMap map) {
     plscmap1(r, g, b, 256);
 }
 
-struct GridTransform {
-    double x0, y0, dx, dy;
-};
-
-void cellCentre(PLFLT i, PLFLT j, PLFLT* x, PLFLT* y, PLPointer data) {
-    const auto* t = static_cast<const GridTransform*>(data);
-    *x = t->x0 + (i + 0.5) * t->dx;
-    *y = t->y0 + (j + 0.5) * t->dy;
-}
-
-/// A field as PLplot's column-major matrix (m[i][j], i along x).
-struct Matrix {
-    std::vector<PLFLT> storage;
-    std::vector<const PLFLT*> rows;
-    Matrix(const std::vector<float>& values, int nx, int ny, double noData)
-        : storage(size_t(nx) * ny), rows(nx) {
-        for (int i = 0; i < nx; ++i) {
-            for (int j = 0; j < ny; ++j) {
-                const float v = values[size_t(j) * nx + i];
-                storage[size_t(i) * ny + j] = std::isfinite(v) ? double(v) : noData;
-            }
-            rows[i] = &storage[size_t(i) * ny];
+/// The outlines' contour lines in the map's units, each outline's polylines broken by NaN (traced
+/// once for both devices).
+std::vector<Curve> outlineCurves(const MapFigure& f) {
+    std::vector<Curve> curves;
+    const double dx = (f.x1 - f.x0) / f.nx, dy = (f.y1 - f.y0) / f.ny;
+    for (const Outline& o : f.outlines) {
+        const std::vector<float>& field = o.field.empty() ? f.values : o.field;
+        if (field.size() != f.values.size()) continue;
+        Curve c{o.label, {}, {}, o.colour, o.dashed};
+        for (const ContourLine& line : contourLines(field, f.nx, f.ny, o.level)) {
+            for (size_t k = 0; k < line.x.size(); ++k)
+                c.x.push_back(f.x0 + (line.x[k] + 0.5) * dx),
+                    c.y.push_back(f.y0 + (line.y[k] + 0.5) * dy);
+            c.x.push_back(NAN), c.y.push_back(NAN);
         }
+        curves.push_back(std::move(c));
     }
-};
+    return curves;
+}
 
 std::string formatLength(double length, const std::string& unit) {
     if (unit == "mm" && length < 1)
@@ -175,39 +155,23 @@ void writeMapFigure(const std::string& stem, const MapFigure& figure) {
     const int width = int(left + std::max(pw, 200.0) + right),
               height = int(top + std::max(ph, 60.0) + bottom);
     const ColourScale& s = f.scale;
-    const std::string raster = svgRaster(stem, f, left, top, pw, ph);
+    // The cells under the plot area, which PLplot's viewport puts `bottom` above the page's foot.
+    const Underlay cells{cellColours(f), left, height - bottom - ph, pw, ph};
+    const std::vector<Curve> outlines = outlineCurves(f);
     plotTwice(
         stem, width, height,
-        [&](bool svg) {
+        [&](bool) {
             plvpor(left / width, (left + pw) / width, bottom / height, (bottom + ph) / height);
             plwind(f.x0, f.x1, f.y0, f.y1);
-            PLFLT bx[] = {f.x0, f.x1, f.x1, f.x0}, by[] = {f.y0, f.y0, f.y1, f.y1};
-            setColourMap(s.map);
-            const double noData = -std::numeric_limits<double>::max();
-            if (!svg) {        // the SVG has the raster under its drawing already
-                plcol0(GREY);  // where there is no data
-                plfill(4, bx, by);
-                std::vector<float> clamped(f.values);
-                for (float& v : clamped)
-                    if (std::isfinite(v)) v = float(std::clamp(double(v), s.lo, s.hi));
-                Matrix image(clamped, f.nx, f.ny, noData);
-                plimagefr(image.rows.data(), f.nx, f.ny, f.x0, f.x1, f.y0, f.y1, s.lo, s.hi, s.lo,
-                          s.hi, nullptr, nullptr);
-            }
-            GridTransform transform{f.x0, f.y0, (f.x1 - f.x0) / f.nx, (f.y1 - f.y0) / f.ny};
+            setColourMap(s.map);  // the colour bar's
             std::vector<LegendEntry> entries;
             PLINT index = FIRST_FREE;
-            for (const Outline& o : f.outlines) {
-                const std::vector<float>& field = o.field.empty() ? f.values : o.field;
-                if (field.size() != f.values.size()) continue;
-                Matrix m(field, f.nx, f.ny, noData);
-                useColour(index, o.colour);
-                pllsty(o.dashed ? 2 : 1);
+            for (const Curve& c : outlines) {
+                useColour(index, c.colour);
+                pllsty(c.dashed ? 2 : 1);
                 plwidth(2);
-                PLFLT level = o.level;
-                plcont(m.rows.data(), f.nx, f.ny, 1, f.nx, 1, f.ny, &level, 1, cellCentre,
-                       &transform);
-                entries.push_back({o.label, index, o.dashed ? 2 : 1, false});
+                polyline(c.x, c.y);
+                entries.push_back({c.label, index, c.dashed ? 2 : 1, false});
                 ++index;
             }
             for (const Curve& c : f.lines) {
@@ -245,7 +209,7 @@ void writeMapFigure(const std::string& stem, const MapFigure& figure) {
                 plmtex("b", 7.2 + (entries.empty() ? 0 : 0.5) + 1.6 * std::max(0, legendRows - 1),
                        0.0, 0.0, f.note.c_str());
         },
-        raster);
+        &cells);
 }
 
 }  // namespace vpsim::plot

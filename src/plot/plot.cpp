@@ -3,64 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <limits>
-#include <mutex>
 
 #include "plplot_page.h"
 #include "vpsim/core/error.h"
-#include "vpsim/core/io.h"
 
 namespace vpsim::plot {
-
-namespace {
-
-/// PLplot keeps its streams in global state: one figure at a time.
-std::mutex& plplotMutex() {
-    static std::mutex mutex;
-    return mutex;
-}
-
-}  // namespace
-
-void plotTwice(const std::string& stem, int width, int height,
-               const std::function<void(bool svg)>& draw, const std::string& svgImage) {
-    std::lock_guard<std::mutex> lock(plplotMutex());
-    for (const char* device : {"svg", "pngcairo"}) {
-        const bool svg = device[0] == 's';
-        const std::string path = stem + (svg ? ".svg" : ".png");
-        writePathAtomic(path, [&](const std::string& temporary) {
-            PLINT stream = 0;
-            plmkstrm(&stream);
-            plsdev(device);
-            plsfnam(temporary.c_str());
-            const std::string geometry = std::to_string(width) + "x" + std::to_string(height);
-            plsetopt("geometry", geometry.c_str());
-            plscmap0n(32);
-            plscolbg(255, 255, 255);
-            plscol0(BLACK, 0, 0, 0);
-            plscol0(GREY, 150, 150, 150);
-            plscol0(LIGHT, 225, 225, 225);
-            plscol0(WHITE, 255, 255, 255);
-            plinit();
-            pladv(0);
-            plschr(0, 0.85);
-            draw(svg);
-            plend1();
-            if (svg && !svgImage.empty()) {
-                std::string text = readFile(temporary);
-                const size_t background = text.find("<rect");
-                const size_t end = text.find("/>", background);
-                if (background == std::string::npos || end == std::string::npos)
-                    throw InputError(path + ": PLplot's SVG has no background to draw over");
-                text.insert(end + 2, "\n" + svgImage);
-                std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-                out << text;
-                if (!out.flush()) throw InputError(path + ": cannot be written");
-            }
-        });
-    }
-}
 
 void useColour(PLINT index, Rgb c) {
     plscol0(index, c.r, c.g, c.b);

@@ -9,6 +9,7 @@
 
 #include <plplot.h>
 
+#include "vpsim/core/image.h"
 #include "vpsim/plot/plot.h"
 
 namespace vpsim::plot {
@@ -16,11 +17,19 @@ namespace vpsim::plot {
 /// cmap0 entries every figure uses; curves and outlines take indices from FIRST_FREE on.
 constexpr PLINT BLACK = 1, GREY = 2, LIGHT = 3, WHITE = 4, FIRST_FREE = 5;
 
+/// A map's cells as pixels (rows from the top), stretched over the plot area: (left, top) and
+/// size in the page's pixels.
+struct Underlay {
+    RgbImage cells;
+    double left = 0, top = 0, width = 0, height = 0;
+};
+
 /// Draws one figure on both devices: `draw(svg)` runs inside an initialised page of
-/// width x height pixels; `svgImage`, when given, is placed under everything PLplot draws in the
-/// SVG (a raster as a PNG <image>, since PLplot's SVG driver would write one rectangle per cell).
+/// width x height pixels; `underlay`, when given, lies under everything PLplot draws: a PNG
+/// <image> in the SVG, and in the PNG the page's pixels PLplot draws over (PLplot would draw one
+/// polygon per cell on both devices: slow in cairo, huge in SVG).
 void plotTwice(const std::string& stem, int width, int height,
-               const std::function<void(bool svg)>& draw, const std::string& svgImage = "");
+               const std::function<void(bool svg)>& draw, const Underlay* underlay = nullptr);
 
 /// Sets cmap0 entry `index` to `c` and draws with it.
 void useColour(PLINT index, Rgb c);

@@ -106,11 +106,19 @@ int busiestRow(const std::vector<geometry::PolygonSet>& regions,
                const exposure::ExposureGrid& grid) {
     // Material per row summed over every layer: the cut through the most of the part, not of
     // one layer (the middle layer of an overhang part may be only its pillars).
-    std::vector<long> counts(grid.ny, 0);
-    for (const geometry::PolygonSet& region : regions) {
-        const std::vector<uint8_t> inside = geometry::rasterizeBinary(region, grid.raster());
-        for (int j = 0; j < grid.ny; ++j)
-            for (int i = 0; i < grid.nx; ++i) counts[j] += inside[size_t(j) * grid.nx + i];
+    std::vector<long> counts(grid.ny, 0), layerCounts(grid.ny, 0);
+    std::vector<geometry::Contour> previous;
+    for (size_t k = 0; k < regions.size(); ++k) {
+        std::vector<geometry::Contour> contours = regions[k].contours();
+        if (k == 0 || contours != previous) {  // a prism's layers: one cross-section, counted once
+            const std::vector<uint8_t> inside =
+                geometry::rasterizeBinary(regions[k], grid.raster());
+            for (int j = 0; j < grid.ny; ++j)
+                layerCounts[j] = std::count(inside.begin() + ptrdiff_t(j) * grid.nx,
+                                            inside.begin() + ptrdiff_t(j + 1) * grid.nx, 1);
+            previous = std::move(contours);
+        }
+        for (int j = 0; j < grid.ny; ++j) counts[j] += layerCounts[j];
     }
     // The middle of the rows that cross the most material, not the first of them (which lies at
     // the part's edge when many rows tie, as in a box or the foot of an L).

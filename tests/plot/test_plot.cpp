@@ -1,14 +1,19 @@
 // The plotting layer: what a figure shows is in its SVG as text (title, axis labels, tick labels,
 // colour bar label, legend, note), maps keep the data's aspect ratio, large grids are averaged
 // down to MAX_MAP_CELLS (checked against a brute-force mean), and both files are written.
+#include <png.h>
+#include <zlib.h>
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <regex>
 
 #include "support/svg_text.h"
 #include "vpsim/core/error.h"
+#include "vpsim/core/image.h"
 #include "vpsim/plot/plot.h"
 
 using namespace vpsim;
@@ -40,6 +45,36 @@ double rasterAspect(const std::string& svg) {
                               std::regex(R"(<image x='[^']*' y='[^']*' width='([0-9.]+)' )"
                                          R"(height='([0-9.]+)')")));
     return std::stod(m[1]) / std::stod(m[2]);
+}
+
+/// (x, y, width, height) of the SVG's embedded raster in the page's pixels.
+std::array<double, 4> rasterRectangle(const std::string& svg) {
+    std::smatch m;
+    REQUIRE(std::regex_search(svg, m,
+                              std::regex(R"(<image x='([0-9.]+)' y='([0-9.]+)' width='([0-9.]+)' )"
+                                         R"(height='([0-9.]+)')")));
+    return {std::stod(m[1]), std::stod(m[2]), std::stod(m[3]), std::stod(m[4])};
+}
+
+struct PngPixels {
+    int width = 0, height = 0;
+    std::vector<uint8_t> rgb;
+    std::array<int, 3> at(int x, int y) const {
+        const uint8_t* p = &rgb[(size_t(y) * width + x) * 3];
+        return {p[0], p[1], p[2]};
+    }
+};
+
+PngPixels readPng(const std::string& path) {
+    const std::string data = readWhole(path);
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    REQUIRE(png_image_begin_read_from_memory(&image, data.data(), data.size()));
+    image.format = PNG_FORMAT_RGB;
+    PngPixels pixels{int(image.width), int(image.height), {}};
+    pixels.rgb.resize(PNG_IMAGE_SIZE(image));
+    REQUIRE(png_image_finish_read(&image, nullptr, pixels.rgb.data(), 0, nullptr));
+    return pixels;
 }
 
 }  // namespace
@@ -113,6 +148,40 @@ TEST_CASE("map figure: colour bar, outlines in the legend, true aspect ratio", "
     std::filesystem::remove_all(dir);
 }
 
+TEST_CASE("map figure's PNG: the cells under the SVG's raster, edge pixels by area", "[plot]") {
+    const auto dir = scratch("vpsim_test_plot_map_png");
+    plot::MapFigure f;  // three columns: the scale's bottom, no data, the scale's top
+    f.nx = 3, f.ny = 2;
+    f.x0 = 0, f.x1 = 3, f.y0 = 0, f.y1 = 1;
+    f.values = {0, NAN, 1, 0, NAN, 1};
+    f.scale = {plot::ColourMap::Sequential, 0, 1, "exposure", false, false};
+    f.scaleBar = false;
+    const std::string stem = (dir / "cells").string();
+    plot::writeMapFigure(stem, f);
+    const auto [left, top, width, height] = rasterRectangle(readWhole(stem + ".svg"));
+    const PngPixels png = readPng(stem + ".png");
+    const int y = int(top + height / 4);  // the middle of the top row of cells
+    using Colour = std::array<int, 3>;
+    auto near = [](Colour a, Colour b) {
+        for (int k = 0; k < 3; ++k)
+            if (std::abs(a[k] - b[k]) > 1) return false;
+        return true;
+    };
+    // Viridis's ends (matplotlib's table) and the no-data grey, at the columns' centres.
+    CHECK(near(png.at(int(left + width / 6), y), {68, 1, 84}));
+    CHECK(near(png.at(int(left + width / 2), y), {150, 150, 150}));
+    CHECK(near(png.at(int(left + 5 * width / 6), y), {253, 231, 37}));
+    // The pixel across the first columns' edge: each colour by the length of it that it covers.
+    const double edge = left + width / 3;
+    const int x = int(std::floor(edge));
+    const double first = edge - x;
+    INFO("edge at " << edge);
+    CHECK(near(png.at(x, y), {int(std::lround(first * 68 + (1 - first) * 150)),
+                              int(std::lround(first * 1 + (1 - first) * 150)),
+                              int(std::lround(first * 84 + (1 - first) * 150))}));
+    std::filesystem::remove_all(dir);
+}
+
 TEST_CASE("large maps are averaged down to MAX_MAP_CELLS, their edges kept", "[plot]") {
     plot::MapFigure f;
     f.nx = 2500, f.ny = 7;
@@ -150,6 +219,91 @@ TEST_CASE("large maps are averaged down to MAX_MAP_CELLS, their edges kept", "[p
     small.nx = 10, small.ny = 7;
     small.values.resize(70);
     CHECK(plot::downsampled(small).values == small.values);
+}
+
+TEST_CASE("contour lines: joined polylines at the interpolated crossings", "[plot]") {
+    const int n = 41;
+    auto field = [&](auto value) {
+        std::vector<float> f;
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) f.push_back(float(value(i, j)));
+        return f;
+    };
+    // A cone: one closed line, on the circle of the level's radius, enclosing its area.
+    const double cx = 20.3, cy = 19.6, r = 12;
+    auto distance = [&](double i, double j) { return std::hypot(i - cx, j - cy); };
+    std::vector<plot::ContourLine> lines = plot::contourLines(field(distance), n, n, r);
+    REQUIRE(lines.size() == 1);
+    const plot::ContourLine& circle = lines[0];
+    REQUIRE(circle.x.size() > 50);
+    CHECK(circle.x.front() == circle.x.back());
+    CHECK(circle.y.front() == circle.y.back());
+    double area = 0;
+    for (size_t k = 0; k < circle.x.size(); ++k) {
+        CHECK(distance(circle.x[k], circle.y[k]) == Approx(r).margin(0.03));
+        if (k > 0) area += circle.x[k - 1] * circle.y[k] - circle.x[k] * circle.y[k - 1];
+    }
+    CHECK(std::abs(area) / 2 == Approx(M_PI * r * r).epsilon(0.01));
+    // Two separate bumps: two lines.
+    auto bumps = [&](double i, double j) {
+        return std::max(5 - std::hypot(i - 10, j - 10), 5 - std::hypot(i - 30, j - 30));
+    };
+    CHECK(plot::contourLines(field(bumps), n, n, 1.0).size() == 2);
+    // A ramp across the grid: one open line from edge to edge at the interpolated x.
+    lines = plot::contourLines(field([](int i, int) { return i; }), n, n, 10.25);
+    REQUIRE(lines.size() == 1);
+    CHECK(lines[0].x.size() == size_t(n));
+    for (double x : lines[0].x) CHECK(x == Approx(10.25));
+    CHECK(std::min(lines[0].y.front(), lines[0].y.back()) == 0);
+    CHECK(std::max(lines[0].y.front(), lines[0].y.back()) == n - 1);
+    // A cell without data inside a field above the level: the line goes round it through its
+    // neighbours' centres.
+    std::vector<float> hole = field([](int, int) { return 1.0; });
+    hole[size_t(5) * n + 5] = NAN;
+    lines = plot::contourLines(hole, n, n, 0.5);
+    REQUIRE(lines.size() == 1);
+    CHECK(lines[0].x.size() == 5);
+    for (size_t k = 0; k < lines[0].x.size(); ++k)
+        CHECK(std::abs(lines[0].x[k] - 5) + std::abs(lines[0].y[k] - 5) == 1.0);
+    CHECK(plot::contourLines(hole, n, n, 2.0).empty());
+}
+
+/// The filter byte of each row of an 8-bit RGB PNG (its IDAT chunks inflated).
+std::vector<int> rowFilters(const std::string& png, int width, int height) {
+    std::string deflated;
+    for (size_t at = 8; at + 8 <= png.size();) {
+        const size_t length = size_t(uint8_t(png[at])) << 24 | size_t(uint8_t(png[at + 1])) << 16 |
+                              size_t(uint8_t(png[at + 2])) << 8 | size_t(uint8_t(png[at + 3]));
+        if (png.compare(at + 4, 4, "IDAT") == 0) deflated += png.substr(at + 8, length);
+        at += 12 + length;
+    }
+    std::vector<unsigned char> rows(size_t(height) * (1 + 3 * size_t(width)));
+    uLongf size = uLongf(rows.size());
+    REQUIRE(uncompress(rows.data(), &size, reinterpret_cast<const Bytef*>(deflated.data()),
+                       uLong(deflated.size())) == Z_OK);
+    std::vector<int> filters;
+    for (int y = 0; y < height; ++y) filters.push_back(rows[size_t(y) * (1 + 3 * size_t(width))]);
+    return filters;
+}
+
+TEST_CASE("PNG effort: Quick writes unfiltered rows of the same pixels", "[plot]") {
+    const auto dir = scratch("vpsim_test_png_effort");
+    RgbImage image(120, 40);  // a figure's kind of picture: a ramp beside flat colour
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < 60; ++x) image.set(x, y, uint8_t(4 * x), uint8_t(6 * y), 90);
+    const std::string quick = (dir / "quick.png").string(), small = (dir / "small.png").string();
+    writePng(quick, image, PngEffort::Quick);
+    writePng(small, image);
+    for (const std::string& path : {quick, small}) {
+        const PngPixels read = readPng(path);
+        CHECK(read.width == image.width);
+        CHECK(read.rgb == image.pixels);
+    }
+    const std::vector<int> unfiltered = rowFilters(readWhole(quick), image.width, image.height);
+    CHECK(std::all_of(unfiltered.begin(), unfiltered.end(), [](int f) { return f == 0; }));
+    const std::vector<int> chosen = rowFilters(readWhole(small), image.width, image.height);
+    CHECK(std::any_of(chosen.begin(), chosen.end(), [](int f) { return f != 0; }));
+    std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("figure stems from a user's FILE.svg", "[plot]") {

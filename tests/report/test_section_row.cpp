@@ -21,6 +21,16 @@ TEST_CASE("the x-z section's row crosses the most material of all layers", "[rep
     CHECK(row >= 60);
     CHECK(row < 80);
     CHECK(row == 70);  // the middle of the tied rows, not the overhang's edge
+    // The same layers in another order (a cross-section that comes back after another one).
+    const std::vector<geometry::PolygonSet> interleaved = {pillars,  overhang, pillars,
+                                                           overhang, pillars,  pillars};
+    CHECK(report::busiestRow(interleaved, grid) == 70);
+    // Repeats that are not neighbours: every layer is still counted.
+    CHECK(report::busiestRow({pillars, pillars, overhang, pillars, pillars, overhang}, grid) == 70);
+    // Each pillar layer counts: 20 columns x 10 of them (rows 10-19) beat one overhang's 100.
+    std::vector<geometry::PolygonSet> mostlyPillars(10, pillars);
+    mostlyPillars.push_back(overhang);
+    CHECK(report::busiestRow(mostlyPillars, grid) == 15);
     // One layer alone: its own busiest rows.
     CHECK(report::busiestRow({pillars}, grid) == 15);
     // No material at all: the middle row.

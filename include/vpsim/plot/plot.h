@@ -120,6 +120,17 @@ double niceStep(double span, int parts);
 /// neither side exceeds `maxCells`; NaN cells are left out of their block's mean.
 MapFigure downsampled(const MapFigure& figure, int maxCells = MAX_MAP_CELLS);
 
+/// A polyline in a grid's cell coordinates: cell (i, j)'s centre at (i, j).
+struct ContourLine {
+    std::vector<double> x, y;
+};
+
+/// Where `field` (nx x ny, [j * nx + i]) crosses `level`, linear between neighbouring cells'
+/// centres, joined into polylines (a closed one ends where it starts). A cell without data (NaN)
+/// counts as below the level; a line beside it passes through the finite neighbour's centre.
+std::vector<ContourLine> contourLines(const std::vector<float>& field, int nx, int ny,
+                                      double level);
+
 /// `path` without a trailing ".svg": the stem a figure asked for as FILE.svg is written under
 /// (FILE.svg and FILE.png). @throw InputError when `path` is a directory
 std::string figureStem(const std::string& path);
