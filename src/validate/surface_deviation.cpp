@@ -98,8 +98,8 @@ std::vector<uint64_t> DeviationStatistics::histogram(double lo, double hi, int b
     for (size_t b = 0; b < mHistogram.size(); ++b) {
         if (!mHistogram[b]) continue;
         const double middle = (double(b) - BINS + 0.5) * mBand / BINS;
-        counts[size_t(std::clamp(int(std::floor((middle - lo) / (hi - lo) * bins)), 0,
-                                 bins - 1))] += mHistogram[b];
+        const double at = std::floor((middle - lo) / (hi - lo) * bins);  // clamped before int
+        counts[size_t(std::clamp(at, 0.0, double(bins - 1)))] += mHistogram[b];
     }
     return counts;
 }
