@@ -133,8 +133,11 @@ double meanWallError(const WallTables& w, const ProfileTable& profile, double e,
     double sum = 0;
     for (size_t s = 0; s < w.samples.size(); ++s) {
         for (int i = 0; i < steps; ++i) field[i] = own[i] + w.sent[s * steps + i];
+        int i = steps - 1;
         for (int m = 0; m < depths; ++m) {
-            int i = steps - 1;
+            // Deeper levels are higher (tabulate): their last cured step is not further out, so
+            // the search goes on from the level above's (the same step as from the end).
+            if (m > 0 && w.levels[m] < w.levels[m - 1]) i = steps - 1;
             while (i >= 0 && field[i] < w.levels[m]) --i;
             double t = i < 0 ? -w.T : i == steps - 1 ? w.T : -w.T + i * w.dt;
             if (i >= 0 && i < steps - 1)  // linear between the last cured and first not
