@@ -5,6 +5,8 @@
 /// identical layers that acesContourDistance() assumes.
 #include <algorithm>
 #include <cmath>
+#include <deque>
+#include <utility>
 
 #include <glm/geometric.hpp>
 
@@ -32,6 +34,18 @@ private:
     static constexpr int COUNT = int(2 * LIMIT / STEP) + 1;
     std::vector<double> mValues;
 };
+
+/// The table of a hatch ratio, kept for the last few ratios asked for on this thread: a part's
+/// layers mostly share the two ratios of acesDesign's two rounds, and a table is 2401 sums of
+/// Gaussians.
+const ProfileTable& profileTable(double hatchRatio) {
+    thread_local std::deque<std::pair<double, ProfileTable>> tables;
+    for (const auto& [ratio, table] : tables)
+        if (ratio == hatchRatio) return table;
+    if (tables.size() == 4) tables.pop_front();
+    tables.emplace_back(hatchRatio, ProfileTable(hatchRatio));
+    return tables.back().second;
+}
 
 struct WallSample {
     glm::dvec2 point, normal;  ///< on the contour; outward from the solid
@@ -99,10 +113,13 @@ WallTables tabulate(const AcesParameters& p, const geometry::PolygonSet& region,
     w.wall.assign(w.samples.size() * depths, 0.0);
     const AcesNeighbour* up = stack.above.empty() ? nullptr : &stack.above.front();
     const AcesNeighbour* down = stack.below ? &*stack.below : nullptr;
+    std::vector<double> gains;  // each layer above's attenuation down to this one
+    for (const AcesNeighbour& a : stack.above) gains.push_back(std::exp(-a.distance / De));
     for (size_t s = 0; s < w.samples.size(); ++s) {
         const glm::dvec2 point = w.samples[s].point;
-        for (const AcesNeighbour& a : stack.above) {
-            const double sd = signedDistance(*a.region, point), gain = std::exp(-a.distance / De);
+        for (size_t k = 0; k < stack.above.size(); ++k) {
+            const AcesNeighbour& a = stack.above[k];
+            const double sd = signedDistance(*a.region, point), gain = gains[k];
             for (int i = 0; i < steps; ++i)
                 w.sent[s * steps + i] += gain * profile((sd - w.T + i * w.dt + a.edgeOffset) / w.W);
         }
@@ -154,7 +171,7 @@ double meanWallError(const WallTables& w, const ProfileTable& profile, double e,
 double acesStackContourOffset(const AcesParameters& p, const geometry::PolygonSet& region,
                               double hatchRatio, double targetDose, const AcesStack& stack,
                               double* scallop) {
-    const ProfileTable profile(hatchRatio);
+    const ProfileTable& profile = profileTable(hatchRatio);
     const WallTables w = tabulate(p, region, profile, targetDose, stack);
     std::vector<double> meanByDepth;
     auto error = [&](double e) { return meanWallError(w, profile, e, meanByDepth); };
