@@ -41,7 +41,7 @@ struct Sizes {
 Sizes sizesOf(const Job& job, const geometry::Mesh& part);
 /// Tiles of `side` mm (0: one) as stages.cpp's exposureTiles() lays them out; the halo is the
 /// engine's reach plus the mesher's cell: the fitted blur's half-width (1.75 W, the radius
-/// guessed as above), or for the tabulated engine its widest stencil, at most the kernel table's
+/// sizesOf guesses), or for the tabulated engine its widest stencil, at most the kernel table's
 /// radius (the Monte Carlo has not run yet, so its bound).
 void tileSizes(const Job& job, double side, Sizes& s);
 
