@@ -17,6 +17,11 @@ struct ExposureErrorSink::State {
     std::vector<ExposureError> errors;  ///< per layer, the sums of the tiles seen
     detail::ErrorHistogram histogram;
     exposure::SurfaceGrid topMap;
+    /// The last layer's masks (inside its region; counted: within the band) and what they were
+    /// made for: the next layer of the same region in the same window (a prism's) reuses them.
+    std::vector<char> inside, countedCells;
+    std::vector<geometry::Contour> maskContours;
+    exposure::CellWindow maskWindow{0, 0, -1, -1};
 
     const geometry::PolygonSet& countedRegion(int k) {
         if (!counted[k]) counted[k] = regions[k].offset(band);
@@ -66,8 +71,15 @@ void ExposureErrorSink::add(const exposure::ExposureSlice& slice) {
     cells.pitch = s.grid.pitch;
     cells.firstI = w.i0;
     cells.firstJ = w.j0;
-    const ExposureError tile = detail::windowError(values, w, insideMask(s.regions[k], cells),
-                                                   insideMask(s.countedRegion(k), cells),
+    std::vector<geometry::Contour> contours = s.regions[k].contours();
+    if (w.i0 != s.maskWindow.i0 || w.j0 != s.maskWindow.j0 || w.i1 != s.maskWindow.i1 ||
+        w.j1 != s.maskWindow.j1 || contours != s.maskContours) {
+        s.inside = insideMask(s.regions[k], cells);
+        s.countedCells = insideMask(s.countedRegion(k), cells);
+        s.maskContours = std::move(contours);
+        s.maskWindow = w;
+    }
+    const ExposureError tile = detail::windowError(values, w, s.inside, s.countedCells,
                                                    s.targetDose, s.surfaceScale, &s.histogram);
     detail::addSums(s.errors[k], tile);
     if (k != s.topLayer || s.topMap.values.empty()) return;
