@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include "vpsim/core/binary_state.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
 #include "vpsim/core/output_directory.h"
@@ -59,6 +60,55 @@ void saveCheckpoint(const std::string& outDir, const TileCheckpoint& checkpoint)
     std::error_code error;
     std::filesystem::rename(temporary, path, error);
     if (error) throw InputError("cannot write the checkpoint: " + error.message(), path);
+    // The earlier tiles' pictures: state.json no longer names them.
+    const auto pictures = checkpoint.consumers.find("pictures");
+    const std::string kept = pictures != checkpoint.consumers.end()
+                                 ? pictures->at("file").get<std::string>()
+                                 : std::string();
+    for (const auto& entry : std::filesystem::directory_iterator(dir, error)) {
+        const std::string name = entry.path().filename().string();
+        if (name.rfind("pictures-", 0) == 0 && name != kept)
+            std::filesystem::remove(entry.path(), error);
+    }
+}
+
+nlohmann::json PictureConsumers::save(const std::string& outDir, int tilesDone) const {
+    const std::string name = "pictures-" + std::to_string(tilesDone) + ".bin";
+    const std::string path = checkpointDirectory(outDir) + "/" + name;
+    BinaryStateWriter out(path);
+    if (cured) cured->savePicture(out);
+    if (sections) sections->saveState(out);
+    if (layerSections) layerSections->saveState(out);
+    if (exposureError) exposureError->savePicture(out);
+    out.commit();
+    return {{"file", name},
+            {"bytes", std::filesystem::file_size(path)},
+            {"sha256", sha256OfFile(path)}};
+}
+
+void PictureConsumers::restore(const std::string& outDir, const nlohmann::json& entry) const {
+    std::string file, sha256;
+    uint64_t bytes = 0;
+    try {
+        file = entry.at("file").get<std::string>();
+        bytes = entry.at("bytes").get<uint64_t>();
+        sha256 = entry.at("sha256").get<std::string>();
+    } catch (const nlohmann::json::exception& e) {
+        throw InputError(std::string("malformed checkpoint (pictures: ") + e.what() + ")" + RESTART,
+                         statePath(outDir));
+    }
+    if (file.rfind("pictures-", 0) != 0 || file.find('/') != std::string::npos)
+        throw InputError("malformed checkpoint (pictures: not a pictures file)" + RESTART,
+                         statePath(outDir));
+    const std::string path = checkpointDirectory(outDir) + "/" + file;
+    std::error_code error;
+    if (std::filesystem::file_size(path, error) != bytes || error || sha256OfFile(path) != sha256)
+        throw InputError("missing or changed since the checkpoint was written" + RESTART, path);
+    const BinaryStateReader in(path);
+    if (cured) cured->restorePicture(in);
+    if (sections) sections->restoreState(in);
+    if (layerSections) layerSections->restoreState(in);
+    if (exposureError) exposureError->restorePicture(in);
 }
 
 std::optional<TileCheckpoint> loadCheckpoint(const std::string& outDir, const std::string& inputs) {

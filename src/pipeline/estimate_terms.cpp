@@ -160,6 +160,17 @@ void outputTerms(const Job& job, const geometry::Mesh& part, const Sizes& s,
     if (sim.writes("viewer"))
         out("3D view (viewer3d data and scripts)", 32.0 * pictureSurfaceVoxels(job, s) + MIB);
     out("report.json, index.html", 0.2 * MIB);
+    // A tiled run checkpoints after each tile (pipeline/checkpoint.h): the pictures' state of
+    // the figures and the 3D view goes to a binary file, two of them while one replaces the
+    // other; the run removes them at its end (the cured STL grows in place: counted above).
+    if (s.tiles > 1 && !sim.writes("exposure.vdb") && keepsSurface(sim)) {
+        double pictures = 76.0 * pictureSurfaceVoxels(job, s);  // 64 B a cluster, 12 a triangle
+        if (sim.writes("figures"))  // the sections' maps and the exposure-error map
+            pictures += s.cells * 9.0 + s.nx * s.slices * 5.0;
+        if (sim.writes("viewer"))
+            pictures += double(report::layerSectionBytes(int(s.nx), int(s.ny), int(s.layers)));
+        out("checkpoint/pictures-N.bin (while the run lasts)", 2.0 * pictures);
+    }
 }
 
 }  // namespace vpsim::pipeline::estimate_detail

@@ -233,10 +233,12 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     // those outputs, clustered as it is made when the whole surface would outgrow the view.
     const bool keepMesh = sim.writes("figures") || sim.writes("viewer");
     const std::vector<exposure::Tile> tiles = exposureTiles(*model, tileSide);
-    // Tiles are checkpointed, and shared over MPI ranks, when every consumer's state is small:
-    // not for the whole-part pictures, 3D view or dose volume.
-    const bool checkpointed = tiles.size() > 1 && !keepMesh && !volume;
-    const bool distributed = checkpointed && context.cluster && context.cluster->ranks() > 1;
+    // Tiles are checkpointed unless a dose volume is kept (its state is the volume itself); they
+    // are shared over MPI ranks when every consumer's state is small: not with the whole-part
+    // pictures of the figures or the 3D view (checkpointed apart, PictureConsumers).
+    const bool checkpointed = tiles.size() > 1 && !volume;
+    const bool distributed =
+        checkpointed && !keepMesh && context.cluster && context.cluster->ranks() > 1;
     const std::string partialStl = checkpointDirectory(outDir) + "/cured.stl.partial";
     if (checkpointed) createDirectories(checkpointDirectory(outDir));
     std::unique_ptr<validate::StreamingCuredSurface> cured =
@@ -270,6 +272,11 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
         planners::laserExposureErrorSink(f.layers, job.machine, law, *model, sim.writes("figures"));
     if (exposureError) sinks.push_back(sink(*exposureError));
     const TileConsumers consumers{validator, *cured, features, exposureError.get()};
+    PictureConsumers pictures;
+    if (keepMesh) pictures.cured = cured.get();
+    if (sections) pictures.sections = &*sections;
+    if (layerSections) pictures.layerSections = &*layerSections;
+    if (exposureError && sim.writes("figures")) pictures.exposureError = exposureError.get();
     int firstTile = 0;
     std::function<void(int)> tilesDone;  // checkpoints after each tile (each round over MPI)
     if (checkpointed) {
@@ -280,6 +287,8 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
         if (checkpoint) {
             checkFingerprint(*checkpoint, outDir, state.fingerprint);
             consumers.restore(checkpoint->consumers, checkpointDirectory(outDir) + "/state.json");
+            if (pictures.any())
+                pictures.restore(outDir, checkpoint->consumers.value("pictures", nlohmann::json()));
             firstTile = checkpoint->tilesDone;
             logInfo("resuming after tile " + std::to_string(firstTile) + " of " +
                     std::to_string(tiles.size()));
@@ -287,6 +296,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
         tilesDone = [&, state](int done) mutable {
             state.tilesDone = done;
             state.consumers = consumers.save();
+            if (pictures.any()) state.consumers["pictures"] = pictures.save(outDir, done);
             saveCheckpoint(outDir, state);
             if (options.stopAfterTiles > 0 && done >= options.stopAfterTiles)
                 throw InputError("stopped after tile " + std::to_string(done) +
@@ -294,8 +304,8 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
         };
     } else if (options.resume) {
         logInfo(
-            "--resume: this run keeps no checkpoint (one tile, or figures, viewer or "
-            "exposure.vdb among the outputs); it starts from the first tile");
+            "--resume: this run keeps no checkpoint (one tile, or exposure.vdb among the "
+            "outputs); it starts from the first tile");
     }
     sendTileWork(context, distributed, tileSide, planned.plan, sim.writes("cured.stl"), firstTile);
     TileDone afterTile;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vpsim/core/error.h"
 #include "vpsim/core/text.h"
 #include "vpsim/geometry/raster.h"
 #include "vpsim/geometry/slicer.h"
@@ -64,6 +65,28 @@ SectionRecorder::SectionRecorder(const geometry::Mesh& part, const exposure::Exp
       mTotalSlices(totalSlices),
       mSection(size_t(totalSlices) * grid.nx, 0.0f),
       mSectionInside(size_t(totalSlices) * grid.nx, 0) {}
+
+void SectionRecorder::saveState(BinaryStateWriter& out) const {
+    out.add("sections.extent", std::vector<double>{double(mFilled), mTopZ, mBottomZ});
+    out.add("sections.section", mSection);
+    out.add("sections.section_inside", mSectionInside);
+    out.add("sections.map", mMap);
+    out.add("sections.map_inside", mMapInside);
+}
+
+void SectionRecorder::restoreState(const BinaryStateReader& in) {
+    const std::vector<double> extent = in.take<double>("sections.extent", 3);
+    mFilled = int(extent[0]);
+    mTopZ = extent[1];
+    mBottomZ = extent[2];
+    mSection = in.take<float>("sections.section", mSection.size());
+    mSectionInside = in.take<uint8_t>("sections.section_inside", mSectionInside.size());
+    mMap = in.take<float>("sections.map");  // empty until the map's layer is seen
+    mMapInside = in.take<uint8_t>("sections.map_inside", mMap.size());
+    if (!mMap.empty() && mMap.size() != size_t(mGrid.nx) * mGrid.ny)
+        throw InputError("malformed checkpoint state (the section map is of another grid)",
+                         in.path());
+}
 
 void SectionRecorder::add(const exposure::ExposureSlice& slice) {
     // The slice's place from the top, whatever tile it belongs to: layers arrive top down.

@@ -105,6 +105,18 @@ LayerSectionRecorder::LayerSectionRecorder(const geometry::LayerStack& stack,
     mZ.assign(mKept.size(), 0.0);
 }
 
+void LayerSectionRecorder::saveState(BinaryStateWriter& out) const {
+    out.add("layer_sections.z", mZ);
+    out.add("layer_sections.exposure", mExposure);
+    out.add("layer_sections.cured", mCured);
+}
+
+void LayerSectionRecorder::restoreState(const BinaryStateReader& in) {
+    mZ = in.take<double>("layer_sections.z", mZ.size());
+    mExposure = in.take<float>("layer_sections.exposure", mExposure.size());
+    mCured = in.take<uint32_t>("layer_sections.cured", mCured.size());
+}
+
 void LayerSectionRecorder::add(const exposure::ExposureSlice& slice) {
     if (slice.slice != mGrid.slicesPerLayer / 2) return;  // the layer's middle voxel slice
     if (slice.layer < 0 || slice.layer >= int(mSlot.size()) || mSlot[slice.layer] < 0) return;

@@ -10,10 +10,10 @@ namespace vpsim::validate {
 
 nlohmann::json StreamingCuredSurface::saveState() {
     State& s = *mState;
-    if (s.keep || s.clusters || s.stl || s.finished)
+    if (s.stl || s.finished)
         throw InputError(
-            "the cured surface's state is saved only for an in-place STL, without "
-            "kept triangles or view, before finish()");
+            "the cured surface's state is saved only for an in-place STL or none, before "
+            "finish()");
     if (s.started) s.closeTile();
     uint64_t stlBytes = 0;
     if (s.stlOut) {
@@ -61,6 +61,59 @@ void StreamingCuredSurface::restoreState(const nlohmann::json& state) {
     } catch (const nlohmann::json::exception& e) {
         throw InputError(std::string("malformed cured-surface state: ") + e.what());
     }
+}
+
+void StreamingCuredSurface::savePicture(BinaryStateWriter& out) const {
+    const State& s = *mState;
+    if (s.started) throw InputError("the cured surface's picture is saved between tiles only");
+    if (s.clusters) s.clusters->save(out, "cured.clusters");
+    if (!s.keep) return;
+    // Every vertex and triangle kept so far; a kept triangle's halo corner is resolved through
+    // haloKeys and seamVertices when the mesh is made.
+    out.add("cured.vertices", s.vertices);
+    out.add("cured.deviations", s.deviations);
+    out.add("cured.kept", s.kept);
+    out.add("cured.halo_vertices", s.haloVertices);
+    out.add("cured.halo_keys", s.haloKeys);
+    std::vector<uint64_t> seamKeys;
+    std::vector<uint32_t> seamIndices;
+    for (const auto& [key, index] : s.seamVertices) {
+        seamKeys.push_back(key);
+        seamIndices.push_back(index);
+    }
+    out.add("cured.seam_keys", seamKeys);
+    out.add("cured.seam_indices", seamIndices);
+}
+
+void StreamingCuredSurface::restorePicture(const BinaryStateReader& in) {
+    State& s = *mState;
+    if (s.started) throw InputError("the cured surface's picture is restored before its slices");
+    if (s.clusters) s.clusters->restore(in, "cured.clusters");
+    if (!s.keep) return;
+    s.vertices = in.take<glm::vec3>("cured.vertices");
+    s.deviations = in.take<float>("cured.deviations");
+    s.kept = in.take<std::array<uint32_t, 3>>("cured.kept");
+    s.haloVertices = in.take<glm::vec3>("cured.halo_vertices");
+    s.haloKeys = in.take<uint64_t>("cured.halo_keys");
+    const auto seamKeys = in.take<uint64_t>("cured.seam_keys");
+    const auto seamIndices = in.take<uint32_t>("cured.seam_indices");
+    bool good = s.deviations.size() == s.vertices.size() &&
+                s.haloKeys.size() == s.haloVertices.size() && seamKeys.size() == seamIndices.size();
+    s.seamVertices.clear();
+    for (size_t i = 0; good && i < seamKeys.size(); ++i) {
+        good = seamIndices[i] < s.vertices.size();
+        s.seamVertices[seamKeys[i]] = seamIndices[i];
+    }
+    for (const auto& tri : s.kept)
+        for (uint32_t v : tri)
+            good =
+                good && (v & surface_detail::HALO ? (v & ~surface_detail::HALO) < s.haloKeys.size()
+                                                  : v < s.vertices.size());
+    if (!good)
+        throw InputError("malformed checkpoint state (the kept surface's records disagree)",
+                         in.path());
+    s.base = 0;
+    s.layerStart = s.vertices.size();
 }
 
 void StreamingCuredSurface::mergeState(const nlohmann::json& later, const std::string& stlBody) {

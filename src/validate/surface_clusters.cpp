@@ -17,9 +17,13 @@ size_t SurfaceClusters::KeyHash::operator()(const Key& k) const {
     return size_t(h ^ (h >> 31));
 }
 
+SurfaceClusters::Key SurfaceClusters::keyOf(const glm::dvec3& p) const {
+    return {int64_t(std::floor(p.x / mCell)), int64_t(std::floor(p.y / mCell)),
+            int64_t(std::floor(p.z / mCell))};
+}
+
 uint32_t SurfaceClusters::add(const glm::dvec3& p, float value, bool owned) {
-    const Key key{int64_t(std::floor(p.x / mCell)), int64_t(std::floor(p.y / mCell)),
-                  int64_t(std::floor(p.z / mCell))};
+    const Key key = keyOf(p);
     if (mLast == UINT32_MAX || !(key == mLastKey)) {
         auto [it, added] = mIndex.emplace(key, uint32_t(mClusters.size()));
         if (added) {
@@ -49,6 +53,31 @@ geometry::Mesh SurfaceClusters::mesh() const {
         out.vertices.push_back(c.count ? c.sum / double(c.count) : c.first);
     out.triangles = mTriangles;
     return out;
+}
+
+void SurfaceClusters::save(BinaryStateWriter& out, const std::string& prefix) const {
+    out.add(prefix + ".cell", std::vector<double>{mCell});
+    out.add(prefix + ".clusters", mClusters);
+    out.add(prefix + ".triangles", mTriangles);
+}
+
+void SurfaceClusters::restore(const BinaryStateReader& in, const std::string& prefix) {
+    if (in.take<double>(prefix + ".cell") != std::vector<double>{mCell})
+        throw InputError("malformed checkpoint state (the picture's cell is not this run's)",
+                         in.path());
+    mClusters = in.take<Cluster>(prefix + ".clusters");
+    mTriangles = in.take<std::array<uint32_t, 3>>(prefix + ".triangles");
+    mIndex.clear();
+    for (size_t c = 0; c < mClusters.size(); ++c) {
+        if (!mIndex.emplace(keyOf(mClusters[c].first), uint32_t(c)).second)
+            throw InputError("malformed checkpoint state (two clusters in one cell)", in.path());
+    }
+    for (const auto& tri : mTriangles)
+        for (uint32_t v : tri)
+            if (v >= mClusters.size())
+                throw InputError("malformed checkpoint state (a triangle's cluster is missing)",
+                                 in.path());
+    mLast = UINT32_MAX;
 }
 
 std::vector<float> SurfaceClusters::values() const {

@@ -277,3 +277,60 @@ TEST_CASE("a tiled run resumed after an interruption gives the uninterrupted res
     CHECK(readFile((dir / "cured.stl").string()) ==
           readFile((tmp / "vpsim_tiles_resume_whole" / "cured.stl").string()));
 }
+
+// The same with the figures and the 3D view (their state is the whole part's: the sections, the
+// picture of the cured surface, the exposure-error map), checkpointed apart in
+// checkpoint/pictures-N.bin: the resumed run draws the uninterrupted run's pictures, byte for
+// byte, and a changed pictures file is refused naming it.
+TEST_CASE("a tiled run with figures and 3D view resumes to the same pictures",
+          "[pipeline][tiles]") {
+    nlohmann::json spec = tileJob("0.3 mm");
+    spec["simulation"].erase("write_vdb");
+    spec["simulation"]["outputs"] = {"cured.stl", "figures", "viewer"};
+    const auto tmp = std::filesystem::temp_directory_path();
+    for (const char* name : {"pictures_whole", "pictures_resumed"})
+        std::filesystem::remove_all(tmp / (std::string("vpsim_tiles_") + name));
+    runSpec("pictures_whole", spec);
+    pipeline::RunOptions stop;
+    stop.stopAfterTiles = 2;
+    CHECK_THROWS_WITH(runSpec("pictures_resumed", spec, stop), Catch::Contains("after tile 2"));
+    const auto dir = tmp / "vpsim_tiles_pictures_resumed";
+    const auto pictures = dir / "checkpoint" / "pictures-2.bin";
+    REQUIRE(std::filesystem::exists(pictures));
+
+    pipeline::RunOptions resume;
+    resume.resume = true;
+    const std::string saved = readFile(pictures.string());
+    std::string changed = saved;
+    changed[changed.size() / 2] ^= 1;
+    std::ofstream(pictures, std::ios::binary | std::ios::trunc) << changed;
+    CHECK_THROWS_WITH(runSpec("pictures_resumed", spec, resume),
+                      Catch::Contains("pictures-2.bin") && Catch::Contains("changed"));
+    std::ofstream(pictures, std::ios::binary | std::ios::trunc) << saved;
+
+    stop.resume = true;
+    stop.stopAfterTiles = 3;  // a second checkpoint replaces the first's pictures
+    CHECK_THROWS_WITH(runSpec("pictures_resumed", spec, stop), Catch::Contains("after tile 3"));
+    CHECK_FALSE(std::filesystem::exists(pictures));
+    CHECK(std::filesystem::exists(dir / "checkpoint" / "pictures-3.bin"));
+    runSpec("pictures_resumed", spec, resume);
+    CHECK_FALSE(std::filesystem::exists(dir / "checkpoint"));
+    CHECK(verifyOutputDirectory(dir.string()).ok);
+    int compared = 0;
+    compareFigures(reportOf("pictures_whole"), reportOf("pictures_resumed"), "report", compared);
+    CHECK(compared > 50);
+    // Every picture and the 3D view's data, byte for byte.
+    int files = 0;
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(dir)) {
+        const std::string extension = entry.path().extension().string();
+        if (extension != ".png" && extension != ".svg" && extension != ".js" &&
+            entry.path().filename() != "cured.stl")
+            continue;
+        const auto relative = std::filesystem::relative(entry.path(), dir);
+        INFO(relative);
+        CHECK(readFile(entry.path().string()) ==
+              readFile((tmp / "vpsim_tiles_pictures_whole" / relative).string()));
+        ++files;
+    }
+    CHECK(files > 10);
+}

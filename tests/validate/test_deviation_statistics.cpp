@@ -13,6 +13,7 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "vpsim/core/binary_state.h"
 #include "vpsim/core/io.h"
 #include "vpsim/exposure/tiles.h"
 #include "vpsim/geometry/test_parts.h"
@@ -284,4 +285,60 @@ TEST_CASE("cured surfaces of single tiles merged in order are the surface of all
     CHECK(merged.volume() == one.volume());
     CHECK(merged.statistics().toJson() == one.statistics().toJson());
     CHECK(readFile(mergedStl) == readFile(oneStl));
+}
+
+// A checkpoint of a run with figures (pipeline/checkpoint.h, PictureConsumers): the picture of
+// the surface saved between two tiles (savePicture, binary) and continued in a fresh surface
+// gives the uninterrupted picture exactly, clustered (keepView(cell)) or with every triangle
+// kept (keepView(0), whose triangles refer to earlier tiles' vertices through the seams).
+TEST_CASE("a surface's picture saved between tiles continues in another surface", "[validate]") {
+    const geometry::Mesh part = boxPart();
+    const auto grid = boxGrid();
+    const auto tiles = exposure::tileLayout(grid, 13, 2);
+    REQUIRE(tiles.size() > 3);
+    const std::vector<exposure::Tile> first(tiles.begin(), tiles.begin() + 2),
+        rest(tiles.begin() + 2, tiles.end());
+    const std::string file =
+        (std::filesystem::temp_directory_path() / "vpsim_surface_picture.bin").string();
+    for (double cell : {0.05, 0.0}) {
+        INFO("cell " << cell);
+        validate::StreamingCuredSurface whole(grid, DZ, 1.0, &part, BAND, "");
+        whole.keepView(cell);
+        feed(whole, grid, tiles);
+        nlohmann::json state;
+        {
+            validate::StreamingCuredSurface before(grid, DZ, 1.0, &part, BAND, "");
+            before.keepView(cell);
+            feed(before, grid, first, false);
+            state = nlohmann::json::parse(before.saveState().dump());
+            BinaryStateWriter out(file);
+            before.savePicture(out);
+            out.commit();
+        }
+        validate::StreamingCuredSurface after(grid, DZ, 1.0, &part, BAND, "");
+        after.keepView(cell);
+        after.restoreState(state);
+        after.restorePicture(BinaryStateReader(file));
+        feed(after, grid, rest);
+        const auto expected = whole.view(), got = after.view();
+        REQUIRE(got.mesh.vertices.size() == expected.mesh.vertices.size());
+        CHECK(got.mesh.vertices == expected.mesh.vertices);
+        CHECK(got.mesh.triangles == expected.mesh.triangles);
+        CHECK(got.deviations == expected.deviations);
+        CHECK(got.madeTriangles == expected.madeTriangles);
+        CHECK(expected.mesh.triangles.size() > 100);
+
+        // Another view's state is refused, naming the file.
+        validate::StreamingCuredSurface other(grid, DZ, 1.0, &part, BAND, "");
+        other.keepView(cell > 0 ? 2 * cell : 0.05);
+        CHECK_THROWS_WITH(other.restorePicture(BinaryStateReader(file)),
+                          Catch::Contains("vpsim_surface_picture.bin"));
+    }
+    // A file cut short, or not a state file: one error naming it.
+    const std::string text = readFile(file);
+    std::ofstream(file, std::ios::binary | std::ios::trunc) << text.substr(0, text.size() / 2);
+    CHECK_THROWS_WITH(BinaryStateReader(file),
+                      Catch::Contains("cut short") && Catch::Contains("vpsim_surface_picture.bin"));
+    std::ofstream(file, std::ios::binary | std::ios::trunc) << "solid x\n";
+    CHECK_THROWS_WITH(BinaryStateReader(file), Catch::Contains("not a vpsim checkpoint"));
 }

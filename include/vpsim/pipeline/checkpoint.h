@@ -7,16 +7,24 @@
 /// next tiles build on) and the report's planner figures, with fingerprints of the job and the
 /// contents of every file it reads (jobInputFiles), and of its part, its plan (DIR/plan.json,
 /// which a resumed run exposes again instead of planning) and its tiles, so that a different job
-/// is refused; the cured STL grows in place beside it (cured.stl.partial). The checkpoint is no
-/// output: it is not in the manifest, and a run removes it before writing the manifest.
+/// is refused; the cured STL grows in place beside it (cured.stl.partial). A run with figures or
+/// the 3D view also keeps their whole-part state (the sections, the picture of the cured surface,
+/// the exposure-error map) in a binary file, DIR/checkpoint/pictures-N.bin after tile N, named in
+/// state.json with its size and SHA-256 (PictureConsumers); such a run is not dealt over MPI
+/// ranks. The checkpoint is no output: it is not in the manifest, and a run removes it before
+/// writing the manifest.
 
 #include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "vpsim/optimise/laser/exposure_error_sink.h"
 #include "vpsim/pipeline/job.h"
 #include "vpsim/plan/scan_plan.h"
+#include "vpsim/report/figures.h"
+#include "vpsim/report/layer_sections.h"
+#include "vpsim/validate/streaming_surface.h"
 
 namespace vpsim::pipeline {
 
@@ -27,7 +35,26 @@ struct TileCheckpoint {
     /// report.json's "plan" "planner" as the run made it before the exposure
     nlohmann::json planReport = nlohmann::json::object();
     int tilesDone = 0;  ///< tiles 0 .. tilesDone - 1 are in `consumers`
-    nlohmann::json consumers = nlohmann::json::object();  ///< TileConsumers::save()
+    /// TileConsumers::save(), and "pictures": PictureConsumers::save()'s entry when there are
+    nlohmann::json consumers = nlohmann::json::object();
+};
+
+/// The consumers whose state is the whole part's pictures, each when the run has it: the figures'
+/// sections, the 3D view's layer sections, the cured surface's picture (keepView) and the
+/// exposure-error figure's top map.
+struct PictureConsumers {
+    validate::StreamingCuredSurface* cured = nullptr;
+    report::SectionRecorder* sections = nullptr;
+    report::LayerSectionRecorder* layerSections = nullptr;
+    optimise::ExposureErrorSink* exposureError = nullptr;
+
+    bool any() const { return cured || sections || layerSections || exposureError; }
+    /// Between two tiles, after TileConsumers::save(): writes DIR/checkpoint/pictures-N.bin (N =
+    /// `tilesDone`) and returns state.json's entry for it (file, bytes, SHA-256).
+    nlohmann::json save(const std::string& outDir, int tilesDone) const;
+    /// Before the first slice, after TileConsumers::restore: reads the file `entry` names.
+    /// @throw InputError naming the file when it is missing, changed or malformed
+    void restore(const std::string& outDir, const nlohmann::json& entry) const;
 };
 
 /// DIR/checkpoint.
@@ -39,7 +66,8 @@ std::string jobInputsFingerprint(const Job& job);
 /// tiles.
 std::string checkpointFingerprint(const std::string& inputs, const std::string& outDir,
                                   const nlohmann::json& tiles);
-/// Writes DIR/checkpoint/state.json atomically (not recorded in the manifest).
+/// Writes DIR/checkpoint/state.json atomically (not recorded in the manifest), then removes the
+/// picture files it does not name.
 void saveCheckpoint(const std::string& outDir, const TileCheckpoint& checkpoint);
 /// The checkpoint in `outDir`, or none when there is none.
 /// @throw InputError naming state.json when it is malformed or another job's (`inputs`, the

@@ -4,9 +4,10 @@
 /// run's collective calls (the beam kernels' Monte Carlo, split by photon batches and merged
 /// exactly, transport/mc_split.h), rank 0 alone does the rest and writes the output directory,
 /// so the report's figures are the single process's. The x-y tiles of a job whose consumers'
-/// states are small (no figures, 3D view or exposure.vdb; the same as checkpoint.h's) are dealt
-/// round-robin over the ranks (cluster::runItems): each rank exposes its tiles into fresh
-/// consumers, and rank 0 merges their states in the tiles' order, as one process would.
+/// states are small (no figures, 3D view or exposure.vdb: checkpoint.h keeps the pictures' state
+/// apart, for one process) are dealt round-robin over the ranks (cluster::runItems): each rank
+/// exposes its tiles into fresh consumers, and rank 0 merges their states in the tiles' order,
+/// as one process would.
 
 #include <functional>
 #include <string>

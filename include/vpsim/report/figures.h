@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "vpsim/core/binary_state.h"
 #include "vpsim/cure/cure_law.h"
 #include "vpsim/exposure/exposure_model.h"
 #include "vpsim/geometry/mesh.h"
@@ -23,6 +24,10 @@ public:
     void add(const exposure::ExposureSlice& slice);
     /// Writes exposure_xz and exposure_xy (.svg and .png) into `directory`.
     void write(const std::string& directory) const;
+    /// Checkpoints, between two tiles: what is recorded so far, as records named "sections.*".
+    /// @throw InputError naming the state file when it is malformed or of another grid
+    void saveState(BinaryStateWriter& out) const;
+    void restoreState(const BinaryStateReader& in);
 
 private:
     const geometry::Mesh& mPart;

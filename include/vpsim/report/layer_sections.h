@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "vpsim/core/binary_state.h"
 #include "vpsim/cure/cure_law.h"
 #include "vpsim/exposure/exposure_model.h"
 #include "vpsim/geometry/layer_stack.h"
@@ -51,6 +52,10 @@ public:
     /// layers' outlines, and `kernel`'s I(r, z) and fit when given.
     /// @throw InputError when the file cannot be written
     SectionViewSummary write(const std::string& outDir, const kernel::BeamKernel* kernel) const;
+    /// Checkpoints, between two tiles: the sums so far, as records named "layer_sections.*".
+    /// @throw InputError naming the state file when it is malformed or of another grid
+    void saveState(BinaryStateWriter& out) const;
+    void restoreState(const BinaryStateReader& in);
 
 private:
     const geometry::LayerStack& mStack;

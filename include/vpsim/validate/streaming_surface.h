@@ -17,6 +17,7 @@
 #include <glm/vec3.hpp>
 #include <nlohmann/json_fwd.hpp>
 
+#include "vpsim/core/binary_state.h"
 #include "vpsim/exposure/exposure_model.h"
 #include "vpsim/geometry/mesh.h"
 #include "vpsim/validate/surface_deviation.h"
@@ -72,10 +73,15 @@ public:
     };
     View view() const;
 
-    /// Between two tiles (after a tile's last slice), without kept triangles and with an
-    /// in-place STL or none: closes the tile and returns what the next tiles build on (counts,
-    /// volume, statistics, the STL's length, flushed). @throw InputError otherwise
+    /// Between two tiles (after a tile's last slice), with an in-place STL or none: closes the
+    /// tile and returns what the next tiles build on (counts, volume, statistics, the STL's
+    /// length, flushed); the kept picture goes apart (savePicture). @throw InputError otherwise
     nlohmann::json saveState();
+    /// After saveState: the kept picture (keepView), as records named "cured.*": the clusters, or
+    /// the triangles kept with their vertices. restorePicture, after restoreState, continues it.
+    /// @throw InputError naming the state file when it is malformed or of another view
+    void savePicture(BinaryStateWriter& out) const;
+    void restorePicture(const BinaryStateReader& in);
     /// Before the first slice: continues from a saved state, cutting the in-place STL back to
     /// its saved length. @throw InputError for a malformed state or a shorter STL
     void restoreState(const nlohmann::json& state);

@@ -13,6 +13,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "vpsim/core/binary_state.h"
 #include "vpsim/geometry/mesh.h"
 
 namespace vpsim::validate {
@@ -32,6 +33,11 @@ public:
     /// The clustered mesh (mean positions, mm) and each vertex's mean value.
     geometry::Mesh mesh() const;
     std::vector<float> values() const;
+    /// Checkpoints (a long tiled run's picture): the clusters and triangles as records named
+    /// `prefix`.*; restore rebuilds the index from each cluster's first position (the cell it was
+    /// made for). @throw InputError naming the state file when it is malformed or of another cell
+    void save(BinaryStateWriter& out, const std::string& prefix) const;
+    void restore(const BinaryStateReader& in, const std::string& prefix);
 
 private:
     struct Key {
@@ -46,6 +52,7 @@ private:
         double valueSum = 0;
         uint32_t count = 0;
     };
+    Key keyOf(const glm::dvec3& p) const;  ///< the cell holding p
     double mCell;
     std::unordered_map<Key, uint32_t, KeyHash> mIndex;
     std::vector<Cluster> mClusters;

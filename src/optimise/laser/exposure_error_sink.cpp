@@ -95,6 +95,15 @@ nlohmann::json ExposureErrorSink::result(ExposureError* all) {
     return detail::exposureErrorJson(errors, s.regions, s.targetDose, s.band, s.histogram, all);
 }
 
+void ExposureErrorSink::savePicture(BinaryStateWriter& out) const {
+    out.add("exposure_error.top_map", mState->topMap.values);
+}
+
+void ExposureErrorSink::restorePicture(const BinaryStateReader& in) {
+    std::vector<float>& map = mState->topMap.values;
+    map = in.take<float>("exposure_error.top_map", map.size());
+}
+
 const exposure::SurfaceGrid& ExposureErrorSink::topMap() const {
     return mState->topMap;
 }

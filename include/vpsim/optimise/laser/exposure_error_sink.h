@@ -29,6 +29,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "vpsim/core/binary_state.h"
 #include "vpsim/exposure/exposure_model.h"
 #include "vpsim/geometry/polygons.h"
 #include "vpsim/optimise/laser/exposure_error.h"
@@ -62,6 +63,10 @@ public:
     void restoreState(const nlohmann::json& state);
     /// Adds the state of a sink that saw later tiles (ranks' tiles, in the tiles' order).
     void mergeState(const nlohmann::json& later);
+    /// Checkpoints of a run with figures: the top map so far (record "exposure_error.top_map",
+    /// empty unless keepTopMap). @throw InputError naming the state file when it is malformed
+    void savePicture(BinaryStateWriter& out) const;
+    void restorePicture(const BinaryStateReader& in);
 
 private:
     struct State;

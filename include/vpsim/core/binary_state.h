@@ -1,0 +1,82 @@
+#pragma once
+/// @file
+/// A checkpoint's large arrays in one binary file (issue 22: the pictures of a long tiled run, a
+/// clustered surface and whole-grid maps of hundreds of MB, which JSON would double and slow):
+/// named records of trivially copyable elements, written in one pass and read back by name. The
+/// file is a run's private state, never an output: it is written beside the run's files but not
+/// through io.h's writers (the manifest must not list it), to a temporary renamed on commit.
+///
+/// Layout: "VPSIMBS1", then records of (name length u32, name, element size u32, count u64,
+/// count x element size bytes), native byte order (the machine that wrote the checkpoint resumes
+/// it; a foreign one's elements sizes would not match and it is refused).
+
+#include <cstdint>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace vpsim {
+
+class BinaryStateWriter {
+public:
+    /// @throw InputError naming `path` when its temporary cannot be opened
+    explicit BinaryStateWriter(std::string path);
+    ~BinaryStateWriter();
+    BinaryStateWriter(const BinaryStateWriter&) = delete;
+    BinaryStateWriter& operator=(const BinaryStateWriter&) = delete;
+
+    template <class T>
+    void add(const std::string& name, const std::vector<T>& values) {
+        static_assert(std::is_trivially_copyable_v<T>);
+        addBytes(name, sizeof(T), values.size(), values.data());
+    }
+    void addBytes(const std::string& name, uint32_t elementSize, uint64_t count, const void* data);
+    /// Flushes, checks and renames the temporary to the path.
+    /// @throw InputError naming the file when a write failed (disk full?)
+    void commit();
+
+private:
+    std::string mPath, mTemporary;
+    std::unique_ptr<std::ofstream> mOut;
+    bool mCommitted = false;
+};
+
+class BinaryStateReader {
+public:
+    /// Reads the records' headers. @throw InputError naming `path` when it is missing, not a
+    /// state file or cut short
+    explicit BinaryStateReader(std::string path);
+
+    /// The record `name`. @throw InputError naming the file when there is none, or its elements
+    /// are not of T's size
+    template <class T>
+    std::vector<T> take(const std::string& name) const {
+        static_assert(std::is_trivially_copyable_v<T>);
+        std::vector<T> values(size_t(count(name, sizeof(T))));
+        readBytes(name, values.data());
+        return values;
+    }
+    /// The same, refused unless it holds `expected` elements (a state of another grid).
+    template <class T>
+    std::vector<T> take(const std::string& name, size_t expected) const {
+        checkCount(name, count(name, sizeof(T)), expected);
+        return take<T>(name);
+    }
+    const std::string& path() const { return mPath; }
+
+private:
+    struct Record {
+        uint64_t offset, count;
+        uint32_t elementSize;
+    };
+    uint64_t count(const std::string& name, uint32_t elementSize) const;
+    void readBytes(const std::string& name, void* data) const;
+    void checkCount(const std::string& name, uint64_t count, uint64_t expected) const;
+    std::string mPath;
+    std::map<std::string, Record> mRecords;
+};
+
+}  // namespace vpsim
