@@ -5,16 +5,16 @@
 // Shaped for lavapipe (Mesa 22.3, 8 lanes; docs/PLATFORM.md), where a texelFetch is a call that
 // spills every live vector, a uniform-block load at an index computed in a loop is a per-lane
 // gather, and storage loads and stores go lane by lane. Each invocation sums 8 consecutive outputs
-// of one row in 8 named accumulators. A stencil row is walked in chunks of 8 taps: each lane of
-// the 8-wide subgroup loads one tap of the chunk (one gather for 8 taps) and subgroupBroadcast
-// hands every tap to all lanes; the deposit window of 16 floats slides along the row by two vec4
-// texel fetches per chunk (an RGBA32F view of the zero-padded deposit, aligned to 4 floats, so no
-// fetch needs a bounds check). A stencil row whose deposit rows are all zero for the subgroup is
-// skipped (the rowNonEmpty flags): the sum is the same, its terms are all zero.
+// of one row in 8 named accumulators. A stencil row is walked in chunks of 8 taps, two vec4
+// uniform loads per chunk at an address the same in every lane (cheaper on lavapipe than one
+// lane's load handed to the others by subgroupBroadcast); the deposit window of 16 floats slides
+// along the row by two vec4 texel fetches per chunk (an RGBA32F view of the zero-padded deposit,
+// aligned to 4 floats, so no fetch needs a bounds check). A stencil row whose deposit rows are
+// all zero for the subgroup is skipped (the rowNonEmpty flags): the sum is the same, its terms
+// are all zero.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_vote : require
-#extension GL_KHR_shader_subgroup_ballot : require
 layout(local_size_x = 8, local_size_y = 8) in;
 
 #include "glsl_common.glsl"
@@ -33,7 +33,6 @@ layout(std430, binding = 4) readonly buffer RowFlags { uint rowNonEmpty[]; };
 void main() {
     const int H = params.halfWidth, pw = int(params.paddedWidth);
     const int i0 = int(gl_GlobalInvocationID.x) * 8, j = int(gl_GlobalInvocationID.y);
-    const int lane = int(gl_SubgroupInvocationID & 7u);
     float a0 = 0.0, a1 = 0.0, a2 = 0.0, a3 = 0.0, a4 = 0.0, a5 = 0.0, a6 = 0.0, a7 = 0.0;
     for (int t = 0; t <= 2 * H; ++t) {
         // Padded deposit row of source row j + t - H.
@@ -44,10 +43,8 @@ void main() {
         int at = (row * pw + int(params.columnPadding) + i0 + r.z) >> 2;
         vec4 lo = texelFetch(deposit, at), hi = texelFetch(deposit, at + 1);
         for (int c = r.x; c < r.x + r.y; ++c) {
-            const int k = c * STENCIL_CHUNK + lane;
-            const float chunkTaps = weights[k >> 2][k & 3];
             const vec4 lo2 = texelFetch(deposit, at + 2), hi2 = texelFetch(deposit, at + 3);
-            addChunk(chunkTaps, lo, hi, lo2, hi2, a0, a1, a2, a3, a4, a5, a6, a7);
+            addChunk(weights[2 * c], weights[2 * c + 1], lo, hi, lo2, hi2, a0, a1, a2, a3, a4, a5, a6, a7);
             lo = lo2;
             hi = hi2;
             at += 2;

@@ -1,11 +1,10 @@
-// The inner step of exposure_blur.comp and exposure_stencil.comp (GLSL only: subgroup operations):
-// 8 taps of a row applied to 8 consecutive outputs.
+// The inner step of exposure_blur.comp and exposure_stencil.comp (GLSL only): 8 taps of a row
+// applied to 8 consecutive outputs.
 #ifndef VPSIM_EXPOSURE_CHUNK
 #define VPSIM_EXPOSURE_CHUNK
 
-#define VPSIM_CHUNK_TAP(k, x0, x1, x2, x3, x4, x5, x6, x7) \
+#define VPSIM_CHUNK_TAP(w, x0, x1, x2, x3, x4, x5, x6, x7) \
     {                                                      \
-        const float w = subgroupBroadcast(chunkTaps, k);   \
         a0 = fma(w, x0, a0);                               \
         a1 = fma(w, x1, a1);                               \
         a2 = fma(w, x2, a2);                               \
@@ -16,20 +15,21 @@
         a7 = fma(w, x7, a7);                               \
     }
 
-/// Adds taps k = 0..7 of a chunk to outputs r = 0..7: a_r += w_k s_(r + k), where lane k of the
-/// (at least 8-wide) subgroup holds w_k in chunkTaps and s_0..s_15 are lo, hi, lo2, hi2. Every
-/// lane of the subgroup must be active (subgroupBroadcast).
-void addChunk(float chunkTaps, vec4 lo, vec4 hi, vec4 lo2, vec4 hi2, inout float a0,
+/// Adds taps k = 0..7 of a chunk to outputs r = 0..7: a_r += w_k s_(r + k), where w_0..w_7 are
+/// t0, t1 and s_0..s_15 are lo, hi, lo2, hi2. The taps are the same in every lane: on lavapipe
+/// a uniform-block load at an address that no lane's data decides costs less than handing one
+/// lane's load to the others (subgroupBroadcast, about a third of the tabulated shader's time).
+void addChunk(vec4 t0, vec4 t1, vec4 lo, vec4 hi, vec4 lo2, vec4 hi2, inout float a0,
               inout float a1, inout float a2, inout float a3, inout float a4, inout float a5,
               inout float a6, inout float a7) {
-    VPSIM_CHUNK_TAP(0, lo.x, lo.y, lo.z, lo.w, hi.x, hi.y, hi.z, hi.w)
-    VPSIM_CHUNK_TAP(1, lo.y, lo.z, lo.w, hi.x, hi.y, hi.z, hi.w, lo2.x)
-    VPSIM_CHUNK_TAP(2, lo.z, lo.w, hi.x, hi.y, hi.z, hi.w, lo2.x, lo2.y)
-    VPSIM_CHUNK_TAP(3, lo.w, hi.x, hi.y, hi.z, hi.w, lo2.x, lo2.y, lo2.z)
-    VPSIM_CHUNK_TAP(4, hi.x, hi.y, hi.z, hi.w, lo2.x, lo2.y, lo2.z, lo2.w)
-    VPSIM_CHUNK_TAP(5, hi.y, hi.z, hi.w, lo2.x, lo2.y, lo2.z, lo2.w, hi2.x)
-    VPSIM_CHUNK_TAP(6, hi.z, hi.w, lo2.x, lo2.y, lo2.z, lo2.w, hi2.x, hi2.y)
-    VPSIM_CHUNK_TAP(7, hi.w, lo2.x, lo2.y, lo2.z, lo2.w, hi2.x, hi2.y, hi2.z)
+    VPSIM_CHUNK_TAP(t0.x, lo.x, lo.y, lo.z, lo.w, hi.x, hi.y, hi.z, hi.w)
+    VPSIM_CHUNK_TAP(t0.y, lo.y, lo.z, lo.w, hi.x, hi.y, hi.z, hi.w, lo2.x)
+    VPSIM_CHUNK_TAP(t0.z, lo.z, lo.w, hi.x, hi.y, hi.z, hi.w, lo2.x, lo2.y)
+    VPSIM_CHUNK_TAP(t0.w, lo.w, hi.x, hi.y, hi.z, hi.w, lo2.x, lo2.y, lo2.z)
+    VPSIM_CHUNK_TAP(t1.x, hi.x, hi.y, hi.z, hi.w, lo2.x, lo2.y, lo2.z, lo2.w)
+    VPSIM_CHUNK_TAP(t1.y, hi.y, hi.z, hi.w, lo2.x, lo2.y, lo2.z, lo2.w, hi2.x)
+    VPSIM_CHUNK_TAP(t1.z, hi.z, hi.w, lo2.x, lo2.y, lo2.z, lo2.w, hi2.x, hi2.y)
+    VPSIM_CHUNK_TAP(t1.w, hi.w, lo2.x, lo2.y, lo2.z, lo2.w, hi2.x, hi2.y, hi2.z)
 }
 
 #endif

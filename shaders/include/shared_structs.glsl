@@ -25,9 +25,9 @@ struct ExposureBlurParams {
     uint sourceWidth;  ///< row length of the pass's zero-padded source texels
     uint targetWidth;  ///< row length of its target (the x pass's; the y pass writes nx-wide rows)
     float norm;        ///< every sum is divided by it (the taps' sum; y: over the efficiency)
-    float decay;       ///< print-through factor exp(-h / De) of the y pass
     uint pad0;
     uint pad1;
+    uint pad2;
 };
 
 /// Push constants of exposure_stencil.comp (tabulated kernel: one depth stencil into one slice).

@@ -79,8 +79,8 @@ BinaryStateReader::BinaryStateReader(std::string path) : mPath(std::move(path)) 
         bool good = get(in, nameSize) && nameSize <= MAX_NAME;
         if (good) {
             name.resize(nameSize);
-            good = bool(in.read(name.data(), nameSize)) && get(in, elementSize) &&
-                   get(in, count) && elementSize > 0;
+            good = bool(in.read(name.data(), nameSize)) && get(in, elementSize) && get(in, count) &&
+                   elementSize > 0;
         }
         at += sizeof nameSize + nameSize + sizeof elementSize + sizeof count;
         // The record must fit in what is left of the file (a cut file is refused here).

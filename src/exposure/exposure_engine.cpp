@@ -161,10 +161,9 @@ void ExposureEngine::blurAndAccumulateCpu(SurfaceGrid& deposit, SurfaceGrid& run
 SurfaceGrid ExposureEngine::layerMap(const SurfaceGrid& deposit, double depth) {
     SurfaceGrid running = mGrid.surface();
     if (mGpu) {
-        // The device's running sum now holds this map: a run in progress re-uploads its own.
-        mGpu->addLayer(deposit, 0.0f, true);
+        // Leaves a run's running deposit (on the host) as it is; its next layer uploads it whole.
+        mGpu->blur(deposit);
         mGpu->downloadRunning(running);
-        mGpuRunningStale = true;
     } else {
         SurfaceGrid blurred = deposit, pass;
         double seconds = 0;
@@ -183,7 +182,6 @@ void ExposureEngine::beginLayers(int layers) {
     mRunning = mGrid.surface();
     mSlice = mGrid.surface();
     mGpuRestart = true;
-    mGpuRunningStale = false;
 }
 
 double ExposureEngine::addLayer(int k, SurfaceGrid& deposit) {
@@ -193,8 +191,6 @@ double ExposureEngine::addLayer(int k, SurfaceGrid& deposit) {
         blurAndAccumulateCpu(deposit, mRunning, decay, seconds, mPass);
         return seconds;
     }
-    if (mGpuRunningStale) mGpu->setRunning(mRunning);
-    mGpuRunningStale = false;
     seconds = mGpu->addLayer(deposit, decay, mGpuRestart);
     mGpuRestart = false;
     mGpu->downloadRunning(mRunning);

@@ -1,5 +1,8 @@
 #include "exposure/exposure_gpu.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "exposure/exposure_glsl.h"
 #include "vpsim/core/error.h"
 #include "vpsim/shaders/exposure_blur_spv.h"
@@ -40,10 +43,6 @@ uint32_t sourceWidth(uint32_t outputs, int halfWidth) {
 }
 
 gpu::Kernel blurKernel(const std::shared_ptr<gpu::Context>& context, int halfWidth, uint32_t axis) {
-    if (context->info().subgroupSize < CHUNK)
-        throw ResourceError("the exposure blur shader needs subgroups of at least " +
-                            std::to_string(CHUNK) + " lanes; " + context->info().name + " has " +
-                            std::to_string(context->info().subgroupSize) + "; use the CPU path");
     return gpu::Kernel(context, exposure_blur_spv, sizeof exposure_blur_spv,
                        {gpu::Binding::UniformTexels4, gpu::Binding::Uniform, gpu::Binding::Storage},
                        sizeof(glsl::ExposureBlurParams), {{0, uint32_t(halfWidth)}, {1, axis}},
@@ -64,6 +63,7 @@ ExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> context_, int n
       // columns): each source has a row per source row a group reaches.
       depositWidth(sourceWidth(nx, halfWidth)),
       passWidth(sourceWidth(ny, halfWidth)),
+      depositSum(size_t(nx) * ny, 0.0f),
       deposit(context, uint64_t(depositWidth) * roundUp(ny, GROUP_ROWS) * sizeof(float)),
       pass(context, uint64_t(passWidth) * roundUp(nx, GROUP_ROWS) * sizeof(float)),
       running(context, uint64_t(nx) * ny * sizeof(float)),
@@ -83,7 +83,22 @@ ExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> context_, int n
 
 double ExposureEngine::GpuState::addLayer(const SurfaceGrid& hostDeposit, float decay,
                                           bool restart) {
-    deposit.uploadRows(hostDeposit.values.data(), nx * sizeof(float), ny, nx * sizeof(float),
+    const float* d = hostDeposit.values.data();
+    float* sum = depositSum.data();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, depositSum.size(), 1 << 16),
+                      [&](const tbb::blocked_range<size_t>& cells) {
+                          for (size_t c = cells.begin(); c < cells.end(); ++c)
+                              sum[c] = restart ? d[c] : glsl::printThroughStep(d[c], sum[c], decay);
+                      });
+    return blurRows(depositSum.data());
+}
+
+double ExposureEngine::GpuState::blur(const SurfaceGrid& map) {
+    return blurRows(map.values.data());
+}
+
+double ExposureEngine::GpuState::blurRows(const float* source) {
+    deposit.uploadRows(source, nx * sizeof(float), ny, nx * sizeof(float),
                        paddingOf(halfWidth) * sizeof(float), depositWidth * sizeof(float));
     glsl::ExposureBlurParams x{};
     x.nx = nx;
@@ -91,23 +106,17 @@ double ExposureEngine::GpuState::addLayer(const SurfaceGrid& hostDeposit, float 
     x.sourceWidth = depositWidth;
     x.targetWidth = passWidth;
     x.norm = normX;
-    x.decay = decay;
     glsl::ExposureBlurParams y = x;
     y.sourceWidth = passWidth;
     y.targetWidth = nx;
     y.norm = normY;
     return 1e-3 * context->submit([&](gpu::Recorder& r) {
-        if (restart) r.fill(running, 0u);
         r.dispatch(alongX, {&deposit, &taps, &pass}, &x, roundUp(nx, GROUP_OUTPUTS) / GROUP_OUTPUTS,
                    roundUp(ny, GROUP_ROWS) / GROUP_ROWS);
         r.barrier();
         r.dispatch(alongY, {&pass, &taps, &running}, &y, roundUp(ny, GROUP_OUTPUTS) / GROUP_OUTPUTS,
                    roundUp(nx, GROUP_ROWS) / GROUP_ROWS);
     });
-}
-
-void ExposureEngine::GpuState::setRunning(const SurfaceGrid& host) {
-    running.upload(host.values);
 }
 
 void ExposureEngine::GpuState::downloadRunning(SurfaceGrid& host) const {

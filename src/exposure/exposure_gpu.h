@@ -1,9 +1,11 @@
 #pragma once
-// Private: the shader path of the exposure engine. The deposit is uploaded once per layer into a
-// zero-padded texel buffer, the two blur passes (the x pass writes its result transposed, so the y
-// pass also runs along rows) and the print-through step are two dispatches in
-// one submission, and the running sum R stays on the device (downloaded once per layer for the
-// slices); the taps are uploaded once per engine.
+// Private: the shader path of the exposure engine. The print-through recursion is taken on the
+// deposit, on the host: S_k = D_k + a S_(k-1) (printThroughStep, the CPU path's recursion on the
+// blurred maps), and since the blur is linear, its blur is the running sum R_k = B_k + a R_(k-1).
+// S is uploaded once per layer into a zero-padded texel buffer; the two blur passes (the x pass
+// writes its result transposed, so the y pass also runs along rows) are two dispatches in one
+// submission, the y pass storing R (downloaded once per layer for the slices). The taps are
+// uploaded once per engine.
 #include <memory>
 #include <vector>
 
@@ -17,11 +19,12 @@ struct ExposureEngine::GpuState {
     /// @throw ResourceError when the taps exceed the shader's block (EXPOSURE_TAP_BLOCK)
     GpuState(std::shared_ptr<gpu::Context> context, int nx, int ny, const std::vector<float>& taps,
              float normX, float normY);
-    /// Blurs `deposit` and updates the device's running sum R = B + decay R (restart: R = B).
-    /// Returns GPU seconds.
+    /// Adds `deposit` to the running deposit, S = D + decay S (restart: S = D), and blurs S
+    /// into the device's running sum R. Returns GPU seconds.
     double addLayer(const SurfaceGrid& deposit, float decay, bool restart);
-    /// Uploads `running` as the device's running sum.
-    void setRunning(const SurfaceGrid& running);
+    /// Blurs `map` alone into the device's R, leaving the running deposit as it is. Returns GPU
+    /// seconds.
+    double blur(const SurfaceGrid& map);
     void downloadRunning(SurfaceGrid& running) const;
 
     std::shared_ptr<gpu::Context> context;
@@ -30,8 +33,13 @@ struct ExposureEngine::GpuState {
     float normX, normY;
     uint32_t depositWidth;  ///< row length of the padded deposit (the x pass's source)
     uint32_t passWidth;     ///< row length of the transposed pass buffer (the y pass's source)
+    std::vector<float> depositSum;  ///< S, the running deposit, on the host
     gpu::Buffer deposit, pass, running, taps;
     gpu::Kernel alongX, alongY;
+
+private:
+    /// Uploads nx x ny floats and runs both passes into R.
+    double blurRows(const float* source);
 };
 
 }  // namespace vpsim::exposure

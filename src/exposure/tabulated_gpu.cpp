@@ -79,11 +79,6 @@ TabulatedExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> contex
              {gpu::Binding::UniformTexels4, gpu::Binding::Uniform, gpu::Binding::Uniform,
               gpu::Binding::Storage, gpu::Binding::Storage},
              sizeof(glsl::ExposureStencilParams), {}, GROUP_COLUMNS / 8) {
-    if (context->info().subgroupSize < uint32_t(glsl::STENCIL_CHUNK))
-        throw ResourceError("the tabulated exposure shader needs subgroups of at least " +
-                            std::to_string(glsl::STENCIL_CHUNK) + " lanes; " +
-                            context->info().name + " has " +
-                            std::to_string(context->info().subgroupSize) + "; use the CPU path");
     for (const auto& st : stencils) {
         const ChunkedStencil chunked = chunkedStencil(st);
         halfWidths.push_back(st.halfWidth);

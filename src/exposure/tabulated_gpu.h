@@ -13,9 +13,8 @@
 namespace vpsim::exposure {
 
 struct TabulatedExposureEngine::GpuState {
-    /// @throw ResourceError when a stencil exceeds a uniform block (64 KiB: half-width about 60),
-    /// the padded deposit exceeds the device's texel-buffer limit, or the device's subgroups are
-    /// narrower than the shader's 8 taps per chunk
+    /// @throw ResourceError when a stencil exceeds a uniform block (64 KiB: half-width about 60)
+    /// or the padded deposit exceeds the device's texel-buffer limit
     GpuState(std::shared_ptr<gpu::Context> context, int nx, int ny,
              const std::vector<DepthStencil>& stencils, int slots);
     /// Adds the deposit gathered by stencil m to slot t for every (m, t) in `targets`; GPU seconds.

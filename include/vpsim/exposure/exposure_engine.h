@@ -77,10 +77,9 @@ private:
     kernel::FittedBeam mBeam;
     double mLayerThickness;
     std::unique_ptr<GpuState> mGpu;
-    SurfaceGrid mRunning, mSlice;   ///< the recursion's running sum, the slice handed to sinks
-    SurfaceGrid mPass;              ///< the blur's first pass, kept from layer to layer
-    bool mGpuRestart = true;        ///< the next layer starts the device's running sum afresh
-    bool mGpuRunningStale = false;  ///< layerMap overwrote the device's running sum
+    SurfaceGrid mRunning, mSlice;  ///< the recursion's running sum, the slice handed to sinks
+    SurfaceGrid mPass;             ///< the blur's first pass, kept from layer to layer
+    bool mGpuRestart = true;       ///< the next layer starts the running deposit afresh
 };
 
 }  // namespace vpsim::exposure
