@@ -15,11 +15,6 @@ constexpr char MAGIC[8] = {'V', 'P', 'S', 'I', 'M', 'B', 'S', '1'};
 constexpr uint32_t MAX_NAME = 256;
 
 template <class T>
-void put(std::ofstream& out, const T& value) {
-    out.write(reinterpret_cast<const char*>(&value), sizeof value);
-}
-
-template <class T>
 bool get(std::ifstream& in, T& value) {
     return bool(in.read(reinterpret_cast<char*>(&value), sizeof value));
 }
@@ -30,7 +25,14 @@ BinaryStateWriter::BinaryStateWriter(std::string path)
     : mPath(std::move(path)), mTemporary(mPath + ".tmp." + std::to_string(getpid())) {
     mOut = std::make_unique<std::ofstream>(mTemporary, std::ios::binary | std::ios::trunc);
     if (!*mOut) throw InputError("cannot open for writing", mTemporary);
-    mOut->write(MAGIC, sizeof MAGIC);
+    mHash = std::make_unique<Sha256>();
+    write(MAGIC, sizeof MAGIC);
+}
+
+void BinaryStateWriter::write(const void* data, uint64_t bytes) {
+    mOut->write(static_cast<const char*>(data), std::streamsize(bytes));
+    mHash->update(data, bytes);
+    mBytes += bytes;
 }
 
 BinaryStateWriter::~BinaryStateWriter() {
@@ -41,11 +43,12 @@ BinaryStateWriter::~BinaryStateWriter() {
 
 void BinaryStateWriter::addBytes(const std::string& name, uint32_t elementSize, uint64_t count,
                                  const void* data) {
-    put(*mOut, uint32_t(name.size()));
-    mOut->write(name.data(), std::streamsize(name.size()));
-    put(*mOut, elementSize);
-    put(*mOut, count);
-    if (count) mOut->write(static_cast<const char*>(data), std::streamsize(count * elementSize));
+    const uint32_t nameSize = uint32_t(name.size());
+    write(&nameSize, sizeof nameSize);
+    write(name.data(), nameSize);
+    write(&elementSize, sizeof elementSize);
+    write(&count, sizeof count);
+    if (count) write(data, count * elementSize);
 }
 
 void BinaryStateWriter::commit() {
@@ -54,6 +57,7 @@ void BinaryStateWriter::commit() {
     const bool good = bool(*mOut);
     mOut->close();
     mCommitted = true;
+    mSha256 = mHash->hex();
     if (!good || !*mOut) {
         std::remove(mTemporary.c_str());
         throw InputError("cannot write the checkpoint (disk full?)", mPath);

@@ -1,6 +1,5 @@
 #include "vpsim/core/output_directory.h"
 
-#include <openssl/evp.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -12,6 +11,7 @@
 #include "vpsim/core/config.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
+#include "vpsim/core/sha256.h"
 #include "vpsim/core/text.h"
 
 namespace vpsim {
@@ -19,35 +19,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* MANIFEST_FORMAT = "vpsim-output-manifest-1";
-
-/// Incremental SHA-256 through OpenSSL's EVP interface (libcrypto).
-class Sha256 {
-public:
-    Sha256() : mContext(EVP_MD_CTX_new(), EVP_MD_CTX_free) {
-        if (!mContext || EVP_DigestInit_ex(mContext.get(), EVP_sha256(), nullptr) != 1)
-            throw Error("SHA-256: cannot initialise libcrypto digest");
-    }
-    void update(const void* data, size_t bytes) {
-        if (EVP_DigestUpdate(mContext.get(), data, bytes) != 1)
-            throw Error("SHA-256: digest update failed");
-    }
-    std::string hex() {
-        unsigned char digest[EVP_MAX_MD_SIZE];
-        unsigned int length = 0;
-        if (EVP_DigestFinal_ex(mContext.get(), digest, &length) != 1)
-            throw Error("SHA-256: digest final failed");
-        static const char* digits = "0123456789abcdef";
-        std::string out;
-        for (unsigned int i = 0; i < length; ++i) {
-            out += digits[digest[i] >> 4];
-            out += digits[digest[i] & 15];
-        }
-        return out;
-    }
-
-private:
-    std::unique_ptr<EVP_MD_CTX, void (*)(EVP_MD_CTX*)> mContext;
-};
 
 /// "name.tmp.1234" -> 1234, or 0 when the name is not a temporary of io.cpp's form.
 long temporaryPid(const std::string& name) {

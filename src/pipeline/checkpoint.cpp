@@ -81,9 +81,7 @@ nlohmann::json PictureConsumers::save(const std::string& outDir, int tilesDone) 
     if (layerSections) layerSections->saveState(out);
     if (exposureError) exposureError->savePicture(out);
     out.commit();
-    return {{"file", name},
-            {"bytes", std::filesystem::file_size(path)},
-            {"sha256", sha256OfFile(path)}};
+    return {{"file", name}, {"bytes", out.bytes()}, {"sha256", out.sha256()}};
 }
 
 void PictureConsumers::restore(const std::string& outDir, const nlohmann::json& entry) const {

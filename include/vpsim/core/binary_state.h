@@ -18,6 +18,8 @@
 #include <type_traits>
 #include <vector>
 
+#include "vpsim/core/sha256.h"
+
 namespace vpsim {
 
 class BinaryStateWriter {
@@ -37,10 +39,17 @@ public:
     /// Flushes, checks and renames the temporary to the path.
     /// @throw InputError naming the file when a write failed (disk full?)
     void commit();
+    /// After commit: the file's bytes and SHA-256 (hashed as written, not read back).
+    uint64_t bytes() const { return mBytes; }
+    const std::string& sha256() const { return mSha256; }
 
 private:
+    void write(const void* data, uint64_t bytes);
     std::string mPath, mTemporary;
     std::unique_ptr<std::ofstream> mOut;
+    std::unique_ptr<Sha256> mHash;
+    uint64_t mBytes = 0;
+    std::string mSha256;
     bool mCommitted = false;
 };
 
