@@ -2,14 +2,14 @@
 # Builds the libFuzzer targets of fuzz/ with clang (ASan + UBSan) and runs each for SECONDS
 # (default 20) on a copy of its seed corpus in fuzz/corpus/NAME. Exits non-zero when a target
 # crashes, leaks, hangs or trips a sanitizer; the reproducer is left in build-fuzz/artifacts/.
-#   tools/run-fuzzers.sh 20            # all four targets, 20 s each (what CI runs)
+#   tools/run-fuzzers.sh 20            # every target, 20 s each (what CI runs)
 #   tools/run-fuzzers.sh 300 fuzz_stl  # one target for five minutes
 set -euo pipefail
 seconds="${1:-20}"; shift || true
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${VPSIM_FUZZ_BUILD:-$root/build-fuzz}"
 targets=("$@")
-[[ ${#targets[@]} -gt 0 ]] || targets=(fuzz_stl fuzz_config fuzz_working_curve fuzz_plan)
+[[ ${#targets[@]} -gt 0 ]] || targets=(fuzz_stl fuzz_config fuzz_working_curve fuzz_plan fuzz_checkpoint)
 
 launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)

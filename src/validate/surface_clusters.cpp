@@ -67,6 +67,15 @@ void SurfaceClusters::restore(const BinaryStateReader& in, const std::string& pr
                          in.path());
     mClusters = in.take<Cluster>(prefix + ".clusters");
     mTriangles = in.take<std::array<uint32_t, 3>>(prefix + ".triangles");
+    // Each cluster's cell from its first position: only finite positions of cells an int64
+    // holds (a cut or edited file may hold anything).
+    const double limit = 0x1p62 * mCell;
+    for (const Cluster& c : mClusters)
+        for (int axis = 0; axis < 3; ++axis)
+            if (!(std::abs(c.first[axis]) < limit) || !std::isfinite(c.sum[axis]) ||
+                !std::isfinite(c.valueSum))
+                throw InputError("malformed checkpoint state (a cluster's position is not finite)",
+                                 in.path());
     mIndex.clear();
     for (size_t c = 0; c < mClusters.size(); ++c) {
         if (!mIndex.emplace(keyOf(mClusters[c].first), uint32_t(c)).second)
