@@ -76,6 +76,9 @@ void SectionRecorder::saveState(BinaryStateWriter& out) const {
 
 void SectionRecorder::restoreState(const BinaryStateReader& in) {
     const std::vector<double> extent = in.take<double>("sections.extent", 3);
+    if (!(extent[0] >= 0 && extent[0] <= mTotalSlices) || !std::isfinite(extent[1]) ||
+        !std::isfinite(extent[2]))
+        throw InputError("malformed checkpoint state (the sections' extent)", in.path());
     mFilled = int(extent[0]);
     mTopZ = extent[1];
     mBottomZ = extent[2];
