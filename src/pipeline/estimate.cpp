@@ -128,6 +128,8 @@ JobEstimate estimateWithTiles(const Job& job, const geometry::Mesh& part, bool p
     tileSizes(job, tileSide, s);
     e.tileSide = s.tiles > 1 ? tileSide : 0.0;
     e.tileCount = int(s.tiles);
+    // As runJob: a tiled run checkpoints after each tile unless it keeps a dose volume.
+    e.checkpointed = s.tiles > 1 && !job.simulation.writes("exposure.vdb");
     e.figures = {{"layers", s.layers},
                  {"contour_vertices", s.contourVertices},
                  {"grid_cells", {s.nx, s.ny}},

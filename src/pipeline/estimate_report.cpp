@@ -78,20 +78,23 @@ nlohmann::json JobEstimate::toJson(const RunContext& context) const {
     nlohmann::json stages = nlohmann::json::object(), seconds = nlohmann::json::object();
     for (Stage s : STAGES) stages[stageName(s)] = bytesAt(s);
     for (const auto& [stage, s] : stageSeconds) seconds[stage] = s;
-    return {
-        {"job", job},
-        {"plan_only", planOnly},
-        {"peak_bytes", peakBytes()},
-        {"peak_stage", stageName(peakStage())},
-        {"budget_bytes", double(memoryBudget(context))},
-        {"bytes_by_stage", stages},
-        {"memory", memory},
-        {"outputs", files},
-        {"output_bytes", outputBytes()},
-        {"seconds", this->seconds()},
-        {"stage_seconds", seconds},
-        {"figures", figures},
-        {"tiles", {{"side_mm", tileSide}, {"count", tileCount}, {"bytes_per_tile", tileBytes}}}};
+    return {{"job", job},
+            {"plan_only", planOnly},
+            {"peak_bytes", peakBytes()},
+            {"peak_stage", stageName(peakStage())},
+            {"budget_bytes", double(memoryBudget(context))},
+            {"bytes_by_stage", stages},
+            {"memory", memory},
+            {"outputs", files},
+            {"output_bytes", outputBytes()},
+            {"seconds", this->seconds()},
+            {"stage_seconds", seconds},
+            {"figures", figures},
+            {"tiles",
+             {{"side_mm", tileSide},
+              {"count", tileCount},
+              {"bytes_per_tile", tileBytes},
+              {"checkpointed", checkpointed}}}};
 }
 
 std::string JobEstimate::table(const RunContext& context) const {
@@ -101,12 +104,14 @@ std::string JobEstimate::table(const RunContext& context) const {
         << formatBytes(double(memoryBudget(context))) << "), " << formatBytes(outputBytes())
         << " of files, about " << formatNumber(seconds(), 2) << " s\n";
     if (!planOnly)
-        out << (tileCount > 1 ? "tiles: " + std::to_string(tileCount) + " x-y tiles of " +
-                                    formatNumber(tileSide, 4) +
-                                    " mm (and a halo), one after "
-                                    "another, " +
-                                    formatBytes(tileBytes) + " per tile\n"
-                              : std::string("tiles: one (the whole grid)\n"));
+        out << (tileCount > 1
+                    ? "tiles: " + std::to_string(tileCount) + " x-y tiles of " +
+                          formatNumber(tileSide, 4) +
+                          " mm (and a halo), one after "
+                          "another, " +
+                          formatBytes(tileBytes) + " per tile" +
+                          (checkpointed ? "; a checkpoint after each (--resume)" : "") + "\n"
+                    : std::string("tiles: one (the whole grid)\n"));
     out << "\nmemory\n";
     for (const EstimateItem& item : items)
         out << "  " << padded(item.name, 40) << padded(formatBytes(item.bytes), 10)

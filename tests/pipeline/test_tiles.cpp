@@ -148,6 +148,11 @@ TEST_CASE("the estimate tiles a job that does not fit in one piece", "[pipeline]
     CHECK(fitted.peakBytes() <= double(context.memoryLimit));
     CHECK(fitted.tileBytes < whole.tileBytes);
     CHECK_NOTHROW(pipeline::checkEstimate(fitted, context));
+    // It says that the tiled run checkpoints (and the untiled one does not).
+    CHECK(fitted.checkpointed);
+    CHECK_FALSE(whole.checkpointed);
+    CHECK(fitted.table(context).find("a checkpoint after each") != std::string::npos);
+    CHECK(fitted.toJson(context).at("tiles").at("checkpointed") == true);
     // What tiles cannot shrink is still refused.
     context.memoryLimit = uint64_t(whole.peakBytes() - whole.tileBytes);
     CHECK_THROWS_AS(pipeline::checkEstimate(pipeline::fitEstimate(job, context), context),

@@ -59,6 +59,7 @@ struct JobEstimate {
     double tileSide = 0;
     int tileCount = 1;
     double tileBytes = 0;
+    bool checkpointed = false;  ///< a checkpoint after each tile (pipeline/checkpoint.h)
 
     /// Bytes alive in `stage`: the sum of the items whose span contains it.
     double bytesAt(Stage stage) const;
