@@ -71,9 +71,9 @@ ExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> context_, int n
       alongX(blurKernel(context, halfWidth, 0)),
       alongY(blurKernel(context, halfWidth, 1)) {
     // The padding of both sources is zero once for all: the passes write the grid's cells only.
+    // R needs no clearing: the y pass writes every one of its cells before it is read.
     deposit.fill(0u);
     pass.fill(0u);
-    running.fill(0u);
     std::vector<float> block(glsl::EXPOSURE_TAP_BLOCK, 0.0f);
     const int padding = int(paddingOf(halfWidth));
     for (int o = -halfWidth; o <= halfWidth; ++o)

@@ -7,8 +7,9 @@
 /// through io.h's writers (the manifest must not list it), to a temporary renamed on commit.
 ///
 /// Layout: "VPSIMBS1", then records of (name length u32, name, element size u32, count u64,
-/// count x element size bytes), native byte order (the machine that wrote the checkpoint resumes
-/// it; a foreign one's elements sizes would not match and it is refused).
+/// count x element size bytes), in the writing machine's byte order and struct layout: a
+/// checkpoint is resumed by the same vpsim build on machines of one kind (a record whose element
+/// size differs is refused; a machine of the other byte order is not detected).
 
 #include <cstdint>
 #include <fstream>
