@@ -109,6 +109,21 @@ void PictureConsumers::restore(const std::string& outDir, const nlohmann::json& 
     if (exposureError) exposureError->restorePicture(in);
 }
 
+void PictureConsumers::savePartial(BinaryStateWriter& out, const exposure::CellWindow& core) const {
+    if (cured) cured->savePicture(out);
+    if (sections) sections->savePartial(out, core);
+    if (layerSections) layerSections->savePartial(out, core);
+    if (exposureError) exposureError->savePartialPicture(out, core);
+}
+
+void PictureConsumers::mergePartial(const BinaryStateReader& in,
+                                    const exposure::CellWindow& core) const {
+    if (cured) cured->mergePicture(in);
+    if (sections) sections->mergePartial(in, core);
+    if (layerSections) layerSections->mergePartial(in, core);
+    if (exposureError) exposureError->mergePicture(in, core);
+}
+
 std::optional<TileCheckpoint> loadCheckpoint(const std::string& outDir, const std::string& inputs) {
     const std::string path = statePath(outDir);
     if (!std::filesystem::exists(path)) return std::nullopt;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 
 #include <unistd.h>
 
@@ -9,6 +10,7 @@
 #include "vpsim/cluster/communicator.h"
 #include "vpsim/core/error.h"
 #include "vpsim/core/io.h"
+#include "vpsim/pipeline/picture_recorders.h"
 #include "vpsim/planners/laser_exposure_review.h"
 #include "vpsim/transport/mc_split.h"
 
@@ -88,38 +90,62 @@ void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
                         const std::function<void(int)>& roundDone) {
     const exposure::ExposureGrid& grid = model.grid();
     const double voxelHeight = job.machine.layerThickness / job.simulation.slicesPerLayer;
-    const geometry::LayerStack layers =  // the laser review's regions (rank 0's are the same)
-        job.machine.process == plan::Process::Laser ? sliceStage(job, part)
-                                                    : geometry::LayerStack{};
+    // The laser review's regions and the pictures' layers (rank 0's are the same).
+    const geometry::LayerStack layers =
+        job.machine.process == plan::Process::Laser || keepsCuredView(job) ? sliceStage(job, part)
+                                                                           : geometry::LayerStack{};
+    const bool figures = job.simulation.writes("figures");
+    auto temporary = [&](size_t i, const char* suffix) {
+        return (std::filesystem::temp_directory_path() /
+                ("vpsim-tile-" + std::to_string(getpid()) + "-" + std::to_string(i) + suffix))
+            .string();
+    };
     auto work = [&](size_t i) {
         const exposure::Tile& tile = tiles[i];
         validate::SliceValidator validator(part, grid, *job.cure, voxelHeight);
         validate::FeatureProbes features(job.features, grid, *job.cure, voxelHeight);
         const auto exposureError =
-            planners::laserExposureErrorSink(layers, job.machine, *job.cure, model, false);
+            planners::laserExposureErrorSink(layers, job.machine, *job.cure, model, figures);
         // The tile's triangles go through a file of this rank's (the STL writer's stream).
-        const std::string stlPath =
-            stl ? (std::filesystem::temp_directory_path() /
-                   ("vpsim-tile-" + std::to_string(getpid()) + "-" + std::to_string(i) + ".stl"))
-                      .string()
-                : "";
+        const std::string stlPath = stl ? temporary(i, ".stl") : "";
         auto cured = curedSurfaceSink(job, grid, voxelHeight, part, stlPath, true);
+        keepCuredView(job, part, voxelHeight, *cured);
+        PictureRecorders recorders(job, part, layers, grid);
+        std::vector<exposure::SliceSink> sinks;
+        recorders.addSinks(sinks);
         auto tileModel = exposureModel(job, grid.window(tile.window), beam, context);
         tileModel->run(plan, tile.core, [&](const exposure::ExposureSlice& slice) {
             validator.add(slice);
             cured->add(slice);
             features.add(slice);
             if (exposureError) exposureError->add(slice);
+            for (const auto& sink : sinks) sink(slice);
         });
-        const nlohmann::json state =
+        nlohmann::json state =
             TileConsumers{validator, *cured, features, exposureError.get()}.save();
+        state["tile"] = i;
+        // The tile's share of the pictures, as binary records (PictureConsumers::savePartial).
+        PictureConsumers pictures{keepsCuredView(job) ? cured.get() : nullptr,
+                                  recorders.sections ? &*recorders.sections : nullptr,
+                                  recorders.layerSections ? &*recorders.layerSections : nullptr,
+                                  figures ? exposureError.get() : nullptr};
+        std::string pictureBytes;
+        if (pictures.any()) {
+            const std::string path = temporary(i, ".bin");
+            BinaryStateWriter out(path);
+            pictures.savePartial(out, tile.core);
+            out.commit();
+            pictureBytes = readFile(path, UINT64_MAX);
+            std::filesystem::remove(path);
+        }
+        state["picture_bytes"] = pictureBytes.size();
         std::string body;
         if (stl) {
             cured.reset();  // closes the file
             body = readFile(stlPath, UINT64_MAX).substr(84);
             std::filesystem::remove(stlPath);
         }
-        return state.dump() + "\n" + body;  // the JSON has no raw line break
+        return state.dump() + "\n" + pictureBytes + body;  // the JSON has no raw line break
     };
     // A round of one tile per rank at a time (tile first + k on rank k % ranks, as runItems
     // deals), so that rank 0 holds one round's results, not the whole job's triangles.
@@ -133,10 +159,28 @@ void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
     }
 }
 
-void mergeTilePartial(const std::string& partial, const TileConsumers& consumers) {
+void mergeTilePartial(const std::string& partial, const std::vector<exposure::Tile>& tiles,
+                      const TileConsumers& consumers, const PictureConsumers& pictures,
+                      const std::string& outDir) {
     const size_t end = partial.find('\n');
     if (end == std::string::npos) throw InputError("a rank's tile result is malformed");
-    consumers.merge(nlohmann::json::parse(partial.substr(0, end)), partial.substr(end + 1));
+    const nlohmann::json state = nlohmann::json::parse(partial.substr(0, end));
+    const auto tile = state.at("tile").get<size_t>();
+    const auto pictureBytes = state.at("picture_bytes").get<size_t>();
+    if (tile >= tiles.size() || pictureBytes > partial.size() - end - 1 ||
+        (pictureBytes > 0) != pictures.any())
+        throw InputError("a rank's tile result is malformed");
+    consumers.merge(state, partial.substr(end + 1 + pictureBytes));
+    if (pictureBytes == 0) return;
+    // Read back through a file of the checkpoint's (never an output; removed at once).
+    const std::string path = checkpointDirectory(outDir) + "/tile-pictures.bin";
+    {
+        std::ofstream out(path, std::ios::binary | std::ios::trunc);
+        out.write(partial.data() + end + 1, std::streamsize(pictureBytes));
+        if (!out) throw InputError("cannot write a tile's pictures (disk full?)", path);
+    }
+    pictures.mergePartial(BinaryStateReader(path), tiles[tile].core);
+    std::filesystem::remove(path);
 }
 
 nlohmann::json tileSplitJson(size_t tiles, int ranks, int firstTile) {

@@ -16,6 +16,7 @@
 #include "vpsim/pipeline/checkpoint.h"
 #include "vpsim/pipeline/cluster_run.h"
 #include "vpsim/pipeline/estimate.h"
+#include "vpsim/pipeline/picture_recorders.h"
 #include "vpsim/planners/laser_exposure_review.h"
 #include "vpsim/report/deviation_map.h"
 #include "vpsim/report/figures.h"
@@ -229,16 +230,12 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
                                                         float(0.02 * law.criticalDose()));
     validate::SliceValidator validator(f.part, grid, law, voxelHeight);
     const SimulationSpec& sim = job.simulation;
-    // The report's top view and 3D viewer need a picture of the cured surface: kept only for
-    // those outputs, clustered as it is made when the whole surface would outgrow the view.
-    const bool keepMesh = sim.writes("figures") || sim.writes("viewer");
+    const bool keepMesh = keepsCuredView(job);
     const std::vector<exposure::Tile> tiles = exposureTiles(*model, tileSide);
-    // Tiles are checkpointed unless a dose volume is kept (its state is the volume itself); they
-    // are shared over MPI ranks when every consumer's state is small: not with the whole-part
-    // pictures of the figures or the 3D view (checkpointed apart, PictureConsumers).
+    // Tiles are checkpointed unless a dose volume is kept (its state is the volume itself), and
+    // then shared over MPI ranks (each tile's share of the pictures merged on rank 0 too).
     const bool checkpointed = tiles.size() > 1 && !volume;
-    const bool distributed =
-        checkpointed && !keepMesh && context.cluster && context.cluster->ranks() > 1;
+    const bool distributed = checkpointed && context.cluster && context.cluster->ranks() > 1;
     const std::string partialStl = checkpointDirectory(outDir) + "/cured.stl.partial";
     if (checkpointed) createDirectories(checkpointDirectory(outDir));
     std::unique_ptr<validate::StreamingCuredSurface> cured =
@@ -247,26 +244,16 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
                          : checkpointed           ? partialStl
                                                   : outDir + "/cured.stl",
                          checkpointed);
-    if (keepMesh)
-        cured->keepView(report::viewCell(f.part.area(), job.simulation.voxel, voxelHeight));
-    const int middle = layers / 2;
-    std::vector<geometry::PolygonSet> regions;
-    for (const auto& layer : f.layers.layers) regions.push_back(layer.region);
-    std::optional<report::SectionRecorder> sections;  // pictures: only for the output figures
-    if (sim.writes("figures"))
-        sections.emplace(f.part, grid, layers * job.simulation.slicesPerLayer, law, middle,
-                         report::busiestRow(regions, grid));
+    keepCuredView(job, f.part, voxelHeight, *cured);
     validate::FeatureProbes features(job.features, grid, law, voxelHeight);
     auto sink = [](auto& consumer) {
         return [&consumer](const exposure::ExposureSlice& s) { consumer.add(s); };
     };
     std::vector<exposure::SliceSink> sinks{sink(validator), sink(*cured), sink(features)};
-    if (sections) sinks.push_back(sink(*sections));
-    std::optional<report::LayerSectionRecorder> layerSections;  // the 3D view's sections
-    if (sim.writes("viewer")) {
-        layerSections.emplace(f.layers, grid, law);
-        sinks.push_back(sink(*layerSections));
-    }
+    PictureRecorders recorders(job, f.part, f.layers, grid);  // pictures: for figures, viewer
+    recorders.addSinks(sinks);
+    std::optional<report::SectionRecorder>& sections = recorders.sections;
+    std::optional<report::LayerSectionRecorder>& layerSections = recorders.layerSections;
     if (volume) sinks.push_back(sink(*volume));
     const auto exposureError =  // the laser review's, from the slices
         planners::laserExposureErrorSink(f.layers, job.machine, law, *model, sim.writes("figures"));
@@ -312,7 +299,10 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
     if (distributed) {  // the ranks expose the tiles; rank 0 merges them in order
         exposeTilesOnRanks(
             job, f.part, *model, tiles, planned.plan, f.beam, context, sim.writes("cured.stl"),
-            firstTile, [&](const std::string& partial) { mergeTilePartial(partial, consumers); },
+            firstTile,
+            [&](const std::string& partial) {
+                mergeTilePartial(partial, tiles, consumers, pictures, outDir);
+            },
             tilesDone);
         result.mpi["tiles"] = tileSplitJson(tiles.size(), context.cluster->ranks(), firstTile);
         firstTile = int(tiles.size());  // exposeStage: the summary only

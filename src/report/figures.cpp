@@ -91,6 +91,87 @@ void SectionRecorder::restoreState(const BinaryStateReader& in) {
                          in.path());
 }
 
+namespace {
+
+/// The cells [i0, i1) x [j0, j1) of a row-major image `width` wide.
+template <class T>
+std::vector<T> windowOf(const std::vector<T>& whole, int width, int i0, int j0, int i1, int j1) {
+    std::vector<T> window;
+    for (int j = j0; j < j1; ++j)
+        window.insert(window.end(), whole.begin() + ptrdiff_t(size_t(j) * width + i0),
+                      whole.begin() + ptrdiff_t(size_t(j) * width + i1));
+    return window;
+}
+
+/// Puts windowOf's cells back into `whole`.
+template <class T>
+void pasteWindow(std::vector<T>& whole, int width, const std::vector<T>& window, int i0, int j0,
+                 int i1, int j1) {
+    const size_t w = size_t(i1 - i0);
+    for (int j = j0; j < j1; ++j)
+        std::copy_n(window.begin() + ptrdiff_t(size_t(j - j0) * w), w,
+                    whole.begin() + ptrdiff_t(size_t(j) * width + i0));
+}
+
+}  // namespace
+
+void SectionRecorder::savePartial(BinaryStateWriter& out, const exposure::CellWindow& core) const {
+    // The x-z section's columns of the core when the core holds its row; the x-y map's cells
+    // of the core (image rows top-down) once its layer was seen.
+    std::vector<float> section, map;
+    std::vector<uint8_t> sectionInside, mapInside;
+    if (mRow >= core.j0 && mRow < core.j1) {
+        section = windowOf(mSection, mGrid.nx, core.i0, 0, core.i1, mTotalSlices);
+        sectionInside = windowOf(mSectionInside, mGrid.nx, core.i0, 0, core.i1, mTotalSlices);
+    }
+    if (!mMap.empty()) {
+        const int top = mGrid.ny - core.j1, bottom = mGrid.ny - core.j0;
+        map = windowOf(mMap, mGrid.nx, core.i0, top, core.i1, bottom);
+        mapInside = windowOf(mMapInside, mGrid.nx, core.i0, top, core.i1, bottom);
+    }
+    out.add("sections.extent", std::vector<double>{double(mFilled), mTopZ, mBottomZ});
+    out.add("sections.tile_section", section);
+    out.add("sections.tile_section_inside", sectionInside);
+    out.add("sections.tile_map", map);
+    out.add("sections.tile_map_inside", mapInside);
+}
+
+void SectionRecorder::mergePartial(const BinaryStateReader& in, const exposure::CellWindow& core) {
+    const std::vector<double> extent = in.take<double>("sections.extent", 3);
+    if (!(extent[0] >= 0 && extent[0] <= mTotalSlices) || !std::isfinite(extent[1]) ||
+        !std::isfinite(extent[2]))
+        throw InputError("malformed checkpoint state (the sections' extent)", in.path());
+    if (int(extent[0]) >= mFilled) {  // every tile sees every slice: the same extent
+        mFilled = int(extent[0]);
+        mTopZ = extent[1];
+        mBottomZ = extent[2];
+    }
+    const size_t width = size_t(core.width()), cells = width * size_t(core.height());
+    const bool rowHere = mRow >= core.j0 && mRow < core.j1;
+    const std::vector<float> section =
+        in.take<float>("sections.tile_section", rowHere ? width * mTotalSlices : 0);
+    const std::vector<uint8_t> sectionInside =
+        in.take<uint8_t>("sections.tile_section_inside", section.size());
+    const std::vector<float> map = in.take<float>("sections.tile_map");
+    const std::vector<uint8_t> mapInside = in.take<uint8_t>("sections.tile_map_inside", map.size());
+    if (!map.empty() && map.size() != cells)
+        throw InputError("malformed checkpoint state (the section map is of another tile)",
+                         in.path());
+    if (rowHere) {
+        pasteWindow(mSection, mGrid.nx, section, core.i0, 0, core.i1, mTotalSlices);
+        pasteWindow(mSectionInside, mGrid.nx, sectionInside, core.i0, 0, core.i1, mTotalSlices);
+    }
+    if (!map.empty()) {
+        if (mMap.empty()) {
+            mMap.assign(size_t(mGrid.nx) * mGrid.ny, 0.0f);
+            mMapInside.assign(mMap.size(), 0);
+        }
+        const int top = mGrid.ny - core.j1, bottom = mGrid.ny - core.j0;
+        pasteWindow(mMap, mGrid.nx, map, core.i0, top, core.i1, bottom);
+        pasteWindow(mMapInside, mGrid.nx, mapInside, core.i0, top, core.i1, bottom);
+    }
+}
+
 void SectionRecorder::add(const exposure::ExposureSlice& slice) {
     // The slice's place from the top, whatever tile it belongs to: layers arrive top down.
     const int layers = mTotalSlices / mGrid.slicesPerLayer;

@@ -123,31 +123,82 @@ void LayerSectionRecorder::add(const exposure::ExposureSlice& slice) {
     const int slot = mSlot[slice.layer];
     mZ[slot] = slice.z;
     // Sums over the cells this slice owns, in whole-grid cells: a tiled run adds each tile's
-    // share of a pixel's block; write() divides by the block's cell count.
+    // share of a pixel's block, summed from zero (a rank's tile alone sums the same), to the
+    // pixel's sum; write() divides by the block's cell count.
     const exposure::SurfaceGrid& values = *slice.values;
     const exposure::CellWindow owned = slice.owned();
     const int f = mSampling.factor, w = mSampling.width;
     const size_t base = size_t(slot) * w * mSampling.height;
     const float curedAt = mLaw.curedFloatThreshold();  // v >= curedAt: isCured(v), exactly
-    for (int j = owned.j0; j < owned.j1; ++j) {
-        const float* row = &values.values[size_t(j - values.firstJ) * values.nx];
-        float* exposure = &mExposure[base + size_t(j / f) * w];
-        auto* cured = &mCured[base + size_t(j / f) * w];
-        // The pixels' blocks of f cells in turn: each pixel's sum in the order of its cells.
-        for (int i0 = owned.i0; i0 < owned.i1;) {
-            const int pixel = i0 / f, i1 = std::min(owned.i1, (pixel + 1) * f);
-            float sum = exposure[pixel];
-            int count = 0;
-            for (int i = i0; i < i1; ++i) {
-                const float v = row[i - values.firstI];
-                sum += v;
-                count += v >= curedAt;
+    const int p0 = owned.i0 / f, p1 = (owned.i1 - 1) / f + 1;
+    std::vector<float> share(size_t(std::max(0, p1 - p0)));
+    for (int j = owned.j0; j < owned.j1;) {
+        const int pj = j / f, jEnd = std::min(owned.j1, (pj + 1) * f);
+        std::fill(share.begin(), share.end(), 0.0f);
+        auto* cured = &mCured[base + size_t(pj) * w];
+        for (; j < jEnd; ++j) {
+            const float* row = &values.values[size_t(j - values.firstJ) * values.nx];
+            // The pixels' blocks of f cells in turn: each pixel's sum in the order of its cells.
+            for (int i0 = owned.i0; i0 < owned.i1;) {
+                const int pixel = i0 / f, i1 = std::min(owned.i1, (pixel + 1) * f);
+                float sum = share[pixel - p0];
+                int count = 0;
+                for (int i = i0; i < i1; ++i) {
+                    const float v = row[i - values.firstI];
+                    sum += v;
+                    count += v >= curedAt;
+                }
+                share[pixel - p0] = sum;
+                cured[pixel] += count;
+                i0 = i1;
             }
-            exposure[pixel] = sum;
-            cured[pixel] += count;
-            i0 = i1;
         }
+        float* exposure = &mExposure[base + size_t(pj) * w];
+        for (int pixel = p0; pixel < p1; ++pixel) exposure[pixel] += share[pixel - p0];
     }
+}
+
+std::array<int, 4> LayerSectionRecorder::pixelWindow(const exposure::CellWindow& core) const {
+    const int f = mSampling.factor;
+    if (core.i1 <= core.i0 || core.j1 <= core.j0) return {0, 0, 0, 0};
+    return {core.i0 / f, core.j0 / f, (core.i1 - 1) / f + 1, (core.j1 - 1) / f + 1};
+}
+
+void LayerSectionRecorder::savePartial(BinaryStateWriter& out,
+                                       const exposure::CellWindow& core) const {
+    const auto [x0, y0, x1, y1] = pixelWindow(core);
+    const int w = mSampling.width, h = mSampling.height;
+    std::vector<float> exposure;
+    std::vector<uint32_t> cured;
+    for (size_t slot = 0; slot < mKept.size(); ++slot)
+        for (int y = y0; y < y1; ++y) {
+            const size_t at = (slot * h + size_t(y)) * w;
+            exposure.insert(exposure.end(), mExposure.begin() + ptrdiff_t(at + x0),
+                            mExposure.begin() + ptrdiff_t(at + x1));
+            cured.insert(cured.end(), mCured.begin() + ptrdiff_t(at + x0),
+                         mCured.begin() + ptrdiff_t(at + x1));
+        }
+    out.add("layer_sections.z", mZ);
+    out.add("layer_sections.tile_exposure", exposure);
+    out.add("layer_sections.tile_cured", cured);
+}
+
+void LayerSectionRecorder::mergePartial(const BinaryStateReader& in,
+                                        const exposure::CellWindow& core) {
+    const auto [x0, y0, x1, y1] = pixelWindow(core);
+    const int w = mSampling.width, h = mSampling.height;
+    const size_t cells = mKept.size() * size_t(y1 - y0) * size_t(x1 - x0);
+    mZ = in.take<double>("layer_sections.z", mZ.size());
+    const auto exposure = in.take<float>("layer_sections.tile_exposure", cells);
+    const auto cured = in.take<uint32_t>("layer_sections.tile_cured", cells);
+    size_t from = 0;
+    for (size_t slot = 0; slot < mKept.size(); ++slot)
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x, ++from) {
+                const size_t at = (slot * h + size_t(y)) * w + size_t(x);
+                mExposure[at] += exposure[from];
+                mCured[at] += cured[from];
+            }
 }
 
 std::vector<float> LayerSectionRecorder::blockCells() const {

@@ -53,6 +53,7 @@ void StreamingCuredSurface::State::startTile(const exposure::CellWindow& w) {
 void StreamingCuredSurface::State::closeTile() {
     advance(nullptr, above.z - voxelHeight);
     started = false;
+    if (clusters) clusters->endTile();
     statistics.merge(tileStatistics);
     tileStatistics = DeviationStatistics(statistics.band());
     volume += tileVolume;

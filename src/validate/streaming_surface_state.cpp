@@ -8,6 +8,8 @@
 
 namespace vpsim::validate {
 
+using surface_detail::HALO;
+
 nlohmann::json StreamingCuredSurface::saveState() {
     State& s = *mState;
     if (s.stl || s.finished)
@@ -85,40 +87,89 @@ void StreamingCuredSurface::savePicture(BinaryStateWriter& out) const {
     out.add("cured.seam_indices", seamIndices);
 }
 
+namespace {
+
+/// The kept picture's records (keepView(0)), checked against each other.
+struct KeptPicture {
+    std::vector<glm::vec3> vertices, haloVertices;
+    std::vector<float> deviations;
+    std::vector<std::array<uint32_t, 3>> kept;
+    std::vector<uint64_t> haloKeys, seamKeys;
+    std::vector<uint32_t> seamIndices;
+
+    explicit KeptPicture(const BinaryStateReader& in)
+        : vertices(in.take<glm::vec3>("cured.vertices")),
+          haloVertices(in.take<glm::vec3>("cured.halo_vertices")),
+          deviations(in.take<float>("cured.deviations")),
+          kept(in.take<std::array<uint32_t, 3>>("cured.kept")),
+          haloKeys(in.take<uint64_t>("cured.halo_keys")),
+          seamKeys(in.take<uint64_t>("cured.seam_keys")),
+          seamIndices(in.take<uint32_t>("cured.seam_indices")) {
+        bool good = deviations.size() == vertices.size() &&
+                    haloKeys.size() == haloVertices.size() && seamKeys.size() == seamIndices.size();
+        for (size_t i = 0; good && i < seamIndices.size(); ++i)
+            good = seamIndices[i] < vertices.size();
+        for (const auto& tri : kept)
+            for (uint32_t v : tri)
+                good = good && (v & HALO ? (v & ~HALO) < haloKeys.size() : v < vertices.size());
+        if (!good)
+            throw InputError("malformed checkpoint state (the kept surface's records disagree)",
+                             in.path());
+    }
+};
+
+template <class T>
+void append(std::vector<T>& to, const std::vector<T>& more) {
+    to.insert(to.end(), more.begin(), more.end());
+}
+
+}  // namespace
+
 void StreamingCuredSurface::restorePicture(const BinaryStateReader& in) {
     State& s = *mState;
     if (s.started) throw InputError("the cured surface's picture is restored before its slices");
     if (s.clusters) s.clusters->restore(in, "cured.clusters");
     if (!s.keep) return;
-    s.vertices = in.take<glm::vec3>("cured.vertices");
-    s.deviations = in.take<float>("cured.deviations");
-    s.kept = in.take<std::array<uint32_t, 3>>("cured.kept");
-    s.haloVertices = in.take<glm::vec3>("cured.halo_vertices");
-    s.haloKeys = in.take<uint64_t>("cured.halo_keys");
-    const auto seamKeys = in.take<uint64_t>("cured.seam_keys");
-    const auto seamIndices = in.take<uint32_t>("cured.seam_indices");
-    bool good = s.deviations.size() == s.vertices.size() &&
-                s.haloKeys.size() == s.haloVertices.size() && seamKeys.size() == seamIndices.size();
+    KeptPicture picture(in);
+    s.vertices = std::move(picture.vertices);
+    s.deviations = std::move(picture.deviations);
+    s.kept = std::move(picture.kept);
+    s.haloVertices = std::move(picture.haloVertices);
+    s.haloKeys = std::move(picture.haloKeys);
     s.seamVertices.clear();
-    for (size_t i = 0; good && i < seamKeys.size(); ++i) {
-        good = seamIndices[i] < s.vertices.size();
-        s.seamVertices[seamKeys[i]] = seamIndices[i];
+    for (size_t i = 0; i < picture.seamKeys.size(); ++i)
+        s.seamVertices[picture.seamKeys[i]] = picture.seamIndices[i];
+    s.base = 0;
+    s.layerStart = s.vertices.size();
+}
+
+void StreamingCuredSurface::mergePicture(const BinaryStateReader& later) {
+    State& s = *mState;
+    if (s.started || s.finished)
+        throw InputError("the cured surface merges other tiles only between its own");
+    if (s.clusters) s.clusters->merge(later, "cured.clusters");
+    if (!s.keep) return;
+    // Its vertices and halo vertices follow this surface's, as the one process numbers them.
+    KeptPicture picture(later);
+    const auto vertexOffset = uint32_t(s.vertices.size()),
+               haloOffset = uint32_t(s.haloVertices.size());
+    for (std::array<uint32_t, 3> tri : picture.kept) {
+        for (uint32_t& v : tri) v = v & HALO ? HALO | ((v & ~HALO) + haloOffset) : v + vertexOffset;
+        s.kept.push_back(tri);
     }
-    for (const auto& tri : s.kept)
-        for (uint32_t v : tri)
-            good =
-                good && (v & surface_detail::HALO ? (v & ~surface_detail::HALO) < s.haloKeys.size()
-                                                  : v < s.vertices.size());
-    if (!good)
-        throw InputError("malformed checkpoint state (the kept surface's records disagree)",
-                         in.path());
+    for (size_t i = 0; i < picture.seamKeys.size(); ++i)
+        s.seamVertices[picture.seamKeys[i]] = picture.seamIndices[i] + vertexOffset;
+    append(s.vertices, picture.vertices);
+    append(s.deviations, picture.deviations);
+    append(s.haloVertices, picture.haloVertices);
+    append(s.haloKeys, picture.haloKeys);
     s.base = 0;
     s.layerStart = s.vertices.size();
 }
 
 void StreamingCuredSurface::mergeState(const nlohmann::json& later, const std::string& stlBody) {
     State& s = *mState;
-    if (s.started || s.keep || s.clusters || s.finished)
+    if (s.started || s.finished)
         throw InputError("the cured surface merges other tiles only between its own");
     try {
         s.triangleCount += later.at("triangles").get<uint64_t>();

@@ -3,7 +3,8 @@
 # split Monte Carlo (mpi_check), `vpsim run` of a small job (the kernel's photons split over the
 # ranks) giving the single process's report.json figures plus "mpi", the same job in x-y tiles
 # over 2 and 4 ranks (tiles dealt round-robin, merged in order), stopped on 2 ranks and resumed
-# on 4 from its checkpoint, and a batch of 3 jobs over
+# on 4 from its checkpoint, tiled jobs with the figures and the 3D view giving one process's
+# pictures byte for byte, and a batch of 3 jobs over
 # 2 ranks giving the single process's per-job figures. Exits 77 (ctest: skipped) with a line
 # saying why when vpsim was built without MPI or mpirun is missing.
 # Usage: run_mpi_tests.sh VPSIM_BINARY MPI_CHECK_BINARY SOURCE_DIR WITH_MPI(ON|OFF)
@@ -100,6 +101,46 @@ jq -e '.mpi.tiles.resumed_after_tile == 6 and .mpi.tiles.tiles_of_rank[1][0] == 
   fail "resumed: mpi field $(jq -c .mpi.tiles "$resumed/report.json")"
 jq -e '[.files[].name] | map(select(startswith("checkpoint"))) | length == 0' "$resumed/manifest.json" >/dev/null ||
   fail "the manifest lists the checkpoint"
+
+# Tiled jobs with the figures and the 3D view: each rank's share of the pictures (sections,
+# layer sections, the cured surface's picture, the exposure-error map) merged on rank 0 in the
+# tiles' order gives one process's pictures byte for byte: every png, svg and js file, with the
+# view kept whole (0.3 mm tiles of the 1 mm part) or clustered (3 mm at 10 um, 1 mm tiles), and
+# stopped on 2 ranks and resumed on 4 from a checkpoint with the pictures' state.
+same_pictures() {  # same_pictures ONE OTHER: every picture and script file byte for byte
+  local f n=0
+  for f in "$1"/*.png "$1"/*.svg "$1"/*.js; do
+    n=$((n + 1))
+    cmp -s "$f" "$2/$(basename "$f")" || fail "$2: $(basename "$f") differs from one process's"
+  done
+  [[ $n -ge 15 ]] || fail "$1: only $n picture files"
+  [[ "$(figures "$1/report.json")" == "$(figures "$2/report.json")" ]] ||
+    { fail "$2: report figures differ from one process's"; diff <(figures "$1/report.json") \
+        <(figures "$2/report.json") | head -20; }
+}
+kept=("${tiled[@]}" --set 'simulation.outputs=["cured.stl","figures","viewer"]')
+clustered=(--set simulation.tile=1mm --set part.size=3mm --set simulation.voxel=10um
+           --set 'simulation.outputs=["figures","viewer"]')
+run_job kept-one 0 "${kept[@]}"
+run_job kept-2 2 "${kept[@]}"
+same_pictures "$work/kept-one" "$work/kept-2"
+cmp -s "$work/kept-one/cured.stl" "$work/kept-2/cured.stl" || fail "kept-2: cured.stl differs"
+jq -e '.mpi.tiles.count == 25 and .report.viewer3d.cluster_cell_um == 0' "$work/kept-2/report.json" >/dev/null ||
+  fail "kept-2: $(jq -c '.mpi.tiles.count, .report.viewer3d' "$work/kept-2/report.json")"
+run_job clustered-one 0 "${clustered[@]}"
+for n in 2 4; do
+  run_job "clustered-$n" "$n" "${clustered[@]}"
+  same_pictures "$work/clustered-one" "$work/clustered-$n"
+  jq -e --argjson n "$n" '.mpi.ranks == $n and .mpi.tiles.count > 4 and .report.viewer3d.cluster_cell_um > 0' \
+    "$work/clustered-$n/report.json" >/dev/null || fail "clustered-$n: $(jq -c '.mpi.tiles.count, .report.viewer3d' "$work/clustered-$n/report.json")"
+done
+resumed="$work/clustered-resumed"
+VPSIM_CACHE_DIR="$work/cache-cr" VPSIM_STOP_AFTER_TILES=4 mpi 2 "$vpsim" -q run "$job" \
+  --out "$resumed" $few "${clustered[@]}" >"$work/cstopped.log" 2>&1 && fail "pictures: VPSIM_STOP_AFTER_TILES=4 did not stop the run"
+ls "$resumed"/checkpoint/pictures-4.bin >/dev/null 2>&1 || fail "pictures: no pictures-4.bin after 4 tiles"
+VPSIM_CACHE_DIR="$work/cache-cr" mpi 4 "$vpsim" -q run "$job" --out "$resumed" $few "${clustered[@]}" \
+  --resume >"$work/cresumed.log" 2>&1 || { fail "pictures: --resume on 4 ranks"; cat "$work/cresumed.log"; }
+same_pictures "$work/clustered-one" "$resumed"
 
 # A batch of 3 jobs over 2 ranks: the same per-job figures as one process.
 cat >"$work/sweep.json" <<JSON

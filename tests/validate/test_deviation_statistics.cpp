@@ -256,35 +256,63 @@ TEST_CASE("the clustered view made while meshing is the whole mesh clustered, ti
 // What MPI ranks do with a job's tiles (pipeline/cluster_run.h): each tile into a fresh surface
 // with an in-place STL, its saved state and STL triangles merged in the tiles' order into
 // another surface, gives one surface fed every tile: the same counts, volume and statistics to
-// the bit, and the same STL bytes.
+// the bit, and the same STL bytes; with a kept picture (figures or the 3D view), each tile's
+// picture merged too (mergePicture) gives the same picture to the bit, clustered or with every
+// triangle kept.
 TEST_CASE("cured surfaces of single tiles merged in order are the surface of all tiles",
           "[validate]") {
     const geometry::Mesh part = boxPart();
     const auto grid = boxGrid();
     const auto tiles = exposure::tileLayout(grid, 13, 2);
+    REQUIRE(tiles.size() > 3);
     const auto dir = std::filesystem::temp_directory_path();
     const std::string oneStl = (dir / "vpsim_merge_one.stl").string(),
-                      mergedStl = (dir / "vpsim_merge_merged.stl").string();
-
-    validate::StreamingCuredSurface one(grid, DZ, 1.0, &part, BAND, oneStl);
-    feed(one, grid, tiles);
-    validate::StreamingCuredSurface merged(grid, DZ, 1.0, &part, BAND, mergedStl);
-    for (const exposure::Tile& tile : tiles) {
-        const std::string tileStl = (dir / "vpsim_merge_tile.stl").string();
-        nlohmann::json state;
-        {
-            validate::StreamingCuredSurface alone(
-                grid, DZ, 1.0, &part, BAND, validate::StreamingCuredSurface::InPlaceStl{tileStl});
-            feed(alone, grid, {tile}, false);
-            state = alone.saveState();
+                      mergedStl = (dir / "vpsim_merge_merged.stl").string(),
+                      pictureFile = (dir / "vpsim_merge_picture.bin").string();
+    for (double cell : {-1.0, 0.05, 0.0}) {  // -1: no picture
+        INFO("cell " << cell);
+        auto keepView = [&](validate::StreamingCuredSurface& surface) {
+            if (cell >= 0) surface.keepView(cell);
+        };
+        validate::StreamingCuredSurface one(grid, DZ, 1.0, &part, BAND, oneStl);
+        keepView(one);
+        feed(one, grid, tiles);
+        validate::StreamingCuredSurface merged(grid, DZ, 1.0, &part, BAND, mergedStl);
+        keepView(merged);
+        for (const exposure::Tile& tile : tiles) {
+            const std::string tileStl = (dir / "vpsim_merge_tile.stl").string();
+            nlohmann::json state;
+            {
+                validate::StreamingCuredSurface alone(
+                    grid, DZ, 1.0, &part, BAND,
+                    validate::StreamingCuredSurface::InPlaceStl{tileStl});
+                keepView(alone);
+                feed(alone, grid, {tile}, false);
+                state = alone.saveState();
+                BinaryStateWriter out(pictureFile);
+                alone.savePicture(out);
+                out.commit();
+            }
+            merged.mergeState(nlohmann::json::parse(state.dump()), readFile(tileStl).substr(84));
+            merged.mergePicture(BinaryStateReader(pictureFile));
         }
-        merged.mergeState(nlohmann::json::parse(state.dump()), readFile(tileStl).substr(84));
+        merged.finish();
+        CHECK(merged.triangles() == one.triangles());
+        CHECK(merged.volume() == one.volume());
+        CHECK(merged.statistics().toJson() == one.statistics().toJson());
+        CHECK(readFile(mergedStl) == readFile(oneStl));
+        const auto expected = one.view(), got = merged.view();
+        CHECK(got.mesh.vertices == expected.mesh.vertices);
+        CHECK(got.mesh.triangles == expected.mesh.triangles);
+        CHECK(got.deviations == expected.deviations);
+        CHECK(got.madeTriangles == expected.madeTriangles);
+        if (cell >= 0) CHECK(expected.mesh.triangles.size() > 100);
     }
-    merged.finish();
-    CHECK(merged.triangles() == one.triangles());
-    CHECK(merged.volume() == one.volume());
-    CHECK(merged.statistics().toJson() == one.statistics().toJson());
-    CHECK(readFile(mergedStl) == readFile(oneStl));
+    // A picture of another view is refused, naming the file.
+    validate::StreamingCuredSurface other(grid, DZ, 1.0, &part, BAND, "");
+    other.keepView(0.1);
+    CHECK_THROWS_WITH(other.mergePicture(BinaryStateReader(pictureFile)),
+                      Catch::Contains("vpsim_merge_picture.bin"));
 }
 
 // A checkpoint of a run with figures (pipeline/checkpoint.h, PictureConsumers): the picture of

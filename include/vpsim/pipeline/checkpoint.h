@@ -10,9 +10,9 @@
 /// is refused; the cured STL grows in place beside it (cured.stl.partial). A run with figures or
 /// the 3D view also keeps their whole-part state (the sections, the picture of the cured surface,
 /// the exposure-error map) in a binary file, DIR/checkpoint/pictures-N.bin after tile N, named in
-/// state.json with its size and SHA-256 (PictureConsumers); such a run is not dealt over MPI
-/// ranks. The checkpoint is no output: it is not in the manifest, and a run removes it before
-/// writing the manifest.
+/// state.json with its size and SHA-256 (PictureConsumers); over MPI ranks each tile's share of
+/// them is merged on rank 0 (PictureConsumers::mergePartial). The checkpoint is no output: it is
+/// not in the manifest, and a run removes it before writing the manifest.
 
 #include <optional>
 #include <string>
@@ -55,6 +55,12 @@ struct PictureConsumers {
     /// Before the first slice, after TileConsumers::restore: reads the file `entry` names.
     /// @throw InputError naming the file when it is missing, changed or malformed
     void restore(const std::string& outDir, const nlohmann::json& entry) const;
+    /// An MPI rank's tile (pipeline/cluster_run.h), after the consumers' save: the tile's share
+    /// of each picture (its `core` cells, its part of the cured surface's picture) as records.
+    void savePartial(BinaryStateWriter& out, const exposure::CellWindow& core) const;
+    /// Rank 0, in the tiles' order: adds a tile's share, as one process would have made it.
+    /// @throw InputError naming the state file when it is malformed
+    void mergePartial(const BinaryStateReader& in, const exposure::CellWindow& core) const;
 };
 
 /// DIR/checkpoint.

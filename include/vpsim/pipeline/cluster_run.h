@@ -3,11 +3,11 @@
 /// `vpsim run` over MPI ranks (started by mpirun/srun; RunContext::cluster): every rank makes the
 /// run's collective calls (the beam kernels' Monte Carlo, split by photon batches and merged
 /// exactly, transport/mc_split.h), rank 0 alone does the rest and writes the output directory,
-/// so the report's figures are the single process's. The x-y tiles of a job whose consumers'
-/// states are small (no figures, 3D view or exposure.vdb: checkpoint.h keeps the pictures' state
-/// apart, for one process) are dealt round-robin over the ranks (cluster::runItems): each rank
-/// exposes its tiles into fresh consumers, and rank 0 merges their states in the tiles' order,
-/// as one process would.
+/// so the report's figures are the single process's. The x-y tiles of a job (without
+/// exposure.vdb, whose state is the whole volume) are dealt round-robin over the ranks
+/// (cluster::runItems): each rank exposes its tiles into fresh consumers and picture recorders
+/// (picture_recorders.h), and rank 0 merges their states and their shares of the pictures in
+/// the tiles' order, as one process would, to the bit.
 
 #include <functional>
 #include <string>
@@ -17,6 +17,7 @@
 
 #include "vpsim/core/run_context.h"
 #include "vpsim/optimise/laser/exposure_error_sink.h"
+#include "vpsim/pipeline/checkpoint.h"
 #include "vpsim/pipeline/job.h"
 #include "vpsim/pipeline/stages.h"
 #include "vpsim/validate/feature_probe.h"
@@ -63,8 +64,12 @@ void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
                         const std::function<void(const std::string&)>& merge,
                         const std::function<void(int)>& roundDone);
 
-/// Rank 0: merges one tile's partial result into the run's consumers (call in the tiles' order).
-void mergeTilePartial(const std::string& partial, const TileConsumers& consumers);
+/// Rank 0: merges one tile's partial result into the run's consumers and pictures (call in the
+/// tiles' order); the pictures' share is read through a file in DIR/checkpoint (`outDir`).
+/// @throw InputError when the result is malformed
+void mergeTilePartial(const std::string& partial, const std::vector<exposure::Tile>& tiles,
+                      const TileConsumers& consumers, const PictureConsumers& pictures,
+                      const std::string& outDir);
 
 /// report.json's "mpi" "tiles": how many and which rank exposed each (from `firstTile` on).
 nlohmann::json tileSplitJson(size_t tiles, int ranks, int firstTile);

@@ -28,6 +28,11 @@ public:
     /// @throw InputError naming the state file when it is malformed or of another grid
     void saveState(BinaryStateWriter& out) const;
     void restoreState(const BinaryStateReader& in);
+    /// An MPI rank's tile, recorded alone: what it recorded of the tile's `core` cells (records
+    /// "sections.tile_*"); mergePartial copies them into this recorder's pictures.
+    /// @throw InputError naming the state file when it is malformed
+    void savePartial(BinaryStateWriter& out, const exposure::CellWindow& core) const;
+    void mergePartial(const BinaryStateReader& in, const exposure::CellWindow& core);
 
 private:
     const geometry::Mesh& mPart;

@@ -8,6 +8,7 @@
 /// The run never stores the 3D grid: the kept pixels are bounded by SECTION_PIXEL_BUDGET, first
 /// by coarser pixels (down to SECTION_MIN_SIDE), then by keeping every n-th layer.
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -56,6 +57,12 @@ public:
     /// @throw InputError naming the state file when it is malformed or of another grid
     void saveState(BinaryStateWriter& out) const;
     void restoreState(const BinaryStateReader& in);
+    /// An MPI rank's tile, recorded alone: the sums of the pixels over the tile's `core` cells
+    /// (records "layer_sections.tile_*"). mergePartial adds them to this recorder's, as one
+    /// process does after each slice (add sums a slice's share of a pixel apart, from zero): the
+    /// same sums to the bit. @throw InputError naming the state file when it is malformed
+    void savePartial(BinaryStateWriter& out, const exposure::CellWindow& core) const;
+    void mergePartial(const BinaryStateReader& in, const exposure::CellWindow& core);
 
 private:
     const geometry::LayerStack& mStack;
@@ -69,6 +76,8 @@ private:
     std::vector<uint32_t> mCured;  ///< same pixels: cured cells of the block
     /// Cells of each pixel's block (edge blocks are cut by the grid), per layer.
     std::vector<float> blockCells() const;
+    /// The pixels holding cells of `core`: [x0, x1) x [y0, y1).
+    std::array<int, 4> pixelWindow(const exposure::CellWindow& core) const;
 };
 
 }  // namespace vpsim::report

@@ -89,6 +89,10 @@ public:
     /// the 84-byte header), as if this one had made them next: the tiles of a job made on other
     /// MPI ranks, merged in the tiles' order. @throw InputError for a malformed state
     void mergeState(const nlohmann::json& later, const std::string& stlBody);
+    /// With mergeState: appends the kept picture of those tiles (its savePicture), as if this
+    /// surface had made them next: the same clusters and sums, or the same kept triangles, to the
+    /// bit. @throw InputError naming the state file when it is malformed or of another view
+    void mergePicture(const BinaryStateReader& later);
 
 private:
     struct State;

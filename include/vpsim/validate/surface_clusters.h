@@ -5,6 +5,10 @@
 /// whose corners fall in fewer than three cells vanish. Vertices and triangles are added one by
 /// one, so a mesher can keep a picture of a surface far larger than memory: its size follows the
 /// surface's area over cell^2 (about 2 A / cell^2 triangles), not the surface's own triangles.
+///
+/// Tiles: the owned vertices of a tile are summed apart, from zero, and added to the clusters'
+/// sums when the tile ends (endTile), so that a tile clustered alone (an MPI rank's) and merged
+/// in the tiles' order (merge) gives the one process's sums to the bit.
 
 #include <array>
 #include <cstdint>
@@ -28,6 +32,12 @@ public:
     uint32_t add(const glm::dvec3& p, float value, bool owned = true);
     /// Keeps the triangle of three clusters unless two are the same.
     void addTriangle(uint32_t a, uint32_t b, uint32_t c);
+    /// Adds the tile's sums to the clusters' (before mesh, values, save or merge).
+    void endTile();
+    /// Appends a picture made alone of later tiles (ended, as `in` under `prefix` holds it, the
+    /// records save writes): its clusters join this one's of the same cell (a new cell's come
+    /// after this one's, in their order), its triangles follow. @throw InputError as restore's
+    void merge(const BinaryStateReader& in, const std::string& prefix);
     double cell() const { return mCell; }
     size_t triangles() const { return mTriangles.size(); }
     /// The clustered mesh (mean positions, mm) and each vertex's mean value.
@@ -52,10 +62,24 @@ private:
         double valueSum = 0;
         uint32_t count = 0;
     };
+    /// An owned vertex's share of the sums, summed apart per tile (endTile).
+    struct TileSum {
+        glm::dvec3 sum{0.0};
+        double valueSum = 0;
+        uint32_t count = 0;
+    };
     Key keyOf(const glm::dvec3& p) const;  ///< the cell holding p
+    /// The records `prefix`.* of `in`, checked as restore checks them.
+    static void readChecked(const BinaryStateReader& in, const std::string& prefix, double cell,
+                            std::vector<Cluster>& clusters,
+                            std::vector<std::array<uint32_t, 3>>& triangles);
+    /// The cluster of cell `key` (made at `first` when there is none): its index.
+    uint32_t find(const Key& key, const glm::dvec3& first);
     double mCell;
     std::unordered_map<Key, uint32_t, KeyHash> mIndex;
     std::vector<Cluster> mClusters;
+    std::vector<TileSum> mTile;      ///< per cluster, this tile's owned vertices
+    std::vector<uint32_t> mTouched;  ///< the clusters with owned vertices in this tile
     std::vector<std::array<uint32_t, 3>> mTriangles;
     Key mLastKey{0, 0, 0};  ///< neighbouring vertices often share a cell: the last one found
     uint32_t mLast = UINT32_MAX;

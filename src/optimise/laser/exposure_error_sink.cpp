@@ -104,6 +104,27 @@ void ExposureErrorSink::restorePicture(const BinaryStateReader& in) {
     map = in.take<float>("exposure_error.top_map", map.size());
 }
 
+void ExposureErrorSink::savePartialPicture(BinaryStateWriter& out,
+                                           const exposure::CellWindow& core) const {
+    const exposure::SurfaceGrid& map = mState->topMap;
+    std::vector<float> window;
+    if (!map.values.empty())
+        for (int j = core.j0; j < core.j1; ++j)
+            window.insert(window.end(),
+                          map.values.begin() + ptrdiff_t(size_t(j) * map.nx + core.i0),
+                          map.values.begin() + ptrdiff_t(size_t(j) * map.nx + core.i1));
+    out.add("exposure_error.tile_top_map", window);
+}
+
+void ExposureErrorSink::mergePicture(const BinaryStateReader& in,
+                                     const exposure::CellWindow& core) {
+    exposure::SurfaceGrid& map = mState->topMap;
+    const size_t cells = map.values.empty() ? 0 : size_t(core.width()) * size_t(core.height());
+    const std::vector<float> window = in.take<float>("exposure_error.tile_top_map", cells);
+    for (int j = core.j0; j < core.j1 && cells; ++j)
+        std::copy_n(&window[size_t(j - core.j0) * core.width()], core.width(), &map.at(core.i0, j));
+}
+
 const exposure::SurfaceGrid& ExposureErrorSink::topMap() const {
     return mState->topMap;
 }

@@ -67,6 +67,10 @@ public:
     /// empty unless keepTopMap). @throw InputError naming the state file when it is malformed
     void savePicture(BinaryStateWriter& out) const;
     void restorePicture(const BinaryStateReader& in);
+    /// An MPI rank's tile, seen alone: the top map's cells of the tile's `core` (record
+    /// "exposure_error.tile_top_map", empty unless keepTopMap); mergePicture copies them in.
+    void savePartialPicture(BinaryStateWriter& out, const exposure::CellWindow& core) const;
+    void mergePicture(const BinaryStateReader& in, const exposure::CellWindow& core);
 
 private:
     struct State;
