@@ -1,5 +1,6 @@
 #include "vpsim/report/layer_sections.h"
 
+#include <tbb/parallel_for.h>
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
@@ -131,12 +132,11 @@ void LayerSectionRecorder::add(const exposure::ExposureSlice& slice) {
     const size_t base = size_t(slot) * w * mSampling.height;
     const float curedAt = mLaw.curedFloatThreshold();  // v >= curedAt: isCured(v), exactly
     const int p0 = owned.i0 / f, p1 = (owned.i1 - 1) / f + 1;
-    std::vector<float> share(size_t(std::max(0, p1 - p0)));
-    for (int j = owned.j0; j < owned.j1;) {
-        const int pj = j / f, jEnd = std::min(owned.j1, (pj + 1) * f);
-        std::fill(share.begin(), share.end(), 0.0f);
+    // Rows of pixels in parallel: each pixel's sum is made by one task, in its cells' order.
+    tbb::parallel_for(owned.j0 / f, (owned.j1 - 1) / f + 1, [&](int pj) {
+        std::vector<float> share(size_t(p1 - p0), 0.0f);
         auto* cured = &mCured[base + size_t(pj) * w];
-        for (; j < jEnd; ++j) {
+        for (int j = std::max(owned.j0, pj * f); j < std::min(owned.j1, (pj + 1) * f); ++j) {
             const float* row = &values.values[size_t(j - values.firstJ) * values.nx];
             // The pixels' blocks of f cells in turn: each pixel's sum in the order of its cells.
             for (int i0 = owned.i0; i0 < owned.i1;) {
@@ -155,7 +155,7 @@ void LayerSectionRecorder::add(const exposure::ExposureSlice& slice) {
         }
         float* exposure = &mExposure[base + size_t(pj) * w];
         for (int pixel = p0; pixel < p1; ++pixel) exposure[pixel] += share[pixel - p0];
-    }
+    });
 }
 
 std::array<int, 4> LayerSectionRecorder::pixelWindow(const exposure::CellWindow& core) const {

@@ -79,6 +79,17 @@ void StreamingCuredSurface::State::trimVertices() {
     }
 }
 
+namespace {
+
+/// in[i] = v[i] >= threshold (CureLaw::isCured), for n values. A function of its own so that the
+/// threshold and the count are locals: the flags are bytes, which may alias a member or a
+/// captured reference, and those would be read again for every flag (no vectorised loop).
+void cureFlags(const float* v, uint8_t* in, int n, float threshold) {
+    for (int i = 0; i < n; ++i) in[i] = v[i] >= threshold;
+}
+
+}  // namespace
+
 void StreamingCuredSurface::State::load(PaddedSlice& target, const exposure::SurfaceGrid* values,
                                         double z) {
     target.z = z;
@@ -98,7 +109,7 @@ void StreamingCuredSurface::State::load(PaddedSlice& target, const exposure::Sur
         } else {
             std::fill(v, v + W, 0.0f);
         }
-        for (int li = 0; li < W; ++li) in[li] = v[li] >= curedAt;  // CureLaw::isCured
+        cureFlags(v, in, W, curedAt);
     });
 }
 
@@ -143,8 +154,9 @@ void StreamingCuredSurface::State::buildLayer() {
         out.clear();
         const uint8_t *a0 = &above.in[sample(0, lj)], *a1 = &above.in[sample(0, lj + 1)],
                       *b0 = &below.in[sample(0, lj)], *b1 = &below.in[sample(0, lj + 1)];
-        for (int li = 0; li < W - 1; ++li) {
-            if (li % 8 == 0 && li + 8 < W && uniform8(a0 + li, a1 + li, b0 + li, b1 + li)) {
+        const int width = W;  // a local: see emitQuads
+        for (int li = 0; li < width - 1; ++li) {
+            if (li % 8 == 0 && li + 8 < width && uniform8(a0 + li, a1 + li, b0 + li, b1 + li)) {
                 li += 7;  // eight cubes all inside or all outside: no vertex
                 continue;
             }
@@ -222,29 +234,28 @@ void StreamingCuredSurface::State::emitQuads() {
         };
         const int pj = sy0 + lj;
         const bool realRow = pj >= 1 && pj <= ny;
+        // The row's flags through locals: read through the members, each flag would read the
+        // vectors' data pointers again (bytes may alias them).
+        const int width = W;
+        const uint8_t* up = &above.in[sample(0, lj)];
+        const uint8_t* down = &below.in[sample(0, lj)];
         for (int li = liLo; li < liHi; ++li) {
-            if ((li - liLo) % 8 == 0 && li + 8 <= liHi) {
-                const size_t s = sample(li, lj);
-                if (noEdge8(&above.in[s], &below.in[s], W)) {
-                    li += 7;  // eight samples without a crossing edge: no quad
-                    continue;
-                }
+            if ((li - liLo) % 8 == 0 && li + 8 <= liHi && noEdge8(up + li, down + li, width)) {
+                li += 7;  // eight samples without a crossing edge: no quad
+                continue;
             }
             const int pi = sx0 + li;
-            const size_t s = sample(li, lj);
             const bool realColumn = pi >= 1 && pi <= nx;
-            if (realRow && realColumn && above.in[s] != below.in[s])  // z edge
+            const uint8_t a = up[li], b = down[li];
+            if (realRow && realColumn && a != b)  // z edge
                 quad(layerBelow[cube(li - 1, lj - 1)], layerBelow[cube(li, lj - 1)],
-                     layerBelow[cube(li, lj)], layerBelow[cube(li - 1, lj)],
-                     !(below.in[s] && !above.in[s]));
-            if (realRow && above.in[s] != above.in[s + 1])  // x edge (pi, pi + 1)
+                     layerBelow[cube(li, lj)], layerBelow[cube(li - 1, lj)], !(b && !a));
+            if (realRow && a != up[li + 1])  // x edge (pi, pi + 1)
                 quad(layerBelow[cube(li, lj - 1)], layerBelow[cube(li, lj)],
-                     layerAbove[cube(li, lj)], layerAbove[cube(li, lj - 1)],
-                     !(above.in[s] && !above.in[s + 1]));
-            if (realColumn && above.in[s] != above.in[s + W])  // y edge (pj, pj + 1)
+                     layerAbove[cube(li, lj)], layerAbove[cube(li, lj - 1)], !(a && !up[li + 1]));
+            if (realColumn && a != up[li + width])  // y edge (pj, pj + 1)
                 quad(layerBelow[cube(li - 1, lj)], layerAbove[cube(li - 1, lj)],
-                     layerAbove[cube(li, lj)], layerBelow[cube(li, lj)],
-                     !(above.in[s] && !above.in[s + W]));
+                     layerAbove[cube(li, lj)], layerBelow[cube(li, lj)], !(a && !up[li + width]));
         }
         rowVolume[lj] = moment;
     });

@@ -23,13 +23,15 @@ SurfaceClusters::Key SurfaceClusters::keyOf(const glm::dvec3& p) const {
 }
 
 uint32_t SurfaceClusters::find(const Key& key, const glm::dvec3& first) {
-    auto [it, added] = mIndex.emplace(key, uint32_t(mClusters.size()));
-    if (added) {
-        mClusters.emplace_back();
-        mClusters.back().first = first;
-        mTile.emplace_back();
-    }
-    return it->second;
+    // Looked up before inserting: emplace would make (and free) a node for every known cell.
+    const auto it = mIndex.find(key);
+    if (it != mIndex.end()) return it->second;
+    const auto index = uint32_t(mClusters.size());
+    mIndex.emplace(key, index);
+    mClusters.emplace_back();
+    mClusters.back().first = first;
+    mTile.emplace_back();
+    return index;
 }
 
 uint32_t SurfaceClusters::add(const glm::dvec3& p, float value, bool owned) {
