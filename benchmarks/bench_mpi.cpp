@@ -1,7 +1,8 @@
 // `vpsim run` and `vpsim batch` over MPI ranks (issue 22 item 3) against one plain process, all
 // measured in this run: the small laser job with a Monte Carlo kernel of many photons (the work
 // the ranks split) under `mpirun --oversubscribe --bind-to none -np 1, 2, 4`, and a batch of 4 jobs
-// over the same ranks, and the pipeline's block job in x-y tiles over the same ranks. Prints JSON:
+// over the same ranks, and the pipeline's block job in x-y tiles over the same ranks (with and
+// without the figures and the 3D view). Prints JSON:
 // wall seconds and the kernel stage's seconds per rank count, the speed-up against 1 rank, whether
 // every report.json's figures equal the plain process's, the machine's cores and load (ranks share
 // the cores: beyond the core count nothing is gained).
@@ -14,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <string>
 #include <thread>
 
@@ -61,14 +63,31 @@ double loadAverage() {
     return getloadavg(load, 1) == 1 ? load[0] : -1;
 }
 
+/// The files of a run's pictures and 3D view (png, svg, js), by name, with their bytes.
+std::map<std::string, std::string> pictureFiles(const fs::path& dir) {
+    std::map<std::string, std::string> files;
+    std::error_code error;
+    for (const auto& entry : fs::directory_iterator(dir, error)) {
+        const std::string extension = entry.path().extension().string();
+        if (extension != ".png" && extension != ".svg" && extension != ".js") continue;
+        std::ifstream in(entry.path(), std::ios::binary);
+        files[entry.path().filename().string()] =
+            std::string(std::istreambuf_iterator<char>(in), {});
+    }
+    return files;
+}
+
 /// The pipeline's block job (benchmarks/jobs/block-10mm.json at 5 x 5 x 1 mm, 2.6e7 voxels) in
-/// 1 mm x-y tiles, in one plain process and over 1, 2 and 4 ranks (the tiles dealt round-robin,
-/// merged on rank 0): wall and expose-stage seconds, and whether report.json's figures and
-/// cured.stl equal the plain process's.
-nlohmann::json tiledRuns(const fs::path& work, const std::string& vpsim, const std::string& job) {
+/// 1 mm x-y tiles with `outputs` (simulation.outputs), in one plain process and over 1, 2 and 4
+/// ranks (the tiles dealt round-robin, merged on rank 0): wall and expose-stage seconds, and
+/// whether report.json's figures, cured.stl and the pictures equal the plain process's.
+nlohmann::json tiledRuns(const fs::path& work, const std::string& vpsim, const std::string& job,
+                         const std::string& outputs) {
     const std::string set =
         " --set part.size=5mm --set part.height=1mm --set simulation.tile=1mm"
-        " --set 'simulation.outputs=[\"cured.stl\"]'";
+        " --set 'simulation.outputs=" +
+        outputs + "'";
+    const std::string tag = outputs.find("figures") != std::string::npos ? "pictures-" : "";
     auto stage = [](const fs::path& report, const std::string& name) {
         std::ifstream in(report);
         const nlohmann::json r = nlohmann::json::parse(in, nullptr, false);
@@ -89,16 +108,21 @@ nlohmann::json tiledRuns(const fs::path& work, const std::string& vpsim, const s
                             {"expose_seconds", stage(dir / "report.json", "expose")}};
         return r;
     };
-    out["plain"] = run("tiled-plain", 0);
-    const nlohmann::json plainFigures = figures(work / "tiled-plain" / "report.json");
-    const std::string plainStl = file(work / "tiled-plain" / "cured.stl");
+    const fs::path plain = work / (tag + "tiled-plain");
+    out["plain"] = run(tag + "tiled-plain", 0);
+    const nlohmann::json plainFigures = figures(plain / "report.json");
+    const std::string plainStl = file(plain / "cured.stl");
+    const auto plainPictures = pictureFiles(plain);
+    out["picture_files"] = plainPictures.size();
     for (int ranks : {1, 2, 4}) {
-        const std::string name = "tiled-" + std::to_string(ranks);
+        const std::string name = tag + "tiled-" + std::to_string(ranks);
         nlohmann::json r = run(name, ranks);
         r["figures_equal_plain"] =
             !plainFigures.is_null() && figures(work / name / "report.json") == plainFigures;
         r["cured_stl_equal_plain"] =
             !plainStl.empty() && file(work / name / "cured.stl") == plainStl;
+        if (!plainPictures.empty())
+            r["pictures_equal_plain"] = pictureFiles(work / name) == plainPictures;
         out["ranks"][std::to_string(ranks)] = r;
     }
     return out;
@@ -182,7 +206,10 @@ int main(int argc, char** argv) {
         }
     }
     out["batch"] = {{"jobs", 4}, {"seconds", batchSeconds}, {"figures_equal_1_rank", batchEqual}};
-    out["tiles"] = tiledRuns(work, vpsim, source + "/benchmarks/jobs/block-10mm.json");
+    const std::string block = source + "/benchmarks/jobs/block-10mm.json";
+    out["tiles"] = tiledRuns(work, vpsim, block, "[\"cured.stl\"]");
+    out["tiles_with_pictures"] =
+        tiledRuns(work, vpsim, block, "[\"cured.stl\", \"figures\", \"viewer\"]");
     out["load_average_1min_after"] = loadAverage();
     std::cout << out.dump(2) << std::endl;
     fs::remove_all(work);
