@@ -67,21 +67,27 @@ SampleRange bandSamples(const SurfaceGrid& grid, double y0, double y1, long samp
 struct RowSamples {
     static constexpr int BLOCK = 256;
     double x0, dx, originX, pitch, samples, ay, perArea;
-    int column[BLOCK];
+    double column[BLOCK];  ///< a whole number (kept as a double: GCC does not vectorise to int)
     float weight[4][BLOCK];
 
     VPSIM_AVX2_CLONES void compute(long first, int n) {
         const double base = double(first);  // exact: sample indices are far below 2^53
+        // Locals: read through `this` in the loop, the members might be written by its stores,
+        // and the loop would stay scalar.
+        const double start = x0, step = dx, origin = originX, size = pitch, count = samples,
+                     fy = ay, scale = perArea;
+        double* columns = column;
+        float *w0 = weight[0], *w1 = weight[1], *w2 = weight[2], *w3 = weight[3];
         for (int k = 0; k < n; ++k) {
-            const double t = (base + double(k) + 0.5) / samples;
-            const double fx = (x0 + t * dx - originX) / pitch - 0.5;
+            const double t = (base + double(k) + 0.5) / count;
+            const double fx = (start + t * step - origin) / size - 0.5;
             const double cell = std::floor(fx);
             const double ax = fx - cell;
-            column[k] = int(cell);
-            weight[0][k] = float(perArea * ((1 - ax) * (1 - ay)));
-            weight[1][k] = float(perArea * (ax * (1 - ay)));
-            weight[2][k] = float(perArea * ((1 - ax) * ay));
-            weight[3][k] = float(perArea * (ax * ay));
+            columns[k] = cell;
+            w0[k] = float(scale * ((1 - ax) * (1 - fy)));
+            w1[k] = float(scale * (ax * (1 - fy)));
+            w2[k] = float(scale * ((1 - ax) * fy));
+            w3[k] = float(scale * (ax * fy));
         }
     }
 };
@@ -129,7 +135,7 @@ void depositSegment(SurfaceGrid& grid, double x0, double y0, double x1, double y
         const int n = int(std::min<long>(RowSamples::BLOCK, range.last - s));
         row.compute(s, n);
         for (int k = 0; k < n; ++k) {
-            const int i = row.column[k] - grid.firstI;
+            const int i = int(row.column[k]) - grid.firstI;
             const bool in0 = i >= 0 && i < grid.nx, in1 = i + 1 >= 0 && i + 1 < grid.nx;
             if (row0) {
                 if (in0) cells0[i] += row.weight[0][k];
