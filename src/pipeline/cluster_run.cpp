@@ -125,10 +125,8 @@ void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
             TileConsumers{validator, *cured, features, exposureError.get()}.save();
         state["tile"] = i;
         // The tile's share of the pictures, as binary records (PictureConsumers::savePartial).
-        PictureConsumers pictures{keepsCuredView(job) ? cured.get() : nullptr,
-                                  recorders.sections ? &*recorders.sections : nullptr,
-                                  recorders.layerSections ? &*recorders.layerSections : nullptr,
-                                  figures ? exposureError.get() : nullptr};
+        const PictureConsumers pictures =
+            recorders.consumers(job, cured.get(), exposureError.get());
         std::string pictureBytes;
         if (pictures.any()) {
             const std::string path = temporary(i, ".bin");

@@ -26,6 +26,16 @@ void PictureRecorders::addSinks(std::vector<exposure::SliceSink>& sinks) {
     if (layerSections) sinks.push_back(sink(*layerSections));
 }
 
+PictureConsumers PictureRecorders::consumers(const Job& job, validate::StreamingCuredSurface* cured,
+                                             optimise::ExposureErrorSink* exposureError) {
+    PictureConsumers pictures;
+    if (keepsCuredView(job)) pictures.cured = cured;
+    if (sections) pictures.sections = &*sections;
+    if (layerSections) pictures.layerSections = &*layerSections;
+    if (job.simulation.writes("figures")) pictures.exposureError = exposureError;
+    return pictures;
+}
+
 bool keepsCuredView(const Job& job) {
     return job.simulation.writes("figures") || job.simulation.writes("viewer");
 }

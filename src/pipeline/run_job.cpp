@@ -259,11 +259,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
         planners::laserExposureErrorSink(f.layers, job.machine, law, *model, sim.writes("figures"));
     if (exposureError) sinks.push_back(sink(*exposureError));
     const TileConsumers consumers{validator, *cured, features, exposureError.get()};
-    PictureConsumers pictures;
-    if (keepMesh) pictures.cured = cured.get();
-    if (sections) pictures.sections = &*sections;
-    if (layerSections) pictures.layerSections = &*layerSections;
-    if (exposureError && sim.writes("figures")) pictures.exposureError = exposureError.get();
+    const PictureConsumers pictures = recorders.consumers(job, cured.get(), exposureError.get());
     int firstTile = 0;
     std::function<void(int)> tilesDone;  // checkpoints after each tile (each round over MPI)
     if (checkpointed) {

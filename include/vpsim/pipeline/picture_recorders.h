@@ -11,6 +11,7 @@
 #include "vpsim/exposure/exposure_model.h"
 #include "vpsim/geometry/layer_stack.h"
 #include "vpsim/geometry/mesh.h"
+#include "vpsim/pipeline/checkpoint.h"
 #include "vpsim/pipeline/job.h"
 #include "vpsim/report/figures.h"
 #include "vpsim/report/layer_sections.h"
@@ -26,6 +27,10 @@ struct PictureRecorders {
                      const exposure::ExposureGrid& grid);
     /// Their slice sinks, appended to `sinks`.
     void addSinks(std::vector<exposure::SliceSink>& sinks);
+    /// Every consumer whose state is a whole-part picture: these recorders, `cured` when it
+    /// keeps a view (keepsCuredView) and `exposureError`'s top map with the figures.
+    PictureConsumers consumers(const Job& job, validate::StreamingCuredSurface* cured,
+                               optimise::ExposureErrorSink* exposureError);
 };
 
 /// Whether the report's top view and 3D viewer need a picture of the cured surface (figures or
