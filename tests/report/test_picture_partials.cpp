@@ -51,7 +51,7 @@ TEST_CASE("pictures of tiles recorded apart and merged in order are one recorder
     // Values with many significant bits, around the critical dose.
     auto value = [](int i, int j, int k, int s) {
         const uint32_t h =
-            uint32_t(i * 73856093) ^ uint32_t(j * 19349663) ^ uint32_t((4 * k + s) * 83492791);
+            uint32_t(i) * 73856093u ^ uint32_t(j) * 19349663u ^ uint32_t(4 * k + s) * 83492791u;
         return float(0.05 + 0.1 * double(h % 100003) / 100003.0);
     };
     const std::vector<exposure::CellWindow> cores = {
