@@ -1,5 +1,6 @@
 #include "vpsim/cluster/collectives.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "vpsim/core/error.h"
@@ -67,6 +68,25 @@ std::vector<std::string> runItems(Communicator& comm, size_t n,
         }
     }
     return out;
+}
+
+void streamToRoot(Communicator& comm, int owner, uint64_t total,
+                  const std::function<std::string(uint64_t offset, size_t count)>& read,
+                  const std::function<void(const std::string&)>& write, size_t chunk) {
+    if (chunk == 0) throw Error("streamToRoot: a chunk of no bytes");
+    for (uint64_t offset = 0; offset < total; offset += chunk) {
+        const size_t count = size_t(std::min<uint64_t>(chunk, total - offset));
+        std::string piece;
+        if (comm.rank() == owner) {
+            piece = read(offset, count);
+            if (piece.size() != count)
+                throw Error("streamToRoot: rank " + std::to_string(owner) + " read " +
+                            std::to_string(piece.size()) + " of " + std::to_string(count) +
+                            " bytes at " + std::to_string(offset));
+        }
+        const std::vector<std::string> pieces = comm.gatherBytes(piece);  // on rank 0 only
+        if (comm.isRoot()) write(pieces.at(size_t(owner)));
+    }
 }
 
 }  // namespace vpsim::cluster

@@ -41,7 +41,8 @@ void runJobOnWorkerRank(const Job& job, const RunContext& context) {
     const auto tiles = exposureTiles(*model, work.at("tile_side").get<double>());
     exposeTilesOnRanks(
         job, part, *model, tiles, plan, beam, context, work.at("stl").get<bool>(),
-        work.at("first_tile").get<int>(), [](const std::string&) {}, [](int) {});
+        work.at("first_tile").get<int>(), [](const std::string&) {}, [](const std::string&) {},
+        [](int) {});
 }
 
 nlohmann::json TileConsumers::save() const {
@@ -64,9 +65,9 @@ void TileConsumers::restore(const nlohmann::json& state, const std::string& file
     }
 }
 
-void TileConsumers::merge(const nlohmann::json& later, const std::string& stlBody) const {
+void TileConsumers::merge(const nlohmann::json& later) const {
     validator.mergeState(later.at("validator"));
-    cured.mergeState(later.at("cured"), stlBody);
+    cured.mergeState(later.at("cured"));
     features.mergeState(later.at("features").get<std::vector<double>>());
     if (exposureError) exposureError->mergeState(later.at("exposure_error"));
 }
@@ -87,6 +88,7 @@ void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
                         const std::vector<exposure::Tile>& tiles, const plan::ScanPlan& plan,
                         const BeamResult& beam, const RunContext& context, bool stl, int firstTile,
                         const std::function<void(const std::string&)>& merge,
+                        const std::function<void(const std::string&)>& appendStl,
                         const std::function<void(int)>& roundDone) {
     const exposure::ExposureGrid& grid = model.grid();
     const double voxelHeight = job.machine.layerThickness / job.simulation.slicesPerLayer;
@@ -137,23 +139,50 @@ void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
             std::filesystem::remove(path);
         }
         state["picture_bytes"] = pictureBytes.size();
-        std::string body;
-        if (stl) {
+        if (stl) {          // the triangles stay in the file until rank 0 takes them (streamToRoot)
             cured.reset();  // closes the file
-            body = readFile(stlPath, UINT64_MAX).substr(84);
-            std::filesystem::remove(stlPath);
+            state["stl_bytes"] = std::filesystem::file_size(stlPath) - 84;
         }
-        return state.dump() + "\n" + pictureBytes + body;  // the JSON has no raw line break
+        return state.dump() + "\n" + pictureBytes;  // the JSON has no raw line break
     };
     // A round of one tile per rank at a time (tile first + k on rank k % ranks, as runItems
-    // deals), so that rank 0 holds one round's results, not the whole job's triangles.
-    const size_t ranks = size_t(context.cluster->ranks());
+    // deals), so that rank 0 holds one round's states and pictures, not the whole job's. Each
+    // tile's triangles then pass from its rank's file to rank 0's STL in pieces, in the tiles'
+    // order: a tile's STL can be many GB, more than a message carries or a rank holds.
+    cluster::Communicator& comm = *context.cluster;
+    const size_t ranks = size_t(comm.ranks());
     for (size_t first = size_t(firstTile); first < tiles.size(); first += ranks) {
         const size_t round = std::min(ranks, tiles.size() - first);
-        for (const std::string& partial :
-             cluster::runItems(*context.cluster, round, [&](size_t i) { return work(first + i); }))
-            merge(partial);
-        if (context.cluster->isRoot()) roundDone(int(first + round));
+        std::vector<uint64_t> stlBytes(round, 0);  // each filled by the tile's rank
+        const std::vector<std::string> partials = cluster::runItems(comm, round, [&](size_t i) {
+            std::string partial = work(first + i);
+            if (stl) stlBytes[i] = std::filesystem::file_size(temporary(first + i, ".stl")) - 84;
+            return partial;
+        });
+        if (stl) comm.sumIntegers(stlBytes);  // every rank learns every size
+        for (size_t i = 0; i < round; ++i) {
+            if (comm.isRoot()) merge(partials[i]);
+            if (!stl) continue;
+            const int owner = cluster::ownerOfItem(i, comm.ranks());
+            const std::string path = temporary(first + i, ".stl");
+            std::ifstream in;
+            if (comm.rank() == owner) in.open(path, std::ios::binary);
+            cluster::streamToRoot(
+                comm, owner, stlBytes[i],
+                [&](uint64_t offset, size_t count) {
+                    std::string piece(count, '\0');
+                    in.seekg(std::streamoff(84 + offset));
+                    in.read(piece.data(), std::streamsize(count));
+                    piece.resize(size_t(in.gcount()));
+                    return piece;
+                },
+                appendStl);
+            if (comm.rank() == owner) {
+                in.close();
+                std::filesystem::remove(path);
+            }
+        }
+        if (comm.isRoot()) roundDone(int(first + round));
     }
 }
 
@@ -165,10 +194,14 @@ void mergeTilePartial(const std::string& partial, const std::vector<exposure::Ti
     const nlohmann::json state = nlohmann::json::parse(partial.substr(0, end));
     const auto tile = state.at("tile").get<size_t>();
     const auto pictureBytes = state.at("picture_bytes").get<size_t>();
-    if (tile >= tiles.size() || pictureBytes > partial.size() - end - 1 ||
+    if (tile >= tiles.size() || pictureBytes != partial.size() - end - 1 ||
         (pictureBytes > 0) != pictures.any())
         throw InputError("a rank's tile result is malformed");
-    consumers.merge(state, partial.substr(end + 1 + pictureBytes));
+    // The STL that follows (streamToRoot) holds the tile's triangles, 50 bytes each.
+    if (state.contains("stl_bytes") && state.at("stl_bytes").get<uint64_t>() !=
+                                           50 * state.at("cured").at("triangles").get<uint64_t>())
+        throw InputError("a rank's tile STL does not hold its triangles");
+    consumers.merge(state);
     if (pictureBytes == 0) return;
     // Read back through a file of the checkpoint's (never an output; removed at once).
     const std::string path = checkpointDirectory(outDir) + "/tile-pictures.bin";

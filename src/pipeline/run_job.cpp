@@ -299,7 +299,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
             [&](const std::string& partial) {
                 mergeTilePartial(partial, tiles, consumers, pictures, outDir);
             },
-            tilesDone);
+            [&](const std::string& triangles) { cured->appendStl(triangles); }, tilesDone);
         result.mpi["tiles"] = tileSplitJson(tiles.size(), context.cluster->ranks(), firstTile);
         firstTile = int(tiles.size());  // exposeStage: the summary only
     } else if (checkpointed) {

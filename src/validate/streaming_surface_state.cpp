@@ -167,7 +167,7 @@ void StreamingCuredSurface::mergePicture(const BinaryStateReader& later) {
     s.layerStart = s.vertices.size();
 }
 
-void StreamingCuredSurface::mergeState(const nlohmann::json& later, const std::string& stlBody) {
+void StreamingCuredSurface::mergeState(const nlohmann::json& later) {
     State& s = *mState;
     if (s.started || s.finished)
         throw InputError("the cured surface merges other tiles only between its own");
@@ -184,7 +184,11 @@ void StreamingCuredSurface::mergeState(const nlohmann::json& later, const std::s
         throw InputError(std::string("malformed cured-surface state: ") + e.what());
     }
     s.openInPlace();
-    if (s.stlOut) s.stlOut->write(stlBody.data(), std::streamsize(stlBody.size()));
+}
+
+void StreamingCuredSurface::appendStl(const std::string& triangles) {
+    State& s = *mState;
+    if (s.stlOut) s.stlOut->write(triangles.data(), std::streamsize(triangles.size()));
 }
 
 }  // namespace vpsim::validate

@@ -2,6 +2,7 @@
 // single-process identities (tests/mpi/ runs the same calls under mpirun).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <set>
 
 #include "vpsim/cluster/collectives.h"
@@ -79,4 +80,36 @@ TEST_CASE("one process: the collectives are identities and runItems keeps index 
     CHECK(results[1] == std::string("bb") + '\0');
     CHECK(results[2].empty());
     CHECK(results[3] == std::string("dddd") + '\0');
+}
+
+TEST_CASE("streamToRoot passes a rank's bytes to rank 0 whole, in pieces of at most a chunk",
+          "[cluster]") {
+    SingleProcess one;
+    std::string bytes;
+    for (int i = 0; i < 1000; ++i) bytes += char(i * 7 % 251);
+    for (size_t chunk : {size_t(1), size_t(7), size_t(999), size_t(1000), size_t(4096)}) {
+        std::string got;
+        size_t pieces = 0, largest = 0;
+        streamToRoot(
+            one, 0, bytes.size(),
+            [&](uint64_t offset, size_t count) { return bytes.substr(size_t(offset), count); },
+            [&](const std::string& piece) {
+                got += piece;
+                ++pieces;
+                largest = std::max(largest, piece.size());
+            },
+            chunk);
+        CHECK(got == bytes);
+        CHECK(pieces == (bytes.size() + chunk - 1) / chunk);
+        CHECK(largest <= chunk);
+    }
+    // Nothing to pass: no piece; a short read is an error, not a shorter stream.
+    streamToRoot(
+        one, 0, 0, [](uint64_t, size_t) { return std::string("x"); },
+        [](const std::string&) { FAIL("a piece of nothing"); });
+    CHECK_THROWS_WITH(
+        streamToRoot(
+            one, 0, 10, [](uint64_t, size_t count) { return std::string(count - 1, 'x'); },
+            [](const std::string&) {}, 4),
+        Catch::Contains("read 3 of 4 bytes at 0"));
 }

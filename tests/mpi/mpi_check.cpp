@@ -52,6 +52,31 @@ void checkCollectives(cluster::Communicator& comm) {
             expect(items.size() == 11 && items[i] == std::to_string(i) + "@" +
                                                          std::to_string(cluster::ownerOfItem(i, n)),
                    "runItems: item " + std::to_string(i) + " in index order");
+    // Each rank's stream (of a length its own, the last rank's none) passed to rank 0 in pieces
+    // of 7 bytes, and one piece larger than the stream.
+    for (size_t chunk : {size_t(7), size_t(1000)}) {
+        for (int owner = 0; owner < n; ++owner) {
+            const uint64_t length = owner == n - 1 ? 0 : uint64_t(50 + 13 * owner);
+            std::string sent;
+            for (uint64_t k = 0; k < length; ++k) sent += char('A' + (owner + k) % 26);
+            std::string got;
+            cluster::streamToRoot(
+                comm, owner, length,
+                [&](uint64_t offset, size_t count) {
+                    expect(comm.rank() == owner, "streamToRoot: read on the owner only");
+                    return sent.substr(size_t(offset), count);
+                },
+                [&](const std::string& piece) {
+                    expect(comm.isRoot() && piece.size() <= chunk,
+                           "streamToRoot: pieces of at most a chunk, on rank 0 only");
+                    got += piece;
+                },
+                chunk);
+            if (comm.isRoot())
+                expect(got == sent, "streamToRoot: rank " + std::to_string(owner) +
+                                        "'s bytes whole and in order");
+        }
+    }
 }
 
 bool sameTallies(const transport::McResult& a, const transport::McResult& b) {

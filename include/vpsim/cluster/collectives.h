@@ -36,4 +36,19 @@ std::vector<size_t> itemsOfRank(size_t n, int rank, int ranks);
 std::vector<std::string> runItems(Communicator& comm, size_t n,
                                   const std::function<std::string(size_t)>& work);
 
+/// Pieces of MPI messages that streamToRoot sends: far below MPI's int counts, and what rank 0
+/// and the owner hold of a stream at a time.
+constexpr size_t STREAM_CHUNK_BYTES = size_t(64) << 20;
+
+/// `total` bytes that rank `owner` holds (read(offset, count) there gives them) passed to rank 0
+/// (write(piece) there, in order) in pieces of at most `chunk` bytes, so that neither rank holds
+/// more than one piece: a tile's STL of many GB, which one message could not carry (MPI counts
+/// are int) and no rank could hold. Collective: every rank calls it with the same owner, total
+/// and chunk. read and write are called on their rank only; owner 0 streams to itself.
+/// @throw Error on the owner when read gives fewer bytes than asked
+void streamToRoot(Communicator& comm, int owner, uint64_t total,
+                  const std::function<std::string(uint64_t offset, size_t count)>& read,
+                  const std::function<void(const std::string&)>& write,
+                  size_t chunk = STREAM_CHUNK_BYTES);
+
 }  // namespace vpsim::cluster

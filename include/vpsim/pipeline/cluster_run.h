@@ -43,8 +43,9 @@ struct TileConsumers {
     /// Before the first slice: the state save() gave (a checkpoint's, read from `file`).
     /// @throw InputError naming `file` when a consumer's state is missing or malformed
     void restore(const nlohmann::json& state, const std::string& file) const;
-    /// Appends the tiles of another set of consumers: its save() and its STL's triangles.
-    void merge(const nlohmann::json& later, const std::string& stlBody) const;
+    /// Appends the tiles of another set of consumers (its save()); their STL's triangles follow
+    /// through cured.appendStl.
+    void merge(const nlohmann::json& later) const;
 };
 
 /// Rank 0, once the plan is made (every run under MPI: the other ranks wait for it): the tiles
@@ -55,13 +56,16 @@ void sendTileWork(const RunContext& context, bool distributed, double tileSide,
 
 /// Every rank: the tiles from `firstTile` on that it owns (tile firstTile + k on rank
 /// k % ranks), each exposed into fresh consumers, one round of a tile per rank at a time; on
-/// rank 0, `merge` takes each tile's partial result (consumers' saveState and its STL triangles)
-/// in the tiles' order, and `roundDone` the number of tiles done after each round's merge.
+/// rank 0, `merge` takes each tile's partial result (consumers' saveState and its share of the
+/// pictures) in the tiles' order, then `appendStl` the tile's STL triangles in pieces of at
+/// most cluster::STREAM_CHUNK_BYTES (each rank keeps its tile's STL in a file of the temporary
+/// directory until then), and `roundDone` the number of tiles done after each round's merge.
 void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
                         const exposure::ExposureModel& model,
                         const std::vector<exposure::Tile>& tiles, const plan::ScanPlan& plan,
                         const BeamResult& beam, const RunContext& context, bool stl, int firstTile,
                         const std::function<void(const std::string&)>& merge,
+                        const std::function<void(const std::string&)>& appendStl,
                         const std::function<void(int)>& roundDone);
 
 /// Rank 0: merges one tile's partial result into the run's consumers and pictures (call in the

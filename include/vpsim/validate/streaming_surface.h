@@ -85,10 +85,13 @@ public:
     /// Before the first slice: continues from a saved state, cutting the in-place STL back to
     /// its saved length. @throw InputError for a malformed state or a shorter STL
     void restoreState(const nlohmann::json& state);
-    /// Appends the tiles another surface made (its saveState and the triangles of its STL after
-    /// the 84-byte header), as if this one had made them next: the tiles of a job made on other
-    /// MPI ranks, merged in the tiles' order. @throw InputError for a malformed state
-    void mergeState(const nlohmann::json& later, const std::string& stlBody);
+    /// Appends the tiles another surface made (its saveState), as if this one had made them
+    /// next: the tiles of a job made on other MPI ranks, merged in the tiles' order. Their
+    /// triangles follow through appendStl. @throw InputError for a malformed state
+    void mergeState(const nlohmann::json& later);
+    /// After mergeState: the next bytes of the merged tiles' STL triangles (their STL after its
+    /// 84-byte header), in pieces in order; nothing when this surface writes no STL.
+    void appendStl(const std::string& triangles);
     /// With mergeState: appends the kept picture of those tiles (its savePicture), as if this
     /// surface had made them next: the same clusters and sums, or the same kept triangles, to the
     /// bit. @throw InputError naming the state file when it is malformed or of another view
