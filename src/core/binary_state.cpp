@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <sstream>
 
 #include <unistd.h>
 
@@ -15,7 +16,7 @@ constexpr char MAGIC[8] = {'V', 'P', 'S', 'I', 'M', 'B', 'S', '1'};
 constexpr uint32_t MAX_NAME = 256;
 
 template <class T>
-bool get(std::ifstream& in, T& value) {
+bool get(std::istream& in, T& value) {
     return bool(in.read(reinterpret_cast<char*>(&value), sizeof value));
 }
 
@@ -29,6 +30,20 @@ BinaryStateWriter::BinaryStateWriter(std::string path)
     write(MAGIC, sizeof MAGIC);
 }
 
+BinaryStateWriter::BinaryStateWriter(InMemory memory) : mPath(std::move(memory.name)) {
+    mOut = std::make_unique<std::ostringstream>(std::ios::binary);
+    mHash = std::make_unique<Sha256>();
+    write(MAGIC, sizeof MAGIC);
+}
+
+std::string BinaryStateWriter::takeBytes() {
+    auto* memory = dynamic_cast<std::ostringstream*>(mOut.get());
+    if (!mCommitted || !memory) throw Error("BinaryStateWriter::takeBytes: no committed memory");
+    std::string bytes = std::move(*memory).str();
+    memory->str({});
+    return bytes;
+}
+
 void BinaryStateWriter::write(const void* data, uint64_t bytes) {
     mOut->write(static_cast<const char*>(data), std::streamsize(bytes));
     mHash->update(data, bytes);
@@ -36,7 +51,7 @@ void BinaryStateWriter::write(const void* data, uint64_t bytes) {
 }
 
 BinaryStateWriter::~BinaryStateWriter() {
-    if (mCommitted) return;
+    if (mCommitted || mTemporary.empty()) return;
     mOut.reset();
     std::remove(mTemporary.c_str());
 }
@@ -55,10 +70,15 @@ void BinaryStateWriter::commit() {
     if (mCommitted) return;
     mOut->flush();
     const bool good = bool(*mOut);
-    mOut->close();
     mCommitted = true;
     mSha256 = mHash->hex();
-    if (!good || !*mOut) {
+    if (mTemporary.empty()) {  // in memory
+        if (!good) throw InputError("cannot hold the state in memory", mPath);
+        return;
+    }
+    auto& file = static_cast<std::ofstream&>(*mOut);
+    file.close();
+    if (!good || !file) {
         std::remove(mTemporary.c_str());
         throw InputError("cannot write the checkpoint (disk full?)", mPath);
     }
@@ -70,11 +90,20 @@ void BinaryStateWriter::commit() {
 BinaryStateReader::BinaryStateReader(std::string path) : mPath(std::move(path)) {
     std::ifstream in(mPath, std::ios::binary);
     if (!in) throw InputError("cannot open the checkpoint's state", mPath);
+    std::error_code error;
+    readHeaders(in, std::filesystem::file_size(mPath, error));
+}
+
+BinaryStateReader::BinaryStateReader(InMemory memory, std::string bytes)
+    : mPath(std::move(memory.name)), mBytes(std::make_shared<const std::string>(std::move(bytes))) {
+    std::istringstream in(*mBytes, std::ios::binary);
+    readHeaders(in, mBytes->size());
+}
+
+void BinaryStateReader::readHeaders(std::istream& in, uint64_t size) {
     char magic[sizeof MAGIC];
     if (!in.read(magic, sizeof magic) || std::memcmp(magic, MAGIC, sizeof MAGIC) != 0)
         throw InputError("not a vpsim checkpoint state file", mPath);
-    std::error_code error;
-    const uint64_t size = std::filesystem::file_size(mPath, error);
     uint64_t at = sizeof MAGIC;
     while (at < size) {
         uint32_t nameSize = 0, elementSize = 0;
@@ -120,6 +149,11 @@ void BinaryStateReader::checkCount(const std::string& name, uint64_t count,
 void BinaryStateReader::readBytes(const std::string& name, void* data) const {
     const Record& record = mRecords.at(name);
     if (record.count == 0) return;
+    if (mBytes) {  // readHeaders checked that the record lies inside the bytes
+        std::memcpy(data, mBytes->data() + record.offset,
+                    size_t(record.count * record.elementSize));
+        return;
+    }
     std::ifstream in(mPath, std::ios::binary);
     in.seekg(std::streamoff(record.offset));
     if (!in.read(static_cast<char*>(data), std::streamsize(record.count * record.elementSize)))

@@ -9,7 +9,6 @@
 #include "vpsim/cluster/collectives.h"
 #include "vpsim/cluster/communicator.h"
 #include "vpsim/core/error.h"
-#include "vpsim/core/io.h"
 #include "vpsim/pipeline/picture_recorders.h"
 #include "vpsim/planners/laser_exposure_review.h"
 #include "vpsim/transport/mc_split.h"
@@ -131,12 +130,10 @@ void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
             recorders.consumers(job, cured.get(), exposureError.get());
         std::string pictureBytes;
         if (pictures.any()) {
-            const std::string path = temporary(i, ".bin");
-            BinaryStateWriter out(path);
+            BinaryStateWriter out(InMemory{"tile " + std::to_string(i) + "'s pictures"});
             pictures.savePartial(out, tile.core);
             out.commit();
-            pictureBytes = readFile(path, UINT64_MAX);
-            std::filesystem::remove(path);
+            pictureBytes = out.takeBytes();
         }
         state["picture_bytes"] = pictureBytes.size();
         if (stl) {          // the triangles stay in the file until rank 0 takes them (streamToRoot)
@@ -187,8 +184,7 @@ void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
 }
 
 void mergeTilePartial(const std::string& partial, const std::vector<exposure::Tile>& tiles,
-                      const TileConsumers& consumers, const PictureConsumers& pictures,
-                      const std::string& outDir) {
+                      const TileConsumers& consumers, const PictureConsumers& pictures) {
     const size_t end = partial.find('\n');
     if (end == std::string::npos) throw InputError("a rank's tile result is malformed");
     const nlohmann::json state = nlohmann::json::parse(partial.substr(0, end));
@@ -203,15 +199,10 @@ void mergeTilePartial(const std::string& partial, const std::vector<exposure::Ti
         throw InputError("a rank's tile STL does not hold its triangles");
     consumers.merge(state);
     if (pictureBytes == 0) return;
-    // Read back through a file of the checkpoint's (never an output; removed at once).
-    const std::string path = checkpointDirectory(outDir) + "/tile-pictures.bin";
-    {
-        std::ofstream out(path, std::ios::binary | std::ios::trunc);
-        out.write(partial.data() + end + 1, std::streamsize(pictureBytes));
-        if (!out) throw InputError("cannot write a tile's pictures (disk full?)", path);
-    }
-    pictures.mergePartial(BinaryStateReader(path), tiles[tile].core);
-    std::filesystem::remove(path);
+    pictures.mergePartial(
+        BinaryStateReader(InMemory{"tile " + std::to_string(tile) + "'s pictures from its rank"},
+                          partial.substr(end + 1)),
+        tiles[tile].core);
 }
 
 nlohmann::json tileSplitJson(size_t tiles, int ranks, int firstTile) {

@@ -297,7 +297,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
             job, f.part, *model, tiles, planned.plan, f.beam, context, sim.writes("cured.stl"),
             firstTile,
             [&](const std::string& partial) {
-                mergeTilePartial(partial, tiles, consumers, pictures, outDir);
+                mergeTilePartial(partial, tiles, consumers, pictures);
             },
             [&](const std::string& triangles) { cured->appendStl(triangles); }, tilesDone);
         result.mpi["tiles"] = tileSplitJson(tiles.size(), context.cluster->ranks(), firstTile);

@@ -69,11 +69,10 @@ void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
                         const std::function<void(int)>& roundDone);
 
 /// Rank 0: merges one tile's partial result into the run's consumers and pictures (call in the
-/// tiles' order); the pictures' share is read through a file in DIR/checkpoint (`outDir`).
+/// tiles' order; the tile's STL triangles follow through cured.appendStl).
 /// @throw InputError when the result is malformed
 void mergeTilePartial(const std::string& partial, const std::vector<exposure::Tile>& tiles,
-                      const TileConsumers& consumers, const PictureConsumers& pictures,
-                      const std::string& outDir);
+                      const TileConsumers& consumers, const PictureConsumers& pictures);
 
 /// report.json's "mpi" "tiles": how many and which rank exposed each (from `firstTile` on).
 nlohmann::json tileSplitJson(size_t tiles, int ranks, int firstTile);
