@@ -17,6 +17,7 @@
 // fetch needs a bounds check and the fetches stay aligned; HALF_WIDTH is a specialisation
 // constant, so the chunk loop has a fixed count.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(constant_id = 0) const int HALF_WIDTH = 1;
 layout(constant_id = 1) const uint AXIS = 0u;
@@ -43,7 +44,7 @@ void main() {
     // Output u's first tap (offset -PADDING) reads the row's float u: the texel of u0.
     int at = (v * int(params.sourceWidth) + u0) >> 2;
     vec4 lo = texelFetch(source, at), hi = texelFetch(source, at + 1);
-    for (int c = 0; c < CHUNKS; ++c) {
+    [[unroll]] for (int c = 0; c < CHUNKS; ++c) {
         const vec4 lo2 = texelFetch(source, at + 2), hi2 = texelFetch(source, at + 3);
         addChunk(taps[2 * c], taps[2 * c + 1], lo, hi, lo2, hi2, a0, a1, a2, a3, a4, a5, a6, a7);
         lo = lo2;

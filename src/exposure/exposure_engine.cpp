@@ -162,6 +162,11 @@ SurfaceGrid ExposureEngine::layerMap(const SurfaceGrid& deposit, double depth) {
     SurfaceGrid running = mGrid.surface();
     if (mGpu) {
         // Leaves a run's running deposit (on the host) as it is; its next layer uploads it whole.
+        // A run's R read in place is kept first: this blur writes over the device's R.
+        if (mRunningView && mRunningView != mRunning.values.data()) {
+            mGpu->downloadRunning(mRunning);
+            mRunningView = mRunning.values.data();
+        }
         mGpu->blur(deposit);
         mGpu->downloadRunning(running);
     } else {
@@ -187,13 +192,17 @@ void ExposureEngine::beginLayers(int layers) {
 double ExposureEngine::addLayer(int k, SurfaceGrid& deposit) {
     const float decay = float(std::exp(-mLayerThickness / mBeam.attenuationLength));
     double seconds = 0;
+    mRunningView = mRunning.values.data();
     if (!mGpu) {
         blurAndAccumulateCpu(deposit, mRunning, decay, seconds, mPass);
         return seconds;
     }
     seconds = mGpu->addLayer(deposit, decay, mGpuRestart);
     mGpuRestart = false;
-    mGpu->downloadRunning(mRunning);
+    if (const float* onHost = mGpu->runningOnHost())
+        mRunningView = onHost;
+    else
+        mGpu->downloadRunning(mRunning);
     return seconds;
 }
 
@@ -202,7 +211,7 @@ void ExposureEngine::emitLayer(int k, double top, const SliceSink& sink) {
     for (int s = 0; s < mGrid.slicesPerLayer; ++s) {
         double depth = (s + 0.5) * voxelHeight;
         float attenuation = float(std::exp(-depth / mBeam.attenuationLength));
-        const float* running = mRunning.values.data();
+        const float* running = mRunningView;
         float* slice = mSlice.values.data();
         tbb::parallel_for(tbb::blocked_range<size_t>(0, mSlice.values.size(), 1 << 16),
                           [&](const tbb::blocked_range<size_t>& cells) {

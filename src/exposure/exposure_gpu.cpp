@@ -1,5 +1,7 @@
 #include "exposure/exposure_gpu.h"
 
+#include <cstring>
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -85,12 +87,25 @@ double ExposureEngine::GpuState::addLayer(const SurfaceGrid& hostDeposit, float 
                                           bool restart) {
     const float* d = hostDeposit.values.data();
     float* sum = depositSum.data();
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, depositSum.size(), 1 << 16),
-                      [&](const tbb::blocked_range<size_t>& cells) {
-                          for (size_t c = cells.begin(); c < cells.end(); ++c)
-                              sum[c] = restart ? d[c] : glsl::printThroughStep(d[c], sum[c], decay);
-                      });
-    return blurRows(depositSum.data());
+    // Where the host addresses the deposit buffer, S goes into its padded rows as it is made
+    // (instead of a second pass copying it there).
+    float* padded = static_cast<float*>(deposit.hostMemory());
+    const size_t width = nx, stride = depositWidth, padding = paddingOf(halfWidth);
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, ny, 16), [&](const tbb::blocked_range<size_t>& rows) {
+            for (size_t j = rows.begin(); j < rows.end(); ++j) {
+                float* s = sum + j * width;
+                const float* dj = d + j * width;
+                for (size_t i = 0; i < width; ++i)
+                    s[i] = restart ? dj[i] : glsl::printThroughStep(dj[i], s[i], decay);
+                if (padded) std::memcpy(padded + j * stride + padding, s, width * sizeof(float));
+            }
+        });
+    return padded ? blurUploaded() : blurRows(depositSum.data());
+}
+
+const float* ExposureEngine::GpuState::runningOnHost() const {
+    return static_cast<const float*>(running.hostMemory());
 }
 
 double ExposureEngine::GpuState::blur(const SurfaceGrid& map) {
@@ -100,6 +115,10 @@ double ExposureEngine::GpuState::blur(const SurfaceGrid& map) {
 double ExposureEngine::GpuState::blurRows(const float* source) {
     deposit.uploadRows(source, nx * sizeof(float), ny, nx * sizeof(float),
                        paddingOf(halfWidth) * sizeof(float), depositWidth * sizeof(float));
+    return blurUploaded();
+}
+
+double ExposureEngine::GpuState::blurUploaded() {
     glsl::ExposureBlurParams x{};
     x.nx = nx;
     x.ny = ny;

@@ -4,8 +4,9 @@
 // blurred maps), and since the blur is linear, its blur is the running sum R_k = B_k + a R_(k-1).
 // S is uploaded once per layer into a zero-padded texel buffer; the two blur passes (the x pass
 // writes its result transposed, so the y pass also runs along rows) are two dispatches in one
-// submission, the y pass storing R (downloaded once per layer for the slices). The taps are
-// uploaded once per engine.
+// submission, the y pass storing R (downloaded once per layer for the slices, or read where it
+// lies when the host addresses the device's memory, as on lavapipe). The taps are uploaded once
+// per engine.
 #include <memory>
 #include <vector>
 
@@ -26,6 +27,8 @@ struct ExposureEngine::GpuState {
     /// seconds.
     double blur(const SurfaceGrid& map);
     void downloadRunning(SurfaceGrid& running) const;
+    /// R where the host addresses the device's buffer (until the next blur), else nullptr.
+    const float* runningOnHost() const;
 
     std::shared_ptr<gpu::Context> context;
     uint32_t nx, ny;
@@ -40,6 +43,8 @@ struct ExposureEngine::GpuState {
 private:
     /// Uploads nx x ny floats and runs both passes into R.
     double blurRows(const float* source);
+    /// Runs both passes on what the deposit buffer holds.
+    double blurUploaded();
 };
 
 }  // namespace vpsim::exposure

@@ -126,6 +126,10 @@ uint64_t Buffer::size() const {
     return mImpl->storage.bytes;
 }
 
+void* Buffer::hostMemory() const {
+    return mImpl->storage.mapped;
+}
+
 void Buffer::upload(const void* data, uint64_t bytes, uint64_t offset) {
     if (offset + bytes > size()) throw ResourceError("GPU buffer upload beyond the buffer's end");
     if (bytes == 0) return;

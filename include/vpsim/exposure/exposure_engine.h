@@ -78,8 +78,11 @@ private:
     double mLayerThickness;
     std::unique_ptr<GpuState> mGpu;
     SurfaceGrid mRunning, mSlice;  ///< the recursion's running sum, the slice handed to sinks
-    SurfaceGrid mPass;             ///< the blur's first pass, kept from layer to layer
-    bool mGpuRestart = true;       ///< the next layer starts the running deposit afresh
+    /// The running sum the slices are made from: mRunning, or the shader path's R where the
+    /// host addresses it (no copy; layerMap copies it to mRunning before it blurs over it).
+    const float* mRunningView = nullptr;
+    SurfaceGrid mPass;        ///< the blur's first pass, kept from layer to layer
+    bool mGpuRestart = true;  ///< the next layer starts the running deposit afresh
 };
 
 }  // namespace vpsim::exposure
