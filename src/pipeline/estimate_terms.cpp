@@ -88,7 +88,12 @@ void exposureTerms(const Job& job, const Sizes& s, JobEstimate& e) {
             "at most one vertex per cell and layer" + tiled +
                 "; the deviations are running statistics",
             COARSER, true);
-    e.stageSeconds.emplace_back("expose", 15e-9 * s.computedCells * s.slices);
+    // Per computed voxel on the 2-core reference machine, the slices' consumers included
+    // (README "Large parts"): the fitted engine 4.0-4.4 ns (the 10 mm, 20 mm and 100 mm blocks:
+    // 2.4 s, 16.7 s, 2000 s), the tabulated one 55-60 ns (bench_exposure's slab of the default
+    // job's kernel: 54 ns for the engine alone); rounded up.
+    const bool tabulated = job.kernel.tabulated && job.machine.process == plan::Process::Laser;
+    e.stageSeconds.emplace_back("expose", (tabulated ? 60e-9 : 5e-9) * s.computedCells * s.slices);
     e.stageSeconds.emplace_back("cure", 1e-7 * s.surfaceVoxels);  // the mesher runs in expose
 }
 
