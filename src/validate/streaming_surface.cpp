@@ -68,6 +68,7 @@ void StreamingCuredSurface::finish() {
     if (s.finished) return;
     if (s.started) s.closeTile();
     s.finished = true;
+    s.releaseWorkingMemory();
     if (s.triangleCount == 0)
         throw InputError("nothing cured: the exposure never reaches the critical dose (" +
                          formatQuantity(s.iso * 100.0) + " mJ/cm^2)");

@@ -21,6 +21,37 @@ void StreamingCuredSurface::State::openInPlace() {
     writeStlHeader(*stlOut);
 }
 
+namespace {
+
+template <class T>
+void release(T& container) {
+    T().swap(container);
+}
+
+}  // namespace
+
+void StreamingCuredSurface::State::releaseWorkingMemory() {
+    for (PaddedSlice* slice : {&above, &below}) {
+        release(slice->value);
+        release(slice->in);
+    }
+    release(layerAbove);
+    release(layerBelow);
+    release(filledAbove);
+    release(filledBelow);
+    release(rowVertices);
+    release(rowTriangles);
+    release(rowVolume);
+    for (std::vector<char>& records : rowStl) release(records);
+    release(vertexCluster);
+    release(haloCluster);
+    if (keep) return;  // the view's mesh needs them
+    release(vertices);
+    release(deviations);
+    release(haloVertices);
+    release(haloKeys);
+}
+
 void StreamingCuredSurface::State::startTile(const exposure::CellWindow& w) {
     if (started) closeTile();
     core = w;

@@ -114,6 +114,11 @@ struct StreamingCuredSurface::State {
     /// The triangles of a group of STL_ROWS rows as STL records.
     std::vector<std::vector<char>> rowStl = std::vector<std::vector<char>>(STL_ROWS);
 
+    /// After the last tile: frees the slices, the layers' indices and the rows' buffers (a layer's
+    /// worth of triangles at a flat face), and the vertices unless every one is kept, so that the
+    /// report that follows does not hold them.
+    void releaseWorkingMemory();
+
     size_t sample(int li, int lj) const { return size_t(lj) * W + li; }
     size_t cube(int li, int lj) const { return size_t(lj) * (W - 1) + li; }
     /// Position of the whole grid's padded sample (pi, pj).

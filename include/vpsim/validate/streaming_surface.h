@@ -49,8 +49,8 @@ public:
     /// Enclosed volume (mm^3), by the divergence theorem over the triangles.
     double volume() const;
     /// Vertex positions (mm) in the order made, and their signed deviations from the part (mm):
-    /// all of them with keepTriangles(true), else only the last layer's (memory follows the
-    /// tile, not the surface; the statistics have them all).
+    /// all of them with keepTriangles(true), else only the last layer's until finish() and none
+    /// after (memory follows the tile, not the surface; the statistics have them all).
     const std::vector<glm::vec3>& vertices() const;
     const std::vector<float>& deviations() const;
     /// Running statistics of every vertex's deviation, tile by tile merged in the tiles' order
