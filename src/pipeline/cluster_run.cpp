@@ -33,6 +33,9 @@ void runJobOnWorkerRank(const Job& job, const RunContext& context) {
     const BeamResult beam = beamStage(job, context);  // the ranks hold the same kernel
     const nlohmann::json work = nlohmann::json::parse(context.cluster->broadcastBytes(""));
     if (!work.at("distributed").get<bool>()) return;
+    if (work.at("stl").get<bool>() &&
+        !checkTileScratch(*context.cluster, work.at("tile_stl_bytes").get<double>()))
+        return;  // rank 0 says why
     const geometry::Mesh part = partStage(job);
     const plan::ScanPlan plan = plan::scanPlanFromJson(work.at("plan"));
     const exposure::ExposureGrid grid = exposureGrid(job, part.bounds(), beam);
@@ -72,14 +75,41 @@ void TileConsumers::merge(const nlohmann::json& later) const {
 }
 
 void sendTileWork(const RunContext& context, bool distributed, double tileSide,
-                  const plan::ScanPlan& plan, bool stl, int firstTile) {
+                  const plan::ScanPlan& plan, bool stl, int firstTile, double tileStlBytes) {
     if (!context.cluster || context.cluster->ranks() <= 1) return;
     nlohmann::json work = {{"distributed", distributed},
                            {"tile_side", tileSide},
                            {"stl", stl},
+                           {"tile_stl_bytes", tileStlBytes},
                            {"first_tile", firstTile}};
     if (distributed) work["plan"] = plan::toJson(plan);
     context.cluster->broadcastBytes(work.dump());
+    if (distributed && stl) checkTileScratch(*context.cluster, tileStlBytes);
+}
+
+bool checkTileScratch(cluster::Communicator& comm, double bytes) {
+    // Free bytes + 1 of each rank short of room (0: room enough, or nothing to judge by).
+    std::vector<uint64_t> shortOf(size_t(comm.ranks()), 0);
+    std::error_code error;
+    const std::filesystem::path directory = std::filesystem::temp_directory_path(error);
+    const std::filesystem::space_info space = std::filesystem::space(directory, error);
+    if (!error && double(space.available) < bytes)
+        shortOf[size_t(comm.rank())] = uint64_t(space.available) + 1;
+    comm.sumIntegers(shortOf);
+    std::string ranks;
+    for (size_t r = 0; r < shortOf.size(); ++r)
+        if (shortOf[r] > 0)
+            ranks += std::string(ranks.empty() ? "" : ", ") + "rank " + std::to_string(r) + " (" +
+                     formatBytes(double(shortOf[r] - 1)) + " free)";
+    if (ranks.empty()) return true;
+    if (!comm.isRoot()) return false;
+    throw ResourceError("each MPI rank keeps a tile's share of cured.stl (about " +
+                        formatBytes(bytes) +
+                        ") in its temporary directory until rank 0 takes it, and there is too "
+                        "little room on " +
+                        ranks +
+                        ": point TMPDIR at a larger disk, use smaller tiles (simulation.tile) "
+                        "or leave cured.stl out of simulation.outputs");
 }
 
 void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,

@@ -134,6 +134,14 @@ nlohmann::json kernelMismatch(const Job& job, const Front& f, exposure::Exposure
     return out;
 }
 
+/// A tile's share of cured.stl by the estimate: its average over the tiles, which the largest
+/// tile's share is at least, so a rank without that much room cannot keep its tiles' triangles.
+double tileStlShare(const JobEstimate& estimate) {
+    for (const OutputEstimate& output : estimate.outputs)
+        if (output.file == "cured.stl") return output.bytes / std::max(1, estimate.tileCount);
+    return 0;
+}
+
 }  // namespace
 
 PlanResult planJob(const Job& job, const std::string& outDir, const RunContext& context) {
@@ -290,7 +298,8 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
             "--resume: this run keeps no checkpoint (one tile, or exposure.vdb among the "
             "outputs); it starts from the first tile");
     }
-    sendTileWork(context, distributed, tileSide, planned.plan, sim.writes("cured.stl"), firstTile);
+    sendTileWork(context, distributed, tileSide, planned.plan, sim.writes("cured.stl"), firstTile,
+                 tileStlShare(estimate));
     TileDone afterTile;
     if (distributed) {  // the ranks expose the tiles; rank 0 merges them in order
         exposeTilesOnRanks(

@@ -50,9 +50,17 @@ struct TileConsumers {
 
 /// Rank 0, once the plan is made (every run under MPI: the other ranks wait for it): the tiles
 /// to share, or none. `plan` is the plan to expose; `tileSide` exposureTiles' side; the tiles
-/// before `firstTile` are done (a resumed run's).
+/// before `firstTile` are done (a resumed run's). With `stl`, every rank then checks that its
+/// temporary directory has room for `tileStlBytes` (checkTileScratch).
+/// @throw ResourceError (rank 0) when a rank's has not, before any tile is exposed
 void sendTileWork(const RunContext& context, bool distributed, double tileSide,
-                  const plan::ScanPlan& plan, bool stl, int firstTile);
+                  const plan::ScanPlan& plan, bool stl, int firstTile, double tileStlBytes);
+
+/// Every rank (collective): whether its temporary directory (TMPDIR) has `bytes` free, the
+/// share of cured.stl that one tile of a distributed run keeps there until rank 0 takes it.
+/// Returns true when every rank's has; otherwise rank 0 throws a ResourceError naming the ranks
+/// short of room and the others return false.
+bool checkTileScratch(cluster::Communicator& comm, double bytes);
 
 /// Every rank: the tiles from `firstTile` on that it owns (tile firstTile + k on rank
 /// k % ranks), each exposed into fresh consumers, one round of a tile per rank at a time; on
