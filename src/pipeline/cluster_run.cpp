@@ -131,7 +131,7 @@ void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
                 ("vpsim-tile-" + std::to_string(getpid()) + "-" + std::to_string(i) + suffix))
             .string();
     };
-    auto work = [&](size_t i) {
+    auto work = [&](size_t i, uint64_t& stlBytes) {
         const exposure::Tile& tile = tiles[i];
         validate::SliceValidator validator(part, grid, *job.cure, voxelHeight);
         validate::FeatureProbes features(job.features, grid, *job.cure, voxelHeight);
@@ -168,7 +168,8 @@ void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
         state["picture_bytes"] = pictureBytes.size();
         if (stl) {          // the triangles stay in the file until rank 0 takes them (streamToRoot)
             cured.reset();  // closes the file
-            state["stl_bytes"] = std::filesystem::file_size(stlPath) - 84;
+            stlBytes = std::filesystem::file_size(stlPath) - 84;
+            state["stl_bytes"] = stlBytes;
         }
         return state.dump() + "\n" + pictureBytes;  // the JSON has no raw line break
     };
@@ -181,11 +182,8 @@ void exposeTilesOnRanks(const Job& job, const geometry::Mesh& part,
     for (size_t first = size_t(firstTile); first < tiles.size(); first += ranks) {
         const size_t round = std::min(ranks, tiles.size() - first);
         std::vector<uint64_t> stlBytes(round, 0);  // each filled by the tile's rank
-        const std::vector<std::string> partials = cluster::runItems(comm, round, [&](size_t i) {
-            std::string partial = work(first + i);
-            if (stl) stlBytes[i] = std::filesystem::file_size(temporary(first + i, ".stl")) - 84;
-            return partial;
-        });
+        const std::vector<std::string> partials =
+            cluster::runItems(comm, round, [&](size_t i) { return work(first + i, stlBytes[i]); });
         if (stl) comm.sumIntegers(stlBytes);  // every rank learns every size
         for (size_t i = 0; i < round; ++i) {
             if (comm.isRoot()) merge(partials[i]);

@@ -48,7 +48,7 @@ void gridSizes(const Job& job, Sizes& s) {
 
 void tileSizes(const Job& job, double side, Sizes& s) {
     const double pitch = job.simulation.voxel;
-    const bool tabulated = job.kernel.tabulated && job.machine.process == plan::Process::Laser;
+    const bool tabulated = tabulatedEngine(job);
     const double reach =
         tabulated ? std::ceil(kernel::kernelTableRadius(job.machine.beamRadius) / pitch + 0.5)
                   : std::ceil(1.75 * s.beamRadius / pitch);

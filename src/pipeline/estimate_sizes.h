@@ -37,6 +37,11 @@ struct Sizes {
     double tileCells = 0, tiles = 1, coreCells = 0, windowCells = 0, computedCells = 0;
 };
 
+/// Whether the run exposes with the tabulated Monte Carlo kernel (a laser job's kernel.use).
+inline bool tabulatedEngine(const Job& job) {
+    return job.kernel.tabulated && job.machine.process == plan::Process::Laser;
+}
+
 /// The part's sizes and the exposure grid's (one tile).
 Sizes sizesOf(const Job& job, const geometry::Mesh& part);
 /// Tiles of `side` mm (0: one) as stages.cpp's exposureTiles() lays them out; the halo is the

@@ -35,7 +35,7 @@ double pictureSurfaceVoxels(const Job& job, const Sizes& s) {
 void exposureTerms(const Job& job, const Sizes& s, JobEstimate& e) {
     const int n = job.simulation.slicesPerLayer;
     const std::string tiled = tileText(s);
-    if (job.kernel.tabulated && job.machine.process == plan::Process::Laser) {
+    if (tabulatedEngine(job)) {
         // The kernel's depth (3/mua) is not known before the Monte Carlo run: at most every layer.
         const double inFlight = double(s.layers) * n + 1;
         add(e, "tabulated exposure engine", s.windowCells * 4.0 * inFlight, Stage::Expose,
@@ -97,8 +97,8 @@ void exposureTerms(const Job& job, const Sizes& s, JobEstimate& e) {
     // (README "Large parts"): the fitted engine 4.0-4.4 ns (the 10 mm, 20 mm and 100 mm blocks:
     // 2.4 s, 16.7 s, 2000 s), the tabulated one 55-60 ns (bench_exposure's slab of the default
     // job's kernel: 54 ns for the engine alone); rounded up.
-    const bool tabulated = job.kernel.tabulated && job.machine.process == plan::Process::Laser;
-    e.stageSeconds.emplace_back("expose", (tabulated ? 60e-9 : 5e-9) * s.computedCells * s.slices);
+    e.stageSeconds.emplace_back("expose",
+                                (tabulatedEngine(job) ? 60e-9 : 5e-9) * s.computedCells * s.slices);
     e.stageSeconds.emplace_back("cure", 1e-7 * s.surfaceVoxels);  // the mesher runs in expose
 }
 
