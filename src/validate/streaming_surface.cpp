@@ -45,10 +45,16 @@ StreamingCuredSurface::StreamingCuredSurface(const exposure::ExposureGrid& grid,
     mState->inPlacePath = stl.path;
 }
 
-StreamingCuredSurface::~StreamingCuredSurface() = default;
+StreamingCuredSurface::~StreamingCuredSurface() {
+    try {
+        mState->settle();
+    } catch (...) {  // a run that stops here is failing already: its error is the one to report
+    }
+}
 
 void StreamingCuredSurface::add(const exposure::ExposureSlice& slice) {
     State& s = *mState;
+    s.settle();
     if (s.finished) throw InputError("the cured surface was already finished");
     const exposure::SurfaceGrid& values = *slice.values;
     const exposure::CellWindow w = slice.owned();
@@ -60,11 +66,12 @@ void StreamingCuredSurface::add(const exposure::ExposureSlice& slice) {
     s.openInPlace();
     if (w.i0 != s.core.i0 || w.j0 != s.core.j0 || w.i1 != s.core.i1 || w.j1 != s.core.j1)
         s.startTile(w);
-    s.advance(&values, slice.z);
+    s.advance(&values, slice.z, true);
 }
 
 void StreamingCuredSurface::finish() {
     State& s = *mState;
+    s.settle();
     if (s.finished) return;
     if (s.started) s.closeTile();
     s.finished = true;
@@ -88,26 +95,33 @@ void StreamingCuredSurface::finish() {
 }
 
 uint64_t StreamingCuredSurface::triangles() const {
+    mState->settle();
     return mState->triangleCount;
 }
 double StreamingCuredSurface::volume() const {
+    mState->settle();
     return mState->volume;
 }
 const std::vector<glm::vec3>& StreamingCuredSurface::vertices() const {
+    mState->settle();
     return mState->vertices;
 }
 const std::vector<float>& StreamingCuredSurface::deviations() const {
+    mState->settle();
     return mState->deviations;
 }
 const DeviationStatistics& StreamingCuredSurface::statistics() const {
+    mState->settle();
     return mState->statistics;
 }
 void StreamingCuredSurface::keepTriangles(bool keep) {
+    mState->settle();
     mState->keep = keep;
 }
 
 void StreamingCuredSurface::keepView(double cell) {
     State& s = *mState;
+    s.settle();
     if (s.started || s.triangleCount) throw InputError("the view is kept from the first slice on");
     if (cell > 0) {
         s.keep = false;
@@ -120,6 +134,7 @@ void StreamingCuredSurface::keepView(double cell) {
 
 StreamingCuredSurface::View StreamingCuredSurface::view() const {
     const State& s = *mState;
+    s.settle();
     if (s.clusters)
         return {s.clusters->mesh(), s.clusters->values(), s.clusters->cell(), s.triangleCount};
     if (!s.keep) return {{}, {}, 0.0, s.triangleCount};
@@ -128,6 +143,7 @@ StreamingCuredSurface::View StreamingCuredSurface::view() const {
 
 geometry::Mesh StreamingCuredSurface::mesh() const {
     const State& s = *mState;
+    s.settle();
     geometry::Mesh mesh;
     mesh.vertices.reserve(s.vertices.size());
     for (const auto& v : s.vertices) mesh.vertices.emplace_back(v);

@@ -42,7 +42,8 @@ void StreamingCuredSurface::State::releaseWorkingMemory() {
     release(rowVertices);
     release(rowTriangles);
     release(rowVolume);
-    for (std::vector<char>& records : rowStl) release(records);
+    release(groupStl);
+    release(groupOffsets);
     release(vertexCluster);
     release(haloCluster);
     if (keep) return;  // the view's mesh needs them
@@ -291,33 +292,42 @@ void StreamingCuredSurface::State::emitQuads() {
         rowVolume[lj] = moment;
     });
     // The STL records of a group of rows are made in parallel, then written in row order; a
-    // group at a time, so that a flat face (two triangles a cell) needs no slice-sized buffer.
-    for (int group = ljLo; group < ljHi; group += STL_ROWS) {
-        const int end = std::min(ljHi, group + STL_ROWS);
-        if (stlOut)
-            tbb::parallel_for(group, end,
-                              [&](int lj) { formatStl(rowTriangles[lj], rowStl[lj - group]); });
+    // group of about STL_GROUP triangles at a time, so that a flat face (two triangles a cell)
+    // needs no slice-sized buffer and a layer of side walls is one group, not one per few rows.
+    for (int group = ljLo; group < ljHi;) {
+        int end = group;
+        size_t count = 0;
+        std::vector<size_t>& offset = groupOffsets;
+        offset.assign(1, 0);
+        while (end < ljHi && (end == group || count + rowTriangles[end].size() <= STL_GROUP)) {
+            count += rowTriangles[end++].size();
+            offset.push_back(count);
+        }
+        if (stlOut && count > 0) {
+            groupStl.resize(count * STL_RECORD);
+            tbb::parallel_for(group, end, [&](int lj) {
+                formatStl(rowTriangles[lj], &groupStl[offset[lj - group] * STL_RECORD]);
+            });
+            stlOut->write(groupStl.data(), std::streamsize(groupStl.size()));
+        }
         for (int lj = group; lj < end; ++lj) {
             tileVolume += rowVolume[lj] / 6.0;
-            write(rowTriangles[lj], rowStl[lj - group]);
+            record(rowTriangles[lj]);
         }
+        group = end;
     }
 }
 
-void StreamingCuredSurface::State::write(const std::vector<std::array<uint32_t, 3>>& triangles,
-                                         const std::vector<char>& stlRecords) {
+void StreamingCuredSurface::State::record(const std::vector<std::array<uint32_t, 3>>& triangles) {
     triangleCount += triangles.size();
     if (keep) kept.insert(kept.end(), triangles.begin(), triangles.end());
     if (clusters)
         for (const auto& tri : triangles)
             clusters->addTriangle(clusterOf(tri[0]), clusterOf(tri[1]), clusterOf(tri[2]));
-    if (stlOut) stlOut->write(stlRecords.data(), std::streamsize(stlRecords.size()));
 }
 
 void StreamingCuredSurface::State::formatStl(const std::vector<std::array<uint32_t, 3>>& triangles,
-                                             std::vector<char>& records) const {
-    records.resize(triangles.size() * 50);
-    char* p = records.data();
+                                             char* p) const {
     for (const auto& tri : triangles) {
         const glm::vec3 &a = vertex(tri[0]), &b = vertex(tri[1]), &c = vertex(tri[2]);
         glm::vec3 n = glm::cross(b - a, c - a);
@@ -330,7 +340,9 @@ void StreamingCuredSurface::State::formatStl(const std::vector<std::array<uint32
     }
 }
 
-void StreamingCuredSurface::State::advance(const exposure::SurfaceGrid* values, double z) {
+void StreamingCuredSurface::State::advance(const exposure::SurfaceGrid* values, double z,
+                                           bool inBackground) {
+    settle();
     if (!started) {
         load(above, nullptr, z + voxelHeight);
         if (!referenceSet) reference = position(0, 0, z);
@@ -338,12 +350,23 @@ void StreamingCuredSurface::State::advance(const exposure::SurfaceGrid* values, 
         started = true;
     }
     load(below, values, z);
-    buildLayer();
-    emitQuads();
-    std::swap(above, below);
-    std::swap(layerAbove, layerBelow);
-    std::swap(filledAbove, filledBelow);
-    ++step;
+    auto makeLayer = [this] {
+        buildLayer();
+        emitQuads();
+        std::swap(above, below);
+        std::swap(layerAbove, layerBelow);
+        std::swap(filledAbove, filledBelow);
+        ++step;
+    };
+    if (!inBackground) return makeLayer();
+    layerPending = true;
+    layerWork.run(makeLayer);
+}
+
+void StreamingCuredSurface::State::settle() const {
+    if (!layerPending) return;
+    layerPending = false;
+    layerWork.wait();
 }
 
 }  // namespace vpsim::validate

@@ -12,6 +12,7 @@ using surface_detail::HALO;
 
 nlohmann::json StreamingCuredSurface::saveState() {
     State& s = *mState;
+    s.settle();
     if (s.stl || s.finished)
         throw InputError(
             "the cured surface's state is saved only for an in-place STL or none, before "
@@ -33,6 +34,7 @@ nlohmann::json StreamingCuredSurface::saveState() {
 
 void StreamingCuredSurface::restoreState(const nlohmann::json& state) {
     State& s = *mState;
+    s.settle();
     if (s.started || s.triangleCount || s.stl)
         throw InputError("the cured surface's state is restored only before its first slice");
     try {
@@ -67,6 +69,7 @@ void StreamingCuredSurface::restoreState(const nlohmann::json& state) {
 
 void StreamingCuredSurface::savePicture(BinaryStateWriter& out) const {
     const State& s = *mState;
+    s.settle();
     if (s.started) throw InputError("the cured surface's picture is saved between tiles only");
     if (s.clusters) s.clusters->save(out, "cured.clusters");
     if (!s.keep) return;
@@ -127,6 +130,7 @@ void append(std::vector<T>& to, const std::vector<T>& more) {
 
 void StreamingCuredSurface::restorePicture(const BinaryStateReader& in) {
     State& s = *mState;
+    s.settle();
     if (s.started) throw InputError("the cured surface's picture is restored before its slices");
     if (s.clusters) s.clusters->restore(in, "cured.clusters");
     if (!s.keep) return;
@@ -145,6 +149,7 @@ void StreamingCuredSurface::restorePicture(const BinaryStateReader& in) {
 
 void StreamingCuredSurface::mergePicture(const BinaryStateReader& later) {
     State& s = *mState;
+    s.settle();
     if (s.started || s.finished)
         throw InputError("the cured surface merges other tiles only between its own");
     if (s.clusters) s.clusters->merge(later, "cured.clusters");
@@ -169,6 +174,7 @@ void StreamingCuredSurface::mergePicture(const BinaryStateReader& later) {
 
 void StreamingCuredSurface::mergeState(const nlohmann::json& later) {
     State& s = *mState;
+    s.settle();
     if (s.started || s.finished)
         throw InputError("the cured surface merges other tiles only between its own");
     try {
@@ -188,6 +194,7 @@ void StreamingCuredSurface::mergeState(const nlohmann::json& later) {
 
 void StreamingCuredSurface::appendStl(const std::string& triangles) {
     State& s = *mState;
+    s.settle();
     if (s.stlOut) s.stlOut->write(triangles.data(), std::streamsize(triangles.size()));
 }
 

@@ -11,6 +11,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include <tbb/task_group.h>
 #include <glm/vec3.hpp>
 
 #include "vpsim/core/io.h"
@@ -110,9 +111,11 @@ struct StreamingCuredSurface::State {
     uint64_t triangleCount = 0;
     double volume = 0, tileVolume = 0;  ///< the finished tiles', and this tile's (merged in order)
     glm::dvec3 reference{0.0};  ///< volume moments are taken about this point (less rounding)
-    static constexpr int STL_ROWS = 32;
-    /// The triangles of a group of STL_ROWS rows as STL records.
-    std::vector<std::vector<char>> rowStl = std::vector<std::vector<char>>(STL_ROWS);
+    static constexpr size_t STL_GROUP = 1 << 11;  ///< triangles formatted at a time (or a row)
+    static constexpr size_t STL_RECORD = 50;      ///< bytes of a binary STL triangle
+    /// A group of rows' triangles as STL records, and where each row's begin (in triangles).
+    std::vector<char> groupStl;
+    std::vector<size_t> groupOffsets;
 
     /// After the last tile: frees the slices, the layers' indices and the rows' buffers (a layer's
     /// worth of triangles at a flat face), and the vertices unless every one is kept, so that the
@@ -158,13 +161,19 @@ struct StreamingCuredSurface::State {
     /// `above` (its cubes above: layerAbove, below: layerBelow), each split in two triangles:
     /// those of the edges that start at a sample the tile owns.
     void emitQuads();
-    /// Counts a row's triangles, keeps them for the picture and writes their STL records.
-    void write(const std::vector<std::array<uint32_t, 3>>& triangles,
-               const std::vector<char>& stlRecords);
-    /// The triangles as binary STL records (normal, corners, no attribute): rows in parallel.
-    void formatStl(const std::vector<std::array<uint32_t, 3>>& triangles,
-                   std::vector<char>& records) const;
-    void advance(const exposure::SurfaceGrid* values, double z);
+    /// Counts a row's triangles and keeps them for the picture.
+    void record(const std::vector<std::array<uint32_t, 3>>& triangles);
+    /// The triangles as binary STL records (normal, corners, no attribute) from `records` on.
+    void formatStl(const std::vector<std::array<uint32_t, 3>>& triangles, char* records) const;
+    /// Copies the slice (`values`, none: zero exposure) under the layer above and makes the
+    /// cubes between them: in the background when asked, so that the engine makes its next slice
+    /// meanwhile (the copy is made first: the caller may reuse the slice on return).
+    void advance(const exposure::SurfaceGrid* values, double z, bool inBackground = false);
+    /// Waits for the layer made in the background, if any (rethrowing what it threw): every
+    /// public call starts here, so none sees a half-made layer.
+    void settle() const;
+    mutable tbb::task_group layerWork;
+    mutable bool layerPending = false;
 };
 
 }  // namespace vpsim::validate

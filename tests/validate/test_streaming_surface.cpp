@@ -1,7 +1,9 @@
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
+#include <vector>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -17,9 +19,14 @@ namespace {
 
 /// Slices of a smooth dose field 2 exp(-(r/R)^2) about `centre`, top down: cured (dose >= 1)
 /// inside the sphere of radius R sqrt(ln 2).
+/// With `scribble`, each slice's buffer is overwritten as soon as add() returns (the surface
+/// makes its layer in the background, from its own copy) and the vertices are read between
+/// slices (they wait for that layer).
 validate::StreamingCuredSurface& feedSphere(validate::StreamingCuredSurface& surface,
                                             const exposure::ExposureGrid& grid, double dz,
-                                            int slices, glm::dvec3 centre, double R) {
+                                            int slices, glm::dvec3 centre, double R,
+                                            bool scribble = false,
+                                            std::vector<size_t>* vertexCounts = nullptr) {
     exposure::SurfaceGrid values = grid.surface();
     for (int k = slices - 1; k >= 0; --k) {
         const double z = (k + 0.5) * dz;
@@ -29,6 +36,8 @@ validate::StreamingCuredSurface& feedSphere(validate::StreamingCuredSurface& sur
                 values.at(i, j) = float(2.0 * std::exp(-glm::dot(d, d) / (R * R)));
             }
         surface.add({0, slices - 1 - k, z, &values});
+        if (scribble) std::fill(values.values.begin(), values.values.end(), 1e30f);
+        if (vertexCounts) vertexCounts->push_back(surface.vertices().size());
     }
     surface.finish();
     return surface;
@@ -61,6 +70,26 @@ TEST_CASE("the streamed cured surface of a sphere is closed and right-sized", "[
     CHECK(mesh.volume() == Approx(surface.volume()).epsilon(1e-5));
     for (const auto& v : surface.vertices())
         CHECK(std::abs(glm::length(glm::dvec3(v) - centre) - radius) < 0.25 * 0.02);
+}
+
+// add() copies the slice before it returns and makes the layer in the background: a slice buffer
+// overwritten at once changes nothing, and every call between slices sees the finished layer
+// (the same vertices as a surface fed slice by slice and read the same way).
+TEST_CASE("the streamed cured surface owns its slices once add() returns", "[validate]") {
+    const double R = 0.3 / std::sqrt(std::log(2.0)), dz = 0.02;
+    auto grid = exposure::ExposureGrid::covering(0, 0, 1, 1, 0.0, 0.02, 1);
+    validate::StreamingCuredSurface clean(grid, dz, 1.0, nullptr, 0.1, "");
+    validate::StreamingCuredSurface scribbled(grid, dz, 1.0, nullptr, 0.1, "");
+    std::vector<size_t> cleanCounts, scribbledCounts;
+    for (auto* surface : {&clean, &scribbled}) surface->keepTriangles(true);
+    feedSphere(clean, grid, dz, 50, {0.5, 0.5, 0.5}, R, false, &cleanCounts);
+    feedSphere(scribbled, grid, dz, 50, {0.5, 0.5, 0.5}, R, true, &scribbledCounts);
+    CHECK(scribbledCounts == cleanCounts);
+    REQUIRE(cleanCounts.back() > 0);
+    CHECK(scribbled.triangles() == clean.triangles());
+    CHECK(scribbled.volume() == clean.volume());
+    CHECK(scribbled.mesh().triangles == clean.mesh().triangles);
+    CHECK(scribbled.vertices() == clean.vertices());
 }
 
 // The exact signed distance through the BVH against brute force on a box: sign by the

@@ -8,7 +8,8 @@
 /// Triangles go to a binary STL as they are produced; each vertex's signed distance from the part
 /// (exact, through geometry::MeshDistance) is taken when the vertex is made. The work of a slice
 /// is split over grid rows and put back together in row order, so the output does not depend on
-/// the threads.
+/// the threads. add() copies its slice and returns, making the layer of cubes in the background
+/// while the engine makes the next slice; every other call waits for that layer first.
 
 #include <memory>
 #include <string>
@@ -40,7 +41,9 @@ public:
     StreamingCuredSurface(const exposure::ExposureGrid& grid, double voxelHeight, double isoValue,
                           const geometry::Mesh* part, double band, InPlaceStl stl);
     ~StreamingCuredSurface();
-    /// A SliceSink: slices one voxel height apart, from the top down.
+    /// A SliceSink: slices one voxel height apart, from the top down. The slice may be reused
+    /// as soon as this returns; an error of the layer made in the background is thrown by the
+    /// next call.
     void add(const exposure::ExposureSlice& slice);
     /// Closes the bottom and the STL. @throw InputError when nothing cured
     void finish();
