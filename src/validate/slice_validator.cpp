@@ -59,8 +59,17 @@ VPSIM_AVX2_CLONES void countRow(const float* dose, const uint8_t* reference, int
     row.unionCount += unionCount, row.exposed += exposed;
 }
 
-/// Whether any of 8 cells carries a run or lies just under the reference's bottom (flags 0/1).
-bool anyRunCell(const uint8_t* inRun, const uint8_t* above, const uint8_t* reference) {
+/// Whether any of n cells carries a run or lies just under the reference's bottom (flags 0/1):
+/// most rows have none (a row of the part's inside or outside), and this loop is vectorised.
+VPSIM_AVX2_CLONES bool anyRunCell(const uint8_t* __restrict inRun, const uint8_t* __restrict above,
+                                  const uint8_t* __restrict reference, int n) {
+    uint8_t any = 0;
+    for (int i = 0; i < n; ++i) any |= inRun[i] | (above[i] & ~reference[i]);
+    return any != 0;
+}
+
+/// Whether any of 8 cells carries a run or lies just under the reference's bottom.
+bool anyRunCell8(const uint8_t* inRun, const uint8_t* above, const uint8_t* reference) {
     uint64_t run, a, r;
     std::memcpy(&run, inRun, 8);
     std::memcpy(&a, above, 8);
@@ -176,12 +185,13 @@ void SliceValidator::add(const exposure::ExposureSlice& slice) {
             const uint8_t* ref = &reference[first];
             countRow(dose, ref, nx, curedAt, storeLevel, row);
             // The over-cure runs: only cells that carry a run or sit just under the reference's
-            // bottom (few), found eight at a time.
+            // bottom (few; in rows that have any), found eight at a time.
             uint8_t* inRun = &s.inRun[first];
             const uint8_t* above = &s.referenceAbove[first];
             float* run = &s.run[first];
-            for (int i = 0; i < nx; ++i) {
-                if (i % 8 == 0 && i + 8 <= nx && !anyRunCell(inRun + i, above + i, ref + i)) {
+            const bool anyRun = anyRunCell(inRun, above, ref, nx);
+            for (int i = 0; anyRun && i < nx; ++i) {
+                if (i % 8 == 0 && i + 8 <= nx && !anyRunCell8(inRun + i, above + i, ref + i)) {
                     i += 7;
                     continue;
                 }

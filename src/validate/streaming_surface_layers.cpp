@@ -1,14 +1,45 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
 
+#include "exposure/avx2_clones.h"
 #include "vpsim/core/error.h"
 
 #include "streaming_surface_state.h"
 
 namespace vpsim::validate {
+namespace surface_detail {
+
+VPSIM_AVX2_CLONES void mixedCubes(const uint8_t* __restrict a0, const uint8_t* __restrict a1,
+                                  const uint8_t* __restrict b0, const uint8_t* __restrict b1,
+                                  uint8_t* __restrict mask, int cubes) {
+    for (int i = 0; i < cubes; ++i) {
+        const uint8_t x = a0[i];
+        mask[i] = uint8_t((x ^ a0[i + 1]) | (x ^ a1[i]) | (x ^ a1[i + 1]) | (x ^ b0[i]) |
+                          (x ^ b0[i + 1]) | (x ^ b1[i]) | (x ^ b1[i + 1]));
+    }
+}
+
+VPSIM_AVX2_CLONES void crossingEdges(const uint8_t* __restrict above,
+                                     const uint8_t* __restrict below, int width,
+                                     uint8_t* __restrict mask, int samples) {
+    for (int i = 0; i < samples; ++i) {
+        const uint8_t x = above[i];
+        mask[i] = uint8_t((x ^ below[i]) | (x ^ above[i + 1]) | (x ^ above[i + width]));
+    }
+}
+
+/// The next index from `i` on whose mask is not zero, or `end`: eight at a time over zeros.
+int nextSet(const uint8_t* mask, int i, int end) {
+    while (i + 8 <= end && load8(mask + i) == 0) i += 8;
+    while (i < end && mask[i] == 0) ++i;
+    return i;
+}
+
+}  // namespace surface_detail
 
 using namespace surface_detail;
 
@@ -181,21 +212,16 @@ void StreamingCuredSurface::State::buildLayer() {
     trimVertices();
     for (uint32_t c : filledBelow) layerBelow[c] = NONE;
     filledBelow.clear();
-    tbb::parallel_for(0, H - 1, [&](int lj) {
-        auto& out = rowVertices[lj];
-        out.clear();
-        const uint8_t *a0 = &above.in[sample(0, lj)], *a1 = &above.in[sample(0, lj + 1)],
-                      *b0 = &below.in[sample(0, lj)], *b1 = &below.in[sample(0, lj + 1)];
-        const int width = W;  // a local: see emitQuads
-        for (int li = 0; li < width - 1; ++li) {
-            if (li % 8 == 0 && li + 8 < width && uniform8(a0 + li, a1 + li, b0 + li, b1 + li)) {
-                li += 7;  // eight cubes all inside or all outside: no vertex
-                continue;
-            }
-            const int sum = a0[li] + a0[li + 1] + a1[li] + a1[li + 1] + b0[li] + b0[li + 1] +
-                            b1[li] + b1[li + 1];
-            if (sum == 0 || sum == 8) continue;
-            out.emplace_back(li, glm::vec3(cubeVertex(li, lj)));
+    tbb::parallel_for(tbb::blocked_range<int>(0, H - 1), [&](const tbb::blocked_range<int>& rows) {
+        std::vector<uint8_t> mixed(size_t(W - 1));
+        for (int lj = rows.begin(); lj < rows.end(); ++lj) {
+            auto& out = rowVertices[lj];
+            out.clear();
+            mixedCubes(&above.in[sample(0, lj)], &above.in[sample(0, lj + 1)],
+                       &below.in[sample(0, lj)], &below.in[sample(0, lj + 1)], mixed.data(), W - 1);
+            for (int li = nextSet(mixed.data(), 0, W - 1); li < W - 1;
+                 li = nextSet(mixed.data(), li + 1, W - 1))
+                out.emplace_back(li, glm::vec3(cubeVertex(li, lj)));
         }
     });
     // Owned vertices are numbered in row order; the halo's are kept apart.
@@ -249,7 +275,7 @@ void StreamingCuredSurface::State::buildLayer() {
 void StreamingCuredSurface::State::emitQuads() {
     const int ljLo = own.j0 - sy0, ljHi = std::min(own.j1, Q - 1) - sy0;
     const int liLo = own.i0 - sx0, liHi = std::min(own.i1, P - 1) - sx0;
-    tbb::parallel_for(ljLo, ljHi, [&](int lj) {
+    auto emitRow = [&](int lj, uint8_t* crossing) {
         auto& out = rowTriangles[lj];
         out.clear();
         double moment = 0;
@@ -271,11 +297,10 @@ void StreamingCuredSurface::State::emitQuads() {
         const int width = W;
         const uint8_t* up = &above.in[sample(0, lj)];
         const uint8_t* down = &below.in[sample(0, lj)];
-        for (int li = liLo; li < liHi; ++li) {
-            if ((li - liLo) % 8 == 0 && li + 8 <= liHi && noEdge8(up + li, down + li, width)) {
-                li += 7;  // eight samples without a crossing edge: no quad
-                continue;
-            }
+        crossingEdges(up + liLo, down + liLo, width, crossing, liHi - liLo);
+        for (int at = nextSet(crossing, 0, liHi - liLo); at < liHi - liLo;
+             at = nextSet(crossing, at + 1, liHi - liLo)) {
+            const int li = liLo + at;
             const int pi = sx0 + li;
             const bool realColumn = pi >= 1 && pi <= nx;
             const uint8_t a = up[li], b = down[li];
@@ -290,7 +315,13 @@ void StreamingCuredSurface::State::emitQuads() {
                      layerAbove[cube(li, lj)], layerBelow[cube(li, lj)], !(a && !up[li + width]));
         }
         rowVolume[lj] = moment;
-    });
+    };
+    tbb::parallel_for(tbb::blocked_range<int>(ljLo, ljHi),
+                      [&](const tbb::blocked_range<int>& rows) {
+                          std::vector<uint8_t> crossing(size_t(std::max(0, liHi - liLo)));
+                          for (int lj = rows.begin(); lj < rows.end(); ++lj)
+                              emitRow(lj, crossing.data());
+                      });
     // The STL records of a group of rows are made in parallel, then written in row order; a
     // group of about STL_GROUP triangles at a time, so that a flat face (two triangles a cell)
     // needs no slice-sized buffer and a layer of side walls is one group, not one per few rows.

@@ -45,19 +45,16 @@ inline uint64_t load8(const uint8_t* p) {
     return word;
 }
 
-/// Whether the eight cubes from each pointer on (rows j, j + 1 of the slices above and below,
-/// 0/1 flags) are each all inside or all outside.
-inline bool uniform8(const uint8_t* a0, const uint8_t* a1, const uint8_t* b0, const uint8_t* b1) {
-    const uint64_t x = load8(a0);
-    return ((x ^ load8(a0 + 1)) | (x ^ load8(a1)) | (x ^ load8(a1 + 1)) | (x ^ load8(b0)) |
-            (x ^ load8(b0 + 1)) | (x ^ load8(b1)) | (x ^ load8(b1 + 1))) == 0;
-}
+/// mask[i] != 0 where cube i between rows j, j + 1 of the slices above (a0, a1) and below (b0,
+/// b1) has corners inside and outside (0/1 flags), for `cubes` cubes: one pass over the rows
+/// that the compiler vectorises, then the few such cubes are found eight at a time.
+void mixedCubes(const uint8_t* a0, const uint8_t* a1, const uint8_t* b0, const uint8_t* b1,
+                uint8_t* mask, int cubes);
 
-/// Whether none of eight samples from `above` on has a crossing z, x or y edge (row width W).
-inline bool noEdge8(const uint8_t* above, const uint8_t* below, int width) {
-    const uint64_t x = load8(above);
-    return ((x ^ load8(below)) | (x ^ load8(above + 1)) | (x ^ load8(above + width))) == 0;
-}
+/// mask[i] != 0 where sample i of `above` has a crossing z, x or y edge (row width W), for
+/// `samples` samples.
+void crossingEdges(const uint8_t* above, const uint8_t* below, int width, uint8_t* mask,
+                   int samples);
 
 }  // namespace surface_detail
 
