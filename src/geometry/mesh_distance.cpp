@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 
@@ -140,6 +141,12 @@ uint32_t MeshDistance::build(uint32_t first, uint32_t count) {
     return index;
 }
 
+const glm::dvec3& MeshDistance::normalAt(uint32_t slot, int feature) const {
+    return feature == 0   ? mFaceNormal[slot]
+           : feature <= 3 ? mEdgeNormal[slot][feature - 1]
+                          : mVertexNormal[slot][feature - 4];
+}
+
 double MeshDistance::signedDistance(const glm::dvec3& p) const {
     uint32_t hint = NO_HINT;
     return signedDistance(p, hint);
@@ -160,9 +167,7 @@ double MeshDistance::signedDistance(const glm::dvec3& p, uint32_t& hint) const {
             best = d;
             bestPoint = q;
             bestSlot = s;
-            bestNormal = feature == 0   ? mFaceNormal[s]
-                         : feature <= 3 ? mEdgeNormal[s][feature - 1]
-                                        : mVertexNormal[s][feature - 4];
+            bestNormal = normalAt(s, feature);
         }
     };
     // A neighbouring query's nearest triangle is most often this one's too: its distance bounds
@@ -193,6 +198,66 @@ double MeshDistance::signedDistance(const glm::dvec3& p, uint32_t& hint) const {
     hint = bestSlot;
     const double distance = std::sqrt(best);
     return glm::dot(p - bestPoint, bestNormal) < 0 ? -distance : distance;
+}
+
+double MeshDistance::othersDistance(const glm::dvec3& p, uint32_t slot) const {
+    double best = std::numeric_limits<double>::infinity();  // squared
+    uint32_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const Node& node = mNodes[stack[--top]];
+        if (boxDistanceSquared(p, node.lo, node.hi) >= best) continue;
+        if (node.count > 0) {
+            for (uint32_t s = node.first; s < node.first + node.count; ++s) {
+                if (s == slot ||
+                    boxDistanceSquared(p, mTriangleBox[s][0], mTriangleBox[s][1]) >= best)
+                    continue;
+                int feature = 0;
+                const auto& c = mCorners[s];
+                const glm::dvec3 q = closestOnTriangle(p, c[0], c[1], c[2], feature);
+                best = std::min(best, glm::dot(p - q, p - q));
+            }
+            continue;
+        }
+        const Node& l = mNodes[node.left];
+        const Node& r = mNodes[node.right];
+        const double dl = boxDistanceSquared(p, l.lo, l.hi), dr = boxDistanceSquared(p, r.lo, r.hi);
+        stack[top++] = dl < dr ? node.right : node.left;
+        stack[top++] = dl < dr ? node.left : node.right;
+    }
+    return std::min(std::sqrt(best), 1e300);
+}
+
+double MeshDistance::signedDistance(const glm::dvec3& p, uint32_t& hint,
+                                    NearestProofs& proofs) const {
+    auto& recent = proofs.recent;
+    for (size_t k = 0; k < recent.size() && recent[k].slot != NO_HINT; ++k) {
+        const NearestProofs::Proof& proof = recent[k];
+        const double shift = glm::length(p - proof.at);
+        if (shift >= proof.others) continue;
+        int feature = 0;
+        const auto& c = mCorners[proof.slot];
+        const glm::dvec3 q = closestOnTriangle(p, c[0], c[1], c[2], feature);
+        const double best = glm::dot(p - q, p - q);
+        // Nearer by a margin far above rounding: the search too would find this triangle (and
+        // only it) nearest, and return what follows, bit for bit.
+        if (std::sqrt(best) + shift >= proof.others * (1 - 1e-9) - 1e-12) continue;
+        hint = proof.slot;
+        proofs.searchesSinceUse = 0;
+        std::rotate(recent.begin(), recent.begin() + ptrdiff_t(k),
+                    recent.begin() + ptrdiff_t(k) + 1);
+        const double distance = std::sqrt(best);
+        return glm::dot(p - q, normalAt(hint, feature)) < 0 ? -distance : distance;
+    }
+    const double distance = signedDistance(p, hint);
+    ++proofs.searches;
+    const uint32_t since = ++proofs.searchesSinceUse;
+    if (since <= 4 || since % 16 == 0) {
+        std::rotate(recent.begin(), recent.end() - 1, recent.end());  // the oldest goes
+        recent[0] = {p, hint, othersDistance(p, hint)};
+    }
+    return distance;
 }
 
 }  // namespace vpsim::geometry

@@ -238,13 +238,15 @@ void StreamingCuredSurface::State::buildLayer() {
     tbb::parallel_for(0, H - 1, [&](int lj) {
         size_t v = first[lj];
         uint32_t nearest = geometry::MeshDistance::NO_HINT;  // the row's vertices are neighbours
+        auto& proofs = nearestProofs.local();
         for (const auto& [li, p] : rowVertices[lj]) {
             if (!ownsCube(sx0 + li, sy0 + lj)) continue;
             vertices[v] = p;
-            deviations[v] = distance
-                                ? float(std::clamp(distance->signedDistance(glm::dvec3(p), nearest),
-                                                   -band, band))
-                                : 0.0f;
+            deviations[v] =
+                distance
+                    ? float(std::clamp(distance->signedDistance(glm::dvec3(p), nearest, proofs),
+                                       -band, band))
+                    : 0.0f;
             layerBelow[cube(li, lj)] = uint32_t(v);
             ++v;
         }

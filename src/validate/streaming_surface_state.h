@@ -11,6 +11,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/task_group.h>
 #include <glm/vec3.hpp>
 
@@ -63,6 +64,9 @@ struct StreamingCuredSurface::State {
     double voxelHeight, iso, band;
     float curedAt = 0;  ///< v >= curedAt exactly when double(v) >= iso (CureLaw::floatAtLeast)
     std::unique_ptr<geometry::MeshDistance> distance;
+    /// Each thread's latest proofs of nearest triangles (MeshDistance::NearestProofs): most
+    /// vertices need no search. They change no result, so which thread has which does not matter.
+    tbb::enumerable_thread_specific<geometry::MeshDistance::NearestProofs> nearestProofs;
     std::unique_ptr<AtomicFileStream> stl;
     /// The STL written in place (resumable: it survives a kill), opened at the first slice or
     /// by restoreState.

@@ -30,6 +30,29 @@ public:
     /// same.
     double signedDistance(const glm::dvec3& p, uint32_t& hint) const;
 
+    /// Proofs that a triangle is the nearest one, kept for the points near where they were made
+    /// (distance is 1-Lipschitz: if every triangle but t is at least `others` from `at`, every
+    /// one is at least others - s from a point s away, so t is that point's nearest triangle
+    /// wherever it is nearer than that, and no search is needed). The latest few, most recent
+    /// first: a thread's rows of cured-surface vertices visit a few walls in turn. They belong
+    /// to the MeshDistance that made them; one set per thread.
+    struct NearestProofs {
+        struct Proof {
+            glm::dvec3 at{0.0};
+            uint32_t slot = NO_HINT;
+            double others = 0;
+        };
+        std::array<Proof, 4> recent;
+        /// Searches since a proof last spared one: where proofs do not last (small facets of a
+        /// curved part), a search proves its triangle only now and then (a proof costs a second
+        /// search).
+        uint32_t searchesSinceUse = 0;
+        uint64_t searches = 0;  ///< queries that needed a search
+    };
+    /// signedDistance(p, hint), the same to the bit, without a search where one of `proofs`
+    /// holds at p; a search adds a proof for p.
+    double signedDistance(const glm::dvec3& p, uint32_t& hint, NearestProofs& proofs) const;
+
 private:
     struct Node {
         glm::dvec3 lo, hi;
@@ -37,6 +60,10 @@ private:
         uint32_t left = 0, right = 0;   ///< inner node: children (count == 0)
     };
     uint32_t build(uint32_t first, uint32_t count);
+    /// The pseudonormal of triangle `slot`'s closest feature (closestOnTriangle's numbering).
+    const glm::dvec3& normalAt(uint32_t slot, int feature) const;
+    /// Distance from p to the nearest triangle other than `slot` (1e300 when there is none).
+    double othersDistance(const glm::dvec3& p, uint32_t slot) const;
     std::vector<Node> mNodes;
     std::vector<std::array<glm::dvec3, 3>> mCorners;       ///< per triangle, in BVH order
     std::vector<glm::dvec3> mFaceNormal;                   ///< unit face normals
