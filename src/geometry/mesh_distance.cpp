@@ -141,6 +141,31 @@ uint32_t MeshDistance::build(uint32_t first, uint32_t count) {
     return index;
 }
 
+template <class Visit>
+void MeshDistance::search(const glm::dvec3& p, const double& bound, Visit&& visit) const {
+    uint32_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const Node& node = mNodes[stack[--top]];
+        if (boxDistanceSquared(p, node.lo, node.hi) >= bound) continue;
+        if (node.count > 0) {
+            for (uint32_t s = node.first; s < node.first + node.count; ++s) visit(s);
+            continue;
+        }
+        const Node& l = mNodes[node.left];
+        const Node& r = mNodes[node.right];
+        const double dl = boxDistanceSquared(p, l.lo, l.hi), dr = boxDistanceSquared(p, r.lo, r.hi);
+        if (dl < dr) {  // nearer child popped first
+            stack[top++] = node.right;
+            stack[top++] = node.left;
+        } else {
+            stack[top++] = node.left;
+            stack[top++] = node.right;
+        }
+    }
+}
+
 const glm::dvec3& MeshDistance::normalAt(uint32_t slot, int feature) const {
     return feature == 0   ? mFaceNormal[slot]
            : feature <= 3 ? mEdgeNormal[slot][feature - 1]
@@ -173,28 +198,9 @@ double MeshDistance::signedDistance(const glm::dvec3& p, uint32_t& hint) const {
     // A neighbouring query's nearest triangle is most often this one's too: its distance bounds
     // the search from the start, so the traversal skips most boxes.
     if (hint < mCorners.size()) visit(hint);
-    uint32_t stack[128];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        const Node& node = mNodes[stack[--top]];
-        if (boxDistanceSquared(p, node.lo, node.hi) >= best) continue;
-        if (node.count > 0) {
-            for (uint32_t s = node.first; s < node.first + node.count; ++s)
-                if (s != hint) visit(s);
-            continue;
-        }
-        const Node& l = mNodes[node.left];
-        const Node& r = mNodes[node.right];
-        const double dl = boxDistanceSquared(p, l.lo, l.hi), dr = boxDistanceSquared(p, r.lo, r.hi);
-        if (dl < dr) {  // nearer child popped first
-            stack[top++] = node.right;
-            stack[top++] = node.left;
-        } else {
-            stack[top++] = node.left;
-            stack[top++] = node.right;
-        }
-    }
+    search(p, best, [&](uint32_t s) {
+        if (s != hint) visit(s);
+    });
     hint = bestSlot;
     const double distance = std::sqrt(best);
     return glm::dot(p - bestPoint, bestNormal) < 0 ? -distance : distance;
@@ -202,30 +208,14 @@ double MeshDistance::signedDistance(const glm::dvec3& p, uint32_t& hint) const {
 
 double MeshDistance::othersDistance(const glm::dvec3& p, uint32_t slot) const {
     double best = std::numeric_limits<double>::infinity();  // squared
-    uint32_t stack[128];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        const Node& node = mNodes[stack[--top]];
-        if (boxDistanceSquared(p, node.lo, node.hi) >= best) continue;
-        if (node.count > 0) {
-            for (uint32_t s = node.first; s < node.first + node.count; ++s) {
-                if (s == slot ||
-                    boxDistanceSquared(p, mTriangleBox[s][0], mTriangleBox[s][1]) >= best)
-                    continue;
-                int feature = 0;
-                const auto& c = mCorners[s];
-                const glm::dvec3 q = closestOnTriangle(p, c[0], c[1], c[2], feature);
-                best = std::min(best, glm::dot(p - q, p - q));
-            }
-            continue;
-        }
-        const Node& l = mNodes[node.left];
-        const Node& r = mNodes[node.right];
-        const double dl = boxDistanceSquared(p, l.lo, l.hi), dr = boxDistanceSquared(p, r.lo, r.hi);
-        stack[top++] = dl < dr ? node.right : node.left;
-        stack[top++] = dl < dr ? node.left : node.right;
-    }
+    search(p, best, [&](uint32_t s) {
+        if (s == slot || boxDistanceSquared(p, mTriangleBox[s][0], mTriangleBox[s][1]) >= best)
+            return;
+        int feature = 0;
+        const auto& c = mCorners[s];
+        const glm::dvec3 q = closestOnTriangle(p, c[0], c[1], c[2], feature);
+        best = std::min(best, glm::dot(p - q, p - q));
+    });
     return std::min(std::sqrt(best), 1e300);
 }
 

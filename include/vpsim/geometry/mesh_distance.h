@@ -60,6 +60,10 @@ private:
         uint32_t left = 0, right = 0;   ///< inner node: children (count == 0)
     };
     uint32_t build(uint32_t first, uint32_t count);
+    /// Calls visit(slot) for the triangles of the leaves whose boxes are nearer to p than
+    /// `bound` (squared, which the visitor may lower as it goes), nearer boxes first.
+    template <class Visit>
+    void search(const glm::dvec3& p, const double& bound, Visit&& visit) const;
     /// The pseudonormal of triangle `slot`'s closest feature (closestOnTriangle's numbering).
     const glm::dvec3& normalAt(uint32_t slot, int feature) const;
     /// Distance from p to the nearest triangle other than `slot` (1e300 when there is none).
