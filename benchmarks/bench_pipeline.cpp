@@ -143,13 +143,14 @@ kernel::BeamKernel tableOf(const kernel::FittedBeam& beam, double power) {
 }
 
 /// Both engines' CPU and shader paths (the shaders on `context`; none when null) on 4 layers of
-/// a 2 mm square on the bench grid's pitch and slices (~1e6 voxels): ns per voxel of the engine's
-/// wall time, upload, dispatch and readback included, the deposit taken out (engine_timing.h),
-/// best of 3 alternating runs.
+/// the block's 10 mm square on its grid (1030 x 1030 cells, 5 slices a layer: 2.1e7 voxels; a
+/// smaller grid would weigh each dispatch's fixed cost more than the run does): ns per voxel of
+/// the engine's wall time, upload, dispatch and readback included, the deposit taken out
+/// (engine_timing.h), best of 3 alternating runs.
 void engineFigures(nlohmann::json& out, const std::shared_ptr<gpu::Context>& context) {
     const kernel::FittedBeam beam{0.063, 0.037};
-    const auto grid = exposure::ExposureGrid::covering(0, 0, 2, 2, 0.2, 0.01, 5);
-    const plan::ScanPlan slab = squareSlab(4, 2.0);
+    const auto grid = exposure::ExposureGrid::covering(0, 0, 10, 10, 0.15, 0.01, 5);
+    const plan::ScanPlan slab = squareSlab(4, 10.0);
     const double voxels = bench::slabVoxels(grid, slab);
     auto figures = [&](const std::string& name, exposure::ExposureModel& cpu,
                        exposure::ExposureModel* shader) {
