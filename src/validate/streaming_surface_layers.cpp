@@ -208,7 +208,7 @@ bool StreamingCuredSurface::State::ownsCube(int ci, int cj) const {
     return ci >= own.i0 && ci < own.i1 && cj >= own.j0 && cj < own.j1;
 }
 
-void StreamingCuredSurface::State::buildLayer() {
+StreamingCuredSurface::State::NewVertices StreamingCuredSurface::State::buildLayer() {
     trimVertices();
     for (uint32_t c : filledBelow) layerBelow[c] = NONE;
     filledBelow.clear();
@@ -251,12 +251,6 @@ void StreamingCuredSurface::State::buildLayer() {
             ++v;
         }
     });
-    for (size_t v = first[0]; v < first[H - 1]; ++v) tileStatistics.add(deviations[v]);
-    if (clusters) {  // in the vertices' order: the picture does not depend on the threads
-        vertexCluster.resize(first[H - 1]);
-        for (size_t v = first[0]; v < first[H - 1]; ++v)
-            vertexCluster[v] = clusters->add(glm::dvec3(vertices[v]), deviations[v]);
-    }
     for (int lj = 0; lj < H - 1; ++lj)
         for (const auto& [li, p] : rowVertices[lj]) {
             const int ci = sx0 + li, cj = sy0 + lj;
@@ -264,17 +258,45 @@ void StreamingCuredSurface::State::buildLayer() {
             if (!ownsCube(ci, cj)) {
                 layerBelow[cube(li, lj)] = HALO | uint32_t(haloVertices.size());
                 haloVertices.push_back(p);
-                // At its owner's position (made from the same values): the owner's cluster.
-                if (clusters) haloCluster.push_back(clusters->add(glm::dvec3(p), 0.0f, false));
                 if (keep) haloKeys.push_back(cubeKey(ci, cj));
             } else if (keep &&
                        ((ci == own.i1 - 1 && own.i1 < P) || (cj == own.j1 - 1 && own.j1 < Q))) {
                 seamVertices.emplace(cubeKey(ci, cj), layerBelow[cube(li, lj)]);
             }
         }
+    return {first[0], first[H - 1], haloAbove};
 }
 
-void StreamingCuredSurface::State::emitQuads() {
+void StreamingCuredSurface::State::addVertices(const NewVertices& made) {
+    for (size_t v = made.from; v < made.to; ++v) tileStatistics.add(deviations[v]);
+    if (!clusters) return;
+    vertexCluster.resize(made.to);
+    for (size_t v = made.from; v < made.to; ++v)
+        vertexCluster[v] = clusters->add(glm::dvec3(vertices[v]), deviations[v]);
+    // At its owner's position (made from the same values): the owner's cluster.
+    haloCluster.resize(haloVertices.size());
+    for (size_t h = made.haloFrom; h < haloVertices.size(); ++h)
+        haloCluster[h] = clusters->add(glm::dvec3(haloVertices[h]), 0.0f, false);
+}
+
+void StreamingCuredSurface::State::emitQuads(const NewVertices& made) {
+    // The vertices go into the statistics and clusters (serial) while the quads are made.
+    tbb::task_group vertexWork;
+    vertexWork.run([&] { addVertices(made); });
+    try {
+        makeQuads();
+    } catch (...) {
+        try {
+            vertexWork.wait();
+        } catch (...) {  // the quads' error is the one to report
+        }
+        throw;
+    }
+    vertexWork.wait();
+    for (int lj = own.j0 - sy0; lj < std::min(own.j1, Q - 1) - sy0; ++lj) record(rowTriangles[lj]);
+}
+
+void StreamingCuredSurface::State::makeQuads() {
     const int ljLo = own.j0 - sy0, ljHi = std::min(own.j1, Q - 1) - sy0;
     const int liLo = own.i0 - sx0, liHi = std::min(own.i1, P - 1) - sx0;
     auto emitRow = [&](int lj, uint8_t* crossing) {
@@ -343,10 +365,7 @@ void StreamingCuredSurface::State::emitQuads() {
             });
             stlOut->write(groupStl.data(), std::streamsize(groupStl.size()));
         }
-        for (int lj = group; lj < end; ++lj) {
-            tileVolume += rowVolume[lj] / 6.0;
-            record(rowTriangles[lj]);
-        }
+        for (int lj = group; lj < end; ++lj) tileVolume += rowVolume[lj] / 6.0;
         group = end;
     }
 }
@@ -384,8 +403,7 @@ void StreamingCuredSurface::State::advance(const exposure::SurfaceGrid* values, 
     }
     load(below, values, z);
     auto makeLayer = [this] {
-        buildLayer();
-        emitQuads();
+        emitQuads(buildLayer());
         std::swap(above, below);
         std::swap(layerAbove, layerBelow);
         std::swap(filledAbove, filledBelow);

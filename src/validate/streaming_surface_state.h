@@ -155,13 +155,24 @@ struct StreamingCuredSurface::State {
     /// crossings.
     glm::dvec3 cubeVertex(int li, int lj) const;
     bool ownsCube(int ci, int cj) const;
+    /// A layer's new vertices: owned [from, to) in `vertices`, halo [haloFrom, ...) in
+    /// haloVertices.
+    struct NewVertices {
+        size_t from, to, haloFrom;
+    };
     /// Vertices of the cubes between `above` and `below` into layerBelow, rows in parallel and
     /// numbered in row order.
-    void buildLayer();
+    NewVertices buildLayer();
+    /// The new vertices into the tile's statistics and the picture's clusters, in their order
+    /// (so neither depends on the threads).
+    void addVertices(const NewVertices& made);
     /// Quads of the z edges between `above` and `below` and of the x and y edges in the plane of
     /// `above` (its cubes above: layerAbove, below: layerBelow), each split in two triangles:
-    /// those of the edges that start at a sample the tile owns.
-    void emitQuads();
+    /// those of the edges that start at a sample the tile owns. The layer's vertices are added
+    /// (addVertices) beside the quads and their STL, before the triangles join the picture.
+    void emitQuads(const NewVertices& made);
+    /// emitQuads' quads: their triangles per row (rowTriangles), the volume's moments, the STL.
+    void makeQuads();
     /// Counts a row's triangles and keeps them for the picture.
     void record(const std::vector<std::array<uint32_t, 3>>& triangles);
     /// The triangles as binary STL records (normal, corners, no attribute) from `records` on.
