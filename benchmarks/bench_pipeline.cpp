@@ -7,7 +7,8 @@
 //   cpu_ns_per_voxel and shader_ns_per_voxel keyed by engine ("fitted", "tabulated": each engine
 //   alone on a slab of the same grid, the paths alternating, wall time with the deposit taken out
 //   (engine_timing.h); the shaders on the Vulkan device found, lavapipe on a CPU-only machine,
-//   upload, dispatch and readback included; null when none).
+//   upload, dispatch and readback included; null when none), and shader_over_cpu, their ratio
+//   (target 1.5 for both engines).
 // Targets (issue 22, 2 cores): expose+cure+validate < 1.8 s, every stage after the plan < 4 s,
 // peak < 1 GiB without a .vdb. The block runs 3 times (--repeats N); the figures are those of the
 // run with the median expose+cure+validate, and expose_cure_validate_runs lists every run's (a
@@ -17,6 +18,8 @@
 //                                        (default 4.2e9), each in its own process: ns/voxel and
 //                                        peak bytes/voxel
 //   bench_pipeline --one SIZE_MM HEIGHT_MM   one run of the block at that size (the series' step)
+//   bench_pipeline --engines             the engines' figures alone (cpu_ns_per_voxel,
+//                                        shader_ns_per_voxel and their ratios)
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -157,9 +160,14 @@ void engineFigures(nlohmann::json& out, const std::shared_ptr<gpu::Context>& con
         std::vector<exposure::ExposureModel*> engines{&cpu};
         if (shader) engines.push_back(shader);
         const bench::EngineTimes t = bench::timeEngines(engines, slab, 3);
-        out["cpu_ns_per_voxel"][name] = (t.runs[0] - t.deposit) / voxels * 1e9;
-        out["shader_ns_per_voxel"][name] =
-            shader ? nlohmann::json((t.runs[1] - t.deposit) / voxels * 1e9) : nlohmann::json();
+        const double cpuNs = (t.runs[0] - t.deposit) / voxels * 1e9;
+        out["cpu_ns_per_voxel"][name] = cpuNs;
+        out["shader_ns_per_voxel"][name] = nlohmann::json();
+        out["shader_over_cpu"][name] = nlohmann::json();
+        if (!shader) return;
+        const double shaderNs = (t.runs[1] - t.deposit) / voxels * 1e9;
+        out["shader_ns_per_voxel"][name] = shaderNs;
+        out["shader_over_cpu"][name] = shaderNs / cpuNs;
     };
     {
         exposure::ExposureEngine cpu(grid, beam, 0.05);
@@ -178,19 +186,30 @@ void engineFigures(nlohmann::json& out, const std::shared_ptr<gpu::Context>& con
     }
 }
 
+/// The Vulkan device the shaders run on, or null with the reason in out["shader_error"].
+std::shared_ptr<gpu::Context> shaderContextOrError(nlohmann::json& out) {
+    try {
+        return gpu::Context::create();
+    } catch (const Error& e) {
+        out["shader_error"] = e.what();
+        return nullptr;
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     setLogLevel(LogLevel::Warn);
     bool vulkan = false, scaling = false;
     double maxVoxels = 4.2e9, size = 0, height = 0;
-    bool one = false;
+    bool one = false, enginesOnly = false;
     int repeats = 3;
     for (int a = 1; a < argc; ++a) {
         if (std::strcmp(argv[a], "--repeats") == 0 && a + 1 < argc)
             repeats = std::max(1, std::atoi(argv[++a]));
         if (std::strcmp(argv[a], "--vulkan") == 0) vulkan = true;
         if (std::strcmp(argv[a], "--scaling") == 0) scaling = true;
+        if (std::strcmp(argv[a], "--engines") == 0) enginesOnly = true;
         if (std::strcmp(argv[a], "--max") == 0 && a + 1 < argc) maxVoxels = std::atof(argv[++a]);
         if (std::strcmp(argv[a], "--one") == 0 && a + 2 < argc) {
             one = true;
@@ -208,6 +227,11 @@ int main(int argc, char** argv) {
         }
         out["part_mm"] = {10, 10, 5};
         out["voxel_um"] = 10;
+        if (enginesOnly) {
+            engineFigures(out, shaderContextOrError(out));
+            std::cout << out.dump(2) << std::endl;
+            return 0;
+        }
         std::vector<nlohmann::json> runs;
         nlohmann::json each = nlohmann::json::array();
         for (int r = 0; r < repeats; ++r) {
@@ -223,14 +247,9 @@ int main(int argc, char** argv) {
         out["peak_memory_GiB"] = peakMemoryGiB();  // of all the runs
         out["targets"] = {{"expose_cure_validate_seconds", 1.8},
                           {"after_plan_seconds", 4.0},
-                          {"peak_memory_GiB", 1.0}};
-        std::shared_ptr<gpu::Context> shaderDevice;
-        try {
-            shaderDevice = gpu::Context::create();
-        } catch (const Error& e) {
-            out["shader_error"] = e.what();
-        }
-        engineFigures(out, shaderDevice);
+                          {"peak_memory_GiB", 1.0},
+                          {"shader_over_cpu", 1.5}};
+        engineFigures(out, shaderContextOrError(out));
         if (scaling) {
             // Cubes of side s and height s/2 at 10 um: voxels ~ (100 s + 2 margin)^2 * 50 s.
             nlohmann::json series = nlohmann::json::array();

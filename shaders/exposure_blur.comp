@@ -1,26 +1,31 @@
 #version 450
-// One Gaussian pass of the fitted-kernel exposure (include/vpsim/exposure/exposure_engine.h),
-// specialised by AXIS: along x (0) from the zero-padded deposit into the pass buffer, written
-// transposed (column i of the grid is its row i), or along y (1) from that buffer into the running
-// sum R. Either way the pass runs along the rows of its source, so both read the same way. The
-// print-through recursion is taken on the deposit before the blur (the host uploads the running
-// deposit S_k = D_k + a S_(k-1); the blur is linear, so blur(S_k) = B_k + a R_(k-1) = R_k): the y
-// pass only stores, where a load of R before each store would cost lavapipe a second lane-by-lane
-// loop per cell.
+// The fitted-kernel exposure's Gaussian blur (include/vpsim/exposure/exposure_engine.h), both
+// passes in one: from the zero-padded running deposit S into the running sum R. The print-through
+// recursion is taken on the deposit before the blur (the host uploads S_k = D_k + a S_(k-1); the
+// blur is linear, so blur(S_k) = B_k + a R_(k-1) = R_k), so R is only stored.
 //
-// Shaped for lavapipe like exposure_stencil.comp (docs/PLATFORM.md: a texelFetch is a call that
-// spills every live vector, a uniform-block load at a computed index is a per-lane gather): each
-// invocation sums 8 consecutive outputs along its source row in 8 named accumulators; the taps come
-// in chunks of 8, two vec4 uniform loads per chunk at an address the same in every lane; the window
-// of 16 source floats slides by two vec4 texel fetches per chunk. Rows are zero-padded by PADDING
-// (HALF_WIDTH to a multiple of 4) cells on the left and the taps by zeros from -PADDING, so no
-// fetch needs a bounds check and the fetches stay aligned; HALF_WIDTH is a specialisation
-// constant, so the chunk loop has a fixed count.
+// Each invocation owns 8 consecutive cells of a row (i0 .. i0 + 7) and walks a strip of
+// STRIP_ROWS rows down y. At each step it blurs one source row along x at its 8 cells (the x pass,
+// a row of P), adds that row of P to the 2 HALF_WIDTH output rows it reaches (the y pass, whose
+// open rows it keeps as sums in registers), and stores the output row that this row of P completes.
+// So nothing passes through memory between the passes: on lavapipe every storage store is a
+// lane-by-lane loop (docs/PLATFORM.md), and two passes through a buffer stored every cell twice.
+// The strip's first 2 HALF_WIDTH steps only open its first rows (the P rows above the strip that
+// they need).
+//
+// The x pass is shaped for lavapipe like exposure_stencil.comp (a texelFetch is a call that spills
+// every live vector, a uniform-block load at a computed index is a per-lane gather): 8 outputs in
+// 8 named accumulators, the taps in chunks of 8 (two vec4 uniform loads per chunk at an address the
+// same in every lane), the window of 16 source floats sliding by two vec4 texel fetches per chunk.
+// Rows are zero-padded by PADDING cells on the left, and the taps by zeros from -PADDING, so no
+// fetch needs a bounds check and the fetches stay aligned. HALF_WIDTH and STRIP_ROWS (a multiple
+// of EXPOSURE_BLUR_STEPS) are specialisation constants, so every loop below has a fixed count and
+// the unrolled ones index the open rows with constants (registers, not memory).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = 8) in;
 layout(constant_id = 0) const int HALF_WIDTH = 1;
-layout(constant_id = 1) const uint AXIS = 0u;
+layout(constant_id = 1) const int STRIP_ROWS = 64;
 
 #include "glsl_common.glsl"
 #include "shared_structs.glsl"
@@ -28,53 +33,78 @@ layout(constant_id = 1) const uint AXIS = 0u;
 #include "exposure_chunk.glsl"
 
 const int PADDING = (HALF_WIDTH + 3) / 4 * 4;
-const int CHUNKS = (HALF_WIDTH + PADDING + STENCIL_CHUNK) / STENCIL_CHUNK;
+// The taps from offset -PADDING to HALF_WIDTH: whole chunks of 8, then half a chunk where the rest
+// fits in 4 (a full chunk otherwise).
+const int TAPS = PADDING + HALF_WIDTH + 1;
+// (Integer arithmetic only: glslang's specialisation-constant logic made invalid SPIR-V.)
+const int HALF_CHUNK = ((TAPS % STENCIL_CHUNK + 3) / 4) % 2;
+const int CHUNKS = (TAPS + STENCIL_CHUNK - 1) / STENCIL_CHUNK - HALF_CHUNK;
+const int OPEN_ROWS = 2 * HALF_WIDTH;
 
 layout(push_constant) uniform Push { ExposureBlurParams params; };
 layout(binding = 0) uniform samplerBuffer source;
 // Tap k is the weight of offset k - PADDING (zero beyond HALF_WIDTH).
 layout(std140, binding = 1) uniform Taps { vec4 taps[EXPOSURE_TAP_BLOCK / 4]; };
-layout(std430, binding = 2) buffer Target { float target[]; };
+// R, in rows of params.targetWidth cells (the grid's rows to whole groups): each invocation stores
+// its 8 cells as two vec4, one lane-by-lane loop each on lavapipe instead of one per cell.
+layout(std430, binding = 2) buffer Target { vec4 target[]; };
 
-void main() {
-    const bool alongX = AXIS == 0u;
-    // Outputs u0 .. u0 + 7 of source row v: x: cells (u0 + r, j = v); y: cells (i = v, u0 + r).
-    const int u0 = int(gl_GlobalInvocationID.x) * 8, v = int(gl_GlobalInvocationID.y);
+// open[8 m + r]: the sum so far of output row (P row now arriving) - HALF_WIDTH + m at cell i0 + r.
+float open[8 * OPEN_ROWS];
+
+float tap(int offset) {
+    const int k = offset + PADDING;
+    return taps[k >> 2][k & 3];
+}
+
+/// One step: P of source texel row `at` at the invocation's 8 cells, added to the open rows. Stores
+/// the row it completes at `row` when `store`.
+void step(int at, bool store, int row, int i0) {
     float a0 = 0.0, a1 = 0.0, a2 = 0.0, a3 = 0.0, a4 = 0.0, a5 = 0.0, a6 = 0.0, a7 = 0.0;
-    // Output u's first tap (offset -PADDING) reads the row's float u: the texel of u0.
-    int at = (v * int(params.sourceWidth) + u0) >> 2;
     vec4 lo = texelFetch(source, at), hi = texelFetch(source, at + 1);
     [[unroll]] for (int c = 0; c < CHUNKS; ++c) {
-        const vec4 lo2 = texelFetch(source, at + 2), hi2 = texelFetch(source, at + 3);
+        const vec4 lo2 = texelFetch(source, at + 2 + 2 * c), hi2 = texelFetch(source, at + 3 + 2 * c);
         addChunk(taps[2 * c], taps[2 * c + 1], lo, hi, lo2, hi2, a0, a1, a2, a3, a4, a5, a6, a7);
         lo = lo2;
         hi = hi2;
-        at += 2;
     }
-    const float norm = params.norm;
-    const int nx = int(params.nx), ny = int(params.ny);
-    if (alongX) {
-        // Into the pass buffer's row u (grid column u), after its PADDING zero cells.
-        if (v >= ny) return;
-        const int w = int(params.targetWidth), o = u0 * w + PADDING + v;
-        if (u0 + 0 < nx) target[o + 0 * w] = a0 / norm;
-        if (u0 + 1 < nx) target[o + 1 * w] = a1 / norm;
-        if (u0 + 2 < nx) target[o + 2 * w] = a2 / norm;
-        if (u0 + 3 < nx) target[o + 3 * w] = a3 / norm;
-        if (u0 + 4 < nx) target[o + 4 * w] = a4 / norm;
-        if (u0 + 5 < nx) target[o + 5 * w] = a5 / norm;
-        if (u0 + 6 < nx) target[o + 6 * w] = a6 / norm;
-        if (u0 + 7 < nx) target[o + 7 * w] = a7 / norm;
-        return;
+    if (HALF_CHUNK == 1)
+        addHalfChunk(taps[2 * CHUNKS], lo, hi, texelFetch(source, at + 2 + 2 * CHUNKS), a0, a1, a2,
+                     a3, a4, a5, a6, a7);
+    const float p[8] = float[8](a0, a1, a2, a3, a4, a5, a6, a7);
+    // The row this P row completes (its last tap, offset +HALF_WIDTH), then the others move up a
+    // slot with this row's tap added, and the newest open row starts at offset -HALF_WIDTH.
+    const float last = tap(HALF_WIDTH), scale = params.scale;
+    if (store) {
+        const int o = (row * int(params.targetWidth) + i0) >> 2;
+        target[o] = vec4(fma(last, p[0], open[0]), fma(last, p[1], open[1]),
+                         fma(last, p[2], open[2]), fma(last, p[3], open[3])) * scale;
+        target[o + 1] = vec4(fma(last, p[4], open[4]), fma(last, p[5], open[5]),
+                             fma(last, p[6], open[6]), fma(last, p[7], open[7])) * scale;
     }
-    if (v >= nx) return;
-    const int o = u0 * nx + v;
-    if (u0 + 0 < ny) target[o + 0 * nx] = a0 / norm;
-    if (u0 + 1 < ny) target[o + 1 * nx] = a1 / norm;
-    if (u0 + 2 < ny) target[o + 2 * nx] = a2 / norm;
-    if (u0 + 3 < ny) target[o + 3 * nx] = a3 / norm;
-    if (u0 + 4 < ny) target[o + 4 * nx] = a4 / norm;
-    if (u0 + 5 < ny) target[o + 5 * nx] = a5 / norm;
-    if (u0 + 6 < ny) target[o + 6 * nx] = a6 / norm;
-    if (u0 + 7 < ny) target[o + 7 * nx] = a7 / norm;
+    [[unroll]] for (int m = 0; m + 1 < OPEN_ROWS; ++m) {
+        const float t = tap(HALF_WIDTH - m - 1);
+        [[unroll]] for (int r = 0; r < 8; ++r) open[8 * m + r] = fma(t, p[r], open[8 * m + 8 + r]);
+    }
+    const float first = tap(-HALF_WIDTH);
+    [[unroll]] for (int r = 0; r < 8; ++r) open[8 * (OPEN_ROWS - 1) + r] = first * p[r];
+}
+
+void main() {
+    const int i0 = int(gl_GlobalInvocationID.x) * 8, j0 = int(gl_WorkGroupID.y) * STRIP_ROWS;
+    const int rowTexels = int(params.sourceWidth) / 4;
+    [[unroll]] for (int m = 0; m < 8 * OPEN_ROWS; ++m) open[m] = 0.0;
+    // Source row q holds grid row q - HALF_WIDTH (zero rows above the grid): the strip reads rows
+    // j0 .. j0 + OPEN_ROWS + STRIP_ROWS - 1, and the step reading row j0 + OPEN_ROWS + s completes
+    // grid row j0 + s.
+    int at = (j0 * rowTexels) + (i0 >> 2);
+    for (int s = 0; s < OPEN_ROWS; ++s) {
+        step(at, false, 0, i0);
+        at += rowTexels;
+    }
+    for (int s = 0; s < STRIP_ROWS; s += EXPOSURE_BLUR_STEPS) {
+        [[unroll]] for (int u = 0; u < EXPOSURE_BLUR_STEPS; ++u)
+            step(at + u * rowTexels, true, j0 + s + u, i0);
+        at += EXPOSURE_BLUR_STEPS * rowTexels;
+    }
 }

@@ -2,8 +2,19 @@
 #ifndef VPSIM_EXPOSURE_GLSL
 #define VPSIM_EXPOSURE_GLSL
 
-/// Floats in the fitted blur's uniform block of taps (exposure_blur.comp): half-widths up to 511.
-const int EXPOSURE_TAP_BLOCK = 1024;
+/// The widest fitted blur exposure_blur.comp takes (half-width in cells): it keeps 2 HALF_WIDTH
+/// rows of 8 sums per invocation in registers, and its code and its state grow with them (past
+/// this, pipeline creation and the sums' spills cost more than the shader saves; the engine
+/// takes the CPU path). A 50 um beam on a 3 um grid is within it.
+const int EXPOSURE_BLUR_MAX_HALF_WIDTH = 32;
+
+/// Floats in the fitted blur's uniform block of taps (exposure_blur.comp): the widest blur's taps
+/// from its padding on, in whole chunks.
+const int EXPOSURE_TAP_BLOCK = 128;
+
+/// Rows exposure_blur.comp blurs per iteration of its strip loop (unrolled): on lavapipe the loop
+/// carries its open rows through memory, once per iteration.
+const int EXPOSURE_BLUR_STEPS = 8;
 
 /// Stencil rows in exposure_stencil.comp's block of row descriptions: half-widths up to 63.
 const int STENCIL_ROW_BLOCK = 128;

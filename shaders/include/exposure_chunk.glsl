@@ -32,4 +32,15 @@ void addChunk(vec4 t0, vec4 t1, vec4 lo, vec4 hi, vec4 lo2, vec4 hi2, inout floa
     VPSIM_CHUNK_TAP(t1.w, hi.w, lo2.x, lo2.y, lo2.z, lo2.w, hi2.x, hi2.y, hi2.z)
 }
 
+/// The same for 4 taps t0 (a chunk's first half) on s_0..s_11 = lo, hi, lo2: a row's last taps when
+/// they fill half a chunk or less (exposure_blur.comp).
+void addHalfChunk(vec4 t0, vec4 lo, vec4 hi, vec4 lo2, inout float a0, inout float a1,
+                  inout float a2, inout float a3, inout float a4, inout float a5, inout float a6,
+                  inout float a7) {
+    VPSIM_CHUNK_TAP(t0.x, lo.x, lo.y, lo.z, lo.w, hi.x, hi.y, hi.z, hi.w)
+    VPSIM_CHUNK_TAP(t0.y, lo.y, lo.z, lo.w, hi.x, hi.y, hi.z, hi.w, lo2.x)
+    VPSIM_CHUNK_TAP(t0.z, lo.z, lo.w, hi.x, hi.y, hi.z, hi.w, lo2.x, lo2.y)
+    VPSIM_CHUNK_TAP(t0.w, lo.w, hi.x, hi.y, hi.z, hi.w, lo2.x, lo2.y, lo2.z)
+}
+
 #endif

@@ -16,15 +16,14 @@ struct RngStreamParams {
     uint pad2;
 };
 
-/// Push constants of exposure_blur.comp: one Gaussian pass of the fitted kernel, along x from the
-/// zero-padded deposit into the transposed pass buffer, or along y from the pass buffer into the
-/// running sum.
+/// Push constants of exposure_blur.comp: the fitted kernel's Gaussian blur of the zero-padded
+/// running deposit into the running sum.
 struct ExposureBlurParams {
     uint nx;           ///< grid cells in x
     uint ny;           ///< grid cells in y
-    uint sourceWidth;  ///< row length of the pass's zero-padded source texels
-    uint targetWidth;  ///< row length of its target (the x pass's; the y pass writes nx-wide rows)
-    float norm;        ///< every sum is divided by it (the taps' sum; y: over the efficiency)
+    uint sourceWidth;  ///< row length of the zero-padded deposit, a multiple of 4
+    uint targetWidth;  ///< row length of R, nx to whole groups of 64 cells
+    float scale;       ///< 1 / (normX normY): the two passes' divisors, applied once to R
     uint pad0;
     uint pad1;
     uint pad2;

@@ -1,5 +1,6 @@
 #include "vpsim/exposure/exposure_engine.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -10,6 +11,7 @@
 #include "exposure/exposure_glsl.h"
 #include "exposure/exposure_gpu.h"
 #include "vpsim/core/error.h"
+#include "vpsim/core/log.h"
 #include "vpsim/core/progress.h"
 #include "vpsim/core/text.h"
 #include "vpsim/exposure/deposit.h"
@@ -119,12 +121,15 @@ ExposureEngine::ExposureEngine(const ExposureGrid& grid, const kernel::FittedBea
         throw ResourceError("exposure grid of " + std::to_string(grid.nx) + " x " +
                             std::to_string(grid.ny) + " cells needs " + formatBytes(bytes) +
                             " of working memory per layer; use a coarser pitch");
-    if (context) {
-        const Blur blur = blurOf();
+    const Blur blur = blurOf();
+    if (context && !GpuState::fits(blur.halfWidth))
+        logWarn("a fitted blur " + std::to_string(blur.halfWidth) +
+                " cells wide each side is wider than the exposure shader takes (" +
+                std::to_string(glsl::EXPOSURE_BLUR_MAX_HALF_WIDTH) + "); exposing on the CPU path");
+    else if (context)
         mGpu = std::make_unique<GpuState>(context, grid.nx, grid.ny,
                                           blurTaps(blur.halfWidth, blur.sigmaCells), blur.normX,
                                           blur.normY);
-    }
 }
 
 ExposureEngine::Blur ExposureEngine::blurOf() const {
@@ -166,6 +171,7 @@ SurfaceGrid ExposureEngine::layerMap(const SurfaceGrid& deposit, double depth) {
         if (mRunningView && mRunningView != mRunning.values.data()) {
             mGpu->downloadRunning(mRunning);
             mRunningView = mRunning.values.data();
+            mRunningStride = size_t(mGrid.nx);
         }
         mGpu->blur(deposit);
         mGpu->downloadRunning(running);
@@ -193,15 +199,17 @@ double ExposureEngine::addLayer(int k, SurfaceGrid& deposit) {
     const float decay = float(std::exp(-mLayerThickness / mBeam.attenuationLength));
     double seconds = 0;
     mRunningView = mRunning.values.data();
+    mRunningStride = size_t(mGrid.nx);
     if (!mGpu) {
         blurAndAccumulateCpu(deposit, mRunning, decay, seconds, mPass);
         return seconds;
     }
     seconds = mGpu->addLayer(deposit, decay, mGpuRestart);
     mGpuRestart = false;
-    if (const float* onHost = mGpu->runningOnHost())
+    if (const float* onHost = mGpu->runningOnHost()) {
         mRunningView = onHost;
-    else
+        mRunningStride = mGpu->runningWidth;
+    } else
         mGpu->downloadRunning(mRunning);
     return seconds;
 }
@@ -213,10 +221,15 @@ void ExposureEngine::emitLayer(int k, double top, const SliceSink& sink) {
         float attenuation = float(std::exp(-depth / mBeam.attenuationLength));
         const float* running = mRunningView;
         float* slice = mSlice.values.data();
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, mSlice.values.size(), 1 << 16),
-                          [&](const tbb::blocked_range<size_t>& cells) {
-                              for (size_t c = cells.begin(); c < cells.end(); ++c)
-                                  slice[c] = attenuation * running[c];
+        const size_t nx = size_t(mGrid.nx), stride = mRunningStride;
+        const size_t rowsPerTask = std::max<size_t>(1, (size_t(1) << 16) / nx);
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, size_t(mGrid.ny), rowsPerTask),
+                          [&](const tbb::blocked_range<size_t>& rows) {
+                              for (size_t j = rows.begin(); j < rows.end(); ++j) {
+                                  const float* from = running + j * stride;
+                                  float* to = slice + j * nx;
+                                  for (size_t i = 0; i < nx; ++i) to[i] = attenuation * from[i];
+                              }
                           });
         sink({k, s, top - depth, &mSlice});
     }

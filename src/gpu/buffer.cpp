@@ -130,28 +130,26 @@ void* Buffer::hostMemory() const {
     return mImpl->storage.mapped;
 }
 
-void Buffer::upload(const void* data, uint64_t bytes, uint64_t offset) {
-    if (offset + bytes > size()) throw ResourceError("GPU buffer upload beyond the buffer's end");
-    if (bytes == 0) return;
-    RawBuffer& storage = mImpl->storage;
-    if (storage.mapped) {
-        std::memcpy(static_cast<char*>(storage.mapped) + offset, data, bytes);
-        return;
-    }
-    Context::Impl& context = mImpl->context->impl();
-    RawBuffer staging;
-    staging.create(context, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true);
-    std::memcpy(staging.mapped, data, bytes);
+namespace {
+
+/// One submission copying `regions` from `from` to `to`; destroys `staging` when it throws.
+void copyRegions(Context::Impl& context, RawBuffer& staging, VkBuffer from, VkBuffer to,
+                 const std::vector<VkBufferCopy>& regions) {
     try {
         context.runOnce([&](VkCommandBuffer commandBuffer) {
-            VkBufferCopy region{0, offset, bytes};
-            vkCmdCopyBuffer(commandBuffer, staging.buffer, storage.buffer, 1, &region);
+            vkCmdCopyBuffer(commandBuffer, from, to, uint32_t(regions.size()), regions.data());
         });
     } catch (...) {
         staging.destroy();
         throw;
     }
-    staging.destroy();
+}
+
+}  // namespace
+
+void Buffer::upload(const void* data, uint64_t bytes, uint64_t offset) {
+    if (offset + bytes > size()) throw ResourceError("GPU buffer upload beyond the buffer's end");
+    uploadRows(data, bytes, 1, bytes, offset, bytes);
 }
 
 void Buffer::uploadRows(const void* data, uint64_t rowBytes, uint64_t rows, uint64_t sourceStride,
@@ -176,39 +174,38 @@ void Buffer::uploadRows(const void* data, uint64_t rowBytes, uint64_t rows, uint
                     rowBytes);
         regions[r] = {r * rowBytes, offset + r * targetStride, rowBytes};
     }
-    try {
-        context.runOnce([&](VkCommandBuffer commandBuffer) {
-            vkCmdCopyBuffer(commandBuffer, staging.buffer, storage.buffer, uint32_t(rows),
-                            regions.data());
-        });
-    } catch (...) {
-        staging.destroy();
-        throw;
-    }
+    copyRegions(context, staging, staging.buffer, storage.buffer, regions);
     staging.destroy();
 }
 
 void Buffer::download(void* data, uint64_t bytes, uint64_t offset) const {
     if (offset + bytes > size()) throw ResourceError("GPU buffer download beyond the buffer's end");
-    if (bytes == 0) return;
+    downloadRows(data, bytes, 1, offset, bytes, bytes);
+}
+
+void Buffer::downloadRows(void* data, uint64_t rowBytes, uint64_t rows, uint64_t offset,
+                          uint64_t sourceStride, uint64_t targetStride) const {
+    if (rows == 0 || rowBytes == 0) return;
+    if (rowBytes > sourceStride || offset + (rows - 1) * sourceStride + rowBytes > size())
+        throw ResourceError("GPU buffer row download beyond the buffer's end");
+    char* target = static_cast<char*>(data);
     RawBuffer& storage = mImpl->storage;
     if (storage.mapped) {
-        std::memcpy(data, static_cast<const char*>(storage.mapped) + offset, bytes);
+        const char* source = static_cast<const char*>(storage.mapped) + offset;
+        for (uint64_t r = 0; r < rows; ++r)
+            std::memcpy(target + r * targetStride, source + r * sourceStride, rowBytes);
         return;
     }
     Context::Impl& context = mImpl->context->impl();
     RawBuffer staging;
-    staging.create(context, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
-    try {
-        context.runOnce([&](VkCommandBuffer commandBuffer) {
-            VkBufferCopy region{offset, 0, bytes};
-            vkCmdCopyBuffer(commandBuffer, storage.buffer, staging.buffer, 1, &region);
-        });
-    } catch (...) {
-        staging.destroy();
-        throw;
-    }
-    std::memcpy(data, staging.mapped, bytes);
+    staging.create(context, rows * rowBytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
+    std::vector<VkBufferCopy> regions(rows);
+    for (uint64_t r = 0; r < rows; ++r)
+        regions[r] = {offset + r * sourceStride, r * rowBytes, rowBytes};
+    copyRegions(context, staging, storage.buffer, staging.buffer, regions);
+    for (uint64_t r = 0; r < rows; ++r)
+        std::memcpy(target + r * targetStride,
+                    static_cast<const char*>(staging.mapped) + r * rowBytes, rowBytes);
     staging.destroy();
 }
 

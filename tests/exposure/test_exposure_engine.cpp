@@ -118,6 +118,57 @@ TEST_CASE("GPU and CPU exposure agree", "[exposure][gpu]") {
     VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
 }
 
+// The shader blurs strips of rows, each from the 2 halfWidth rows above it: a grid taller than a
+// strip (at most 256 rows on a CPU device, 32 on a GPU; here two of 160 on lavapipe) checks the
+// seams, and a blur of half-width 32 cells
+// (a 50 um beam on a 2.75 um grid), the widest the shader takes, its largest state.
+TEST_CASE("the shader blur agrees with the CPU path across its strips and at its widest",
+          "[exposure][gpu]") {
+    VPSIM_GPU_CONTEXT_OR_SKIP(ctx);
+    const double h = 0.05;
+    struct Case {
+        ExposureGrid grid;
+        plan::ScanPlan plan;
+    };
+    const Case cases[] = {{ExposureGrid::covering(-0.2, -1.5, 0.2, 1.5, 0.1, 0.01, 2),
+                           test::randomPlan(3, h, 31, 1.4)},
+                          {ExposureGrid::covering(-0.15, -0.15, 0.15, 0.15, 0.05, 0.00275, 1),
+                           test::randomPlan(2, h, 32, 0.15)}};
+    for (const Case& c : cases) {
+        ExposureEngine cpu(c.grid, BEAM, h), gpu(c.grid, BEAM, h, ctx);
+        REQUIRE(gpu.usesGpu());
+        auto ec = test::exposeAll(cpu, c.plan), eg = test::exposeAll(gpu, c.plan);
+        // Exposed rows in the lower half of the grid (on the tall grid, the second strip) too.
+        double peak = 0, peakBelow = 0;
+        for (size_t k = 0; k < ec.size(); ++k)
+            for (size_t s = 0; s < ec[k].size(); ++s)
+                for (size_t i = 0; i < ec[k][s].values.size(); ++i) {
+                    const double v = ec[k][s].values[i];
+                    peak = std::max(peak, v);
+                    if (i / size_t(c.grid.nx) >= size_t(c.grid.ny) / 2)
+                        peakBelow = std::max(peakBelow, v);
+                    REQUIRE(eg[k][s].values[i] ==
+                            Approx(ec[k][s].values[i]).epsilon(1e-5).margin(1e-8));
+                }
+        CHECK(peakBelow > 0.1 * peak);
+    }
+    VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
+}
+
+// Wider blurs cost the shader more than they save (EXPOSURE_BLUR_MAX_HALF_WIDTH): the engine
+// takes the CPU path, with the same figures, instead of refusing the run.
+TEST_CASE("a blur wider than the shader takes is exposed on the CPU path", "[exposure][gpu]") {
+    VPSIM_GPU_CONTEXT_OR_SKIP(ctx);
+    const double h = 0.05;
+    ExposureGrid grid = ExposureGrid::covering(-0.1, -0.1, 0.1, 0.1, 0.05, 0.0025, 1);
+    plan::ScanPlan plan = test::randomPlan(1, h, 33, 0.1);
+    ExposureEngine cpu(grid, BEAM, h), wide(grid, BEAM, h, ctx);
+    CHECK_FALSE(wide.usesGpu());
+    auto ec = test::exposeAll(cpu, plan), ew = test::exposeAll(wide, plan);
+    CHECK(ew[0][0].values == ec[0][0].values);
+    VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
+}
+
 // The shader path keeps the running sum on the device: a one-layer map taken in the middle of a run
 // (from a sink) must not leak into the run, and a second run must start afresh. A grid whose sides
 // are not multiples of the shader's blocks checks the padding.

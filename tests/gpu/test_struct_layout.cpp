@@ -57,7 +57,7 @@ TEST_CASE("shared structs have the same layout in C++ and std430 GLSL", "[gpu][l
                 {VPSIM_MEMBER(ExposureBlurParams, nx), VPSIM_MEMBER(ExposureBlurParams, ny),
                  VPSIM_MEMBER(ExposureBlurParams, sourceWidth),
                  VPSIM_MEMBER(ExposureBlurParams, targetWidth),
-                 VPSIM_MEMBER(ExposureBlurParams, norm), VPSIM_MEMBER(ExposureBlurParams, pad0),
+                 VPSIM_MEMBER(ExposureBlurParams, scale), VPSIM_MEMBER(ExposureBlurParams, pad0),
                  VPSIM_MEMBER(ExposureBlurParams, pad1), VPSIM_MEMBER(ExposureBlurParams, pad2)});
     using glsl::ExposureStencilParams;
     checkStruct(

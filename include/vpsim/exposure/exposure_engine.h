@@ -79,8 +79,10 @@ private:
     std::unique_ptr<GpuState> mGpu;
     SurfaceGrid mRunning, mSlice;  ///< the recursion's running sum, the slice handed to sinks
     /// The running sum the slices are made from: mRunning, or the shader path's R where the
-    /// host addresses it (no copy; layerMap copies it to mRunning before it blurs over it).
+    /// host addresses it (no copy; layerMap copies it to mRunning before it blurs over it), in
+    /// rows mRunningStride cells apart.
     const float* mRunningView = nullptr;
+    size_t mRunningStride = 0;
     SurfaceGrid mPass;        ///< the blur's first pass, kept from layer to layer
     bool mGpuRestart = true;  ///< the next layer starts the running deposit afresh
 };

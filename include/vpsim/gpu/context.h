@@ -123,6 +123,10 @@ public:
     void uploadRows(const void* data, uint64_t rowBytes, uint64_t rows, uint64_t sourceStride,
                     uint64_t offset, uint64_t targetStride);
     void download(void* data, uint64_t bytes, uint64_t offset = 0) const;
+    /// The reverse of uploadRows: `rows` rows of `rowBytes` from `offset`, `sourceStride` bytes
+    /// apart in the buffer, to `data`, `targetStride` bytes apart.
+    void downloadRows(void* data, uint64_t rowBytes, uint64_t rows, uint64_t offset,
+                      uint64_t sourceStride, uint64_t targetStride) const;
     /// The buffer's memory where the host addresses it (host-visible coherent device memory:
     /// lavapipe, integrated GPUs), else nullptr (then upload and download stage their copies).
     /// Read or write it only while no submission that uses the buffer runs (Context::submit
