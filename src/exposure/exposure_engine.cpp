@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -122,14 +123,20 @@ ExposureEngine::ExposureEngine(const ExposureGrid& grid, const kernel::FittedBea
                             std::to_string(grid.ny) + " cells needs " + formatBytes(bytes) +
                             " of working memory per layer; use a coarser pitch");
     const Blur blur = blurOf();
-    if (context && !GpuState::fits(blur.halfWidth))
-        logWarn("a fitted blur " + std::to_string(blur.halfWidth) +
-                " cells wide each side is wider than the exposure shader takes (" +
-                std::to_string(glsl::EXPOSURE_BLUR_MAX_HALF_WIDTH) + "); exposing on the CPU path");
-    else if (context)
+    if (context && !GpuState::fits(blur.halfWidth)) {
+        // Once per process: a tiled run makes an engine per tile.
+        static std::once_flag warned;
+        std::call_once(warned, [&] {
+            logWarn("a fitted blur " + std::to_string(blur.halfWidth) +
+                    " cells wide each side is wider than the exposure shader takes (" +
+                    std::to_string(glsl::EXPOSURE_BLUR_MAX_HALF_WIDTH) +
+                    "); exposing on the CPU path");
+        });
+    } else if (context) {
         mGpu = std::make_unique<GpuState>(context, grid.nx, grid.ny,
                                           blurTaps(blur.halfWidth, blur.sigmaCells), blur.normX,
                                           blur.normY);
+    }
 }
 
 ExposureEngine::Blur ExposureEngine::blurOf() const {
