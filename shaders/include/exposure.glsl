@@ -16,13 +16,26 @@ const int EXPOSURE_TAP_BLOCK = 128;
 /// carries its open rows through memory, once per iteration.
 const int EXPOSURE_BLUR_STEPS = 8;
 
-/// Stencil rows in exposure_stencil.comp's block of row descriptions: half-widths up to 63.
-const int STENCIL_ROW_BLOCK = 128;
+/// The widest stencil exposure_stencil.comp takes (half-width in cells): its pipeline is unrolled
+/// over the stencils' common shape, so its code grows with the shape's taps (pipeline creation
+/// 0.06 s at 11 cells, 0.45 s at 29 on lavapipe); past this the engine takes the CPU path.
+const int STENCIL_MAX_HALF_WIDTH = 32;
 
-/// Taps per chunk of a stencil row in exposure_stencil.comp (one per lane of an 8-wide subgroup),
-/// and chunks in its weight block (64 KiB).
+/// Taps per chunk of a stencil row in exposure_stencil.comp, and the consecutive outputs of one
+/// row each invocation sums (exposure_blur.comp uses the same chunks).
 const int STENCIL_CHUNK = 8;
-const int STENCIL_CHUNK_BLOCK = 2048;
+const int STENCIL_OUTPUTS = 16;
+
+/// A stencil row whose taps reach |di| <= halfWidth is walked in chunks from this first tap,
+/// aligned to 4 cells so the shader's vec4 fetches stay aligned.
+int stencilRowFirst(int halfWidth) {
+    return halfWidth < 0 ? 0 : -((halfWidth + 3) / 4 * 4);
+}
+
+/// Chunks covering taps stencilRowFirst(halfWidth)..halfWidth; none for an empty row (-1).
+int stencilRowChunks(int halfWidth) {
+    return halfWidth < 0 ? 0 : (halfWidth - stencilRowFirst(halfWidth) + STENCIL_CHUNK) / STENCIL_CHUNK;
+}
 
 /// Unnormalised weight of the Gaussian tap `offset` cells from the centre; sigmaCells = W/2/pitch
 /// (a 1/e^2 radius W is two standard deviations).

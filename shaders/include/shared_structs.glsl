@@ -29,16 +29,17 @@ struct ExposureBlurParams {
     uint pad2;
 };
 
-/// Push constants of exposure_stencil.comp (tabulated kernel: one depth stencil into one slice).
+/// Push constants of exposure_stencil.comp (tabulated kernel: one depth stencil, the bound uniform
+/// block, into one slice; the stencils' common shape is the pipeline's specialisation).
 struct ExposureStencilParams {
-    uint nx;           ///< grid cells in x
-    uint ny;           ///< grid cells in y
-    int halfWidth;       ///< stencil half-width in cells (its weights: the bound uniform block)
+    uint nx;             ///< grid cells in x
+    uint ny;             ///< grid cells in y
+    int groupX;          ///< workgroup of the dispatch's first group, along x
     uint paddedWidth;    ///< row length of the zero-padded deposit, a multiple of 4
     int padding;         ///< zero rows before the deposit's first row
     uint columnPadding;  ///< zero cells before each row's first cell, a multiple of 4
-    uint pad1;
-    uint pad2;
+    int groupY;          ///< workgroup of the dispatch's first group, along y
+    uint pad0;
 };
 
 #endif

@@ -6,12 +6,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 #include <string>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "vpsim/core/error.h"
+#include "vpsim/core/log.h"
 #include "vpsim/core/progress.h"
 #include "vpsim/core/text.h"
 #include "vpsim/exposure/deposit.h"
@@ -103,12 +105,7 @@ int stencilCount(const std::vector<double>& planePower) {
     return std::max<int>(1, int(planePower.size()));
 }
 
-/// Non-zero columns [first, last] of each deposit row (first > last for an empty row), so the
-/// convolution skips the empty parts of a sparse scan.
-struct RowExtent {
-    int first, last;
-};
-
+/// Each deposit row's non-zero columns.
 std::vector<RowExtent> rowExtents(const SurfaceGrid& grid) {
     std::vector<RowExtent> extents(grid.ny);
     tbb::parallel_for(0, grid.ny, [&](int j) {
@@ -136,9 +133,19 @@ TabulatedExposureEngine::TabulatedExposureEngine(const ExposureGrid& grid,
         throw InputError("layer thickness must be positive");
     validateKernel(kernel);
     buildStencils(kernel);
-    if (context)
+    if (context && !GpuState::fits(mStencils, context->info())) {
+        // Once per process: a tiled run makes an engine per tile.
+        static std::once_flag warned;
+        std::call_once(warned, [&] {
+            logWarn("tabulated stencils " + std::to_string(reachCells()) +
+                    " cells wide each side are wider than the exposure shader takes (" +
+                    std::to_string(glsl::STENCIL_MAX_HALF_WIDTH) +
+                    ", or the device's shared memory); exposing on the CPU path");
+        });
+    } else if (context) {
         mGpu = std::make_unique<GpuState>(context, grid.nx, grid.ny, mStencils,
                                           mLayersInFlight * grid.slicesPerLayer);
+    }
 }
 
 TabulatedExposureEngine::~TabulatedExposureEngine() = default;
@@ -224,20 +231,20 @@ void TabulatedExposureEngine::beginLayers(int layers) {
 double TabulatedExposureEngine::addLayer(int source, SurfaceGrid& deposit) {
     const int n = mGrid.slicesPerLayer, L = mLayersInFlight, M = int(mStencils.size());
     const int nx = mGrid.nx, ny = mGrid.ny;
+    const auto start = std::chrono::steady_clock::now();
+    const std::vector<RowExtent> extents = rowExtents(deposit);
     if (mGpu) {
         std::vector<std::pair<int, int>> gpuTargets;
         for (int k = source; k >= 0 && k > source - L; --k)
             for (int s = 0; s < n; ++s)
                 if ((source - k) * n + s < M)
                     gpuTargets.push_back({(source - k) * n + s, (k % L) * n + s});
-        return mGpu->addLayer(deposit, gpuTargets);
+        return mGpu->addLayer(deposit, extents, gpuTargets);
     }
     struct Target {
         const DepthStencil* stencil;
         float* values;
     };
-    auto start = std::chrono::steady_clock::now();
-    const std::vector<RowExtent> extents = rowExtents(deposit);
     std::vector<Target> targets;
     for (int k = source; k >= 0 && k > source - L; --k)
         for (int s = 0; s < n; ++s) {

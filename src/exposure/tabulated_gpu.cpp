@@ -10,56 +10,68 @@
 namespace vpsim::exposure {
 namespace {
 
-constexpr int GROUP_ROWS = 8;      ///< local_size_y of exposure_stencil.comp: output rows per group
-constexpr int GROUP_COLUMNS = 64;  ///< its outputs per group along x: 8 invocations of 8 outputs
-constexpr int WINDOW_REACH = 16;   ///< floats a chunk's window reads past its first tap's
+constexpr int GROUP_ROWS = 8;  ///< local_size_y of exposure_stencil.comp: output rows per group
+/// Its outputs per group along x: 8 invocations of STENCIL_OUTPUTS outputs.
+constexpr int GROUP_COLUMNS = 8 * glsl::STENCIL_OUTPUTS;
 
 int roundUp(int n, int m) {
     return (n + m - 1) / m * m;
 }
 
-/// A stencil laid out for the shader: each row's taps in chunks of STENCIL_CHUNK from a first tap
-/// aligned to 4 cells (zeros outside the row's support), and per row its (first chunk, chunk
-/// count, first tap's di, 0).
-struct ChunkedStencil {
-    std::vector<float> weights;
-    std::vector<int32_t> rows;
-};
-
-ChunkedStencil chunkedStencil(const DepthStencil& st) {
-    const int H = st.halfWidth, chunk = glsl::STENCIL_CHUNK;
-    ChunkedStencil out;
-    out.rows.assign(4 * size_t(glsl::STENCIL_ROW_BLOCK), 0);
-    int chunks = 0;
-    for (int dj = -H; dj <= H; ++dj) {
-        const int hw = st.rowHalfWidth[size_t(dj + H)];
-        const int first = -roundUp(std::max(hw, 0), 4);
-        const int count = hw < 0 ? 0 : (hw - first + chunk) / chunk;
-        int32_t* row = &out.rows[4 * size_t(dj + H)];
-        row[0] = chunks;
-        row[1] = count;
-        row[2] = first;
-        for (int k = 0; k < count * chunk; ++k) {
-            const int di = first + k;
-            out.weights.push_back(std::abs(di) <= H ? st.at(di, dj) : 0.0f);
-        }
-        chunks += count;
-    }
-    if (chunks > glsl::STENCIL_CHUNK_BLOCK || 2 * H + 1 > glsl::STENCIL_ROW_BLOCK)
-        throw ResourceError("a tabulated stencil of half-width " + std::to_string(H) +
-                            " cells exceeds the shader's 64 KiB weight block; use a coarser pitch "
-                            "or the CPU path");
-    out.weights.resize(size_t(glsl::STENCIL_CHUNK_BLOCK) * chunk, 0.0f);
-    return out;
-}
-
-int largestHalfWidth(const std::vector<DepthStencil>& stencils) {
+/// The stencils' common shape: per row dj + H (H the largest half-width) the largest |di| of any
+/// stencil's taps in that row, -1 where none has one.
+std::vector<int> commonShape(const std::vector<DepthStencil>& stencils) {
     int H = 0;
     for (const auto& st : stencils) H = std::max(H, st.halfWidth);
-    return H;
+    std::vector<int> shape(size_t(2 * H + 1), -1);
+    for (const auto& st : stencils)
+        for (int dj = -st.halfWidth; dj <= st.halfWidth; ++dj) {
+            int& row = shape[size_t(dj + H)];
+            row = std::max(row, st.rowHalfWidth[size_t(dj + st.halfWidth)]);
+        }
+    return shape;
+}
+
+int shapeChunks(const std::vector<int>& shape) {
+    int chunks = 0;
+    for (int hw : shape) chunks += glsl::stencilRowChunks(hw);
+    return chunks;
+}
+
+/// A stencil's weights on the common shape: each row's taps in chunks of STENCIL_CHUNK from
+/// stencilRowFirst (zeros outside the stencil's support), rows in order.
+std::vector<float> weightsOnShape(const DepthStencil& st, const std::vector<int>& shape) {
+    const int H = int(shape.size() / 2);
+    std::vector<float> weights;
+    for (int dj = -H; dj <= H; ++dj) {
+        const int hw = shape[size_t(dj + H)], first = glsl::stencilRowFirst(hw);
+        for (int k = 0; k < glsl::stencilRowChunks(hw) * glsl::STENCIL_CHUNK; ++k) {
+            const int di = first + k;
+            const bool inside = std::abs(di) <= st.halfWidth && std::abs(dj) <= st.halfWidth;
+            weights.push_back(inside ? st.at(di, dj) : 0.0f);
+        }
+    }
+    return weights;
+}
+
+/// exposure_stencil.comp's specialisation: the shape's half-width, chunks and rows.
+std::vector<gpu::SpecConstant> shapeConstants(const std::vector<int>& shape) {
+    std::vector<gpu::SpecConstant> constants{{0, uint32_t(shape.size() / 2)},
+                                             {1, uint32_t(shapeChunks(shape))}};
+    for (size_t t = 0; t < shape.size(); ++t)
+        constants.push_back({uint32_t(2 + t), uint32_t(shape[t])});
+    return constants;
 }
 
 }  // namespace
+
+bool TabulatedExposureEngine::GpuState::fits(const std::vector<DepthStencil>& stencils,
+                                             const gpu::DeviceInfo& device) {
+    const std::vector<int> shape = commonShape(stencils);
+    const uint64_t bytes = uint64_t(shapeChunks(shape)) * glsl::STENCIL_CHUNK * sizeof(float);
+    return int(shape.size() / 2) <= glsl::STENCIL_MAX_HALF_WIDTH &&
+           bytes <= device.maxSharedMemoryBytes && bytes <= device.maxUniformBufferRange;
+}
 
 TabulatedExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> context_, int nx_,
                                             int ny_, const std::vector<DepthStencil>& stencils,
@@ -67,45 +79,36 @@ TabulatedExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> contex
     : context(std::move(context_)),
       nx(uint32_t(nx_)),
       ny(uint32_t(ny_)),
-      padding(largestHalfWidth(stencils)),
+      shape(commonShape(stencils)),
+      padding(int(shape.size() / 2)),
       columnPadding(uint32_t(roundUp(padding, 4))),
-      paddedWidth(columnPadding +
-                  uint32_t(roundUp(nx_, GROUP_COLUMNS) + roundUp(padding + WINDOW_REACH, 4))),
+      // A row's last chunk reads at most STENCIL_CHUNK floats past the row's widest tap.
+      paddedWidth(columnPadding + uint32_t(roundUp(nx_, GROUP_COLUMNS) +
+                                           roundUp(padding + glsl::STENCIL_CHUNK, 4))),
+      groupsX(uint32_t(roundUp(nx_, GROUP_COLUMNS) / GROUP_COLUMNS)),
+      groupsY(uint32_t(roundUp(ny_, GROUP_ROWS) / GROUP_ROWS)),
       deposit(context,
               uint64_t(paddedWidth) * (roundUp(ny_, GROUP_ROWS) + 2 * padding) * sizeof(float)),
-      rowFlags(context, uint64_t(roundUp(ny_, GROUP_ROWS) + 2 * padding) * sizeof(uint32_t)),
-      hostFlags(size_t(roundUp(ny_, GROUP_ROWS) + 2 * padding), 0u),
       kernel(context, exposure_stencil_spv, sizeof exposure_stencil_spv,
-             {gpu::Binding::UniformTexels4, gpu::Binding::Uniform, gpu::Binding::Uniform,
-              gpu::Binding::Storage, gpu::Binding::Storage},
-             sizeof(glsl::ExposureStencilParams), {}, GROUP_COLUMNS / 8) {
+             {gpu::Binding::UniformTexels4, gpu::Binding::Uniform, gpu::Binding::Storage},
+             sizeof(glsl::ExposureStencilParams), shapeConstants(shape), 8) {
     for (const auto& st : stencils) {
-        const ChunkedStencil chunked = chunkedStencil(st);
-        halfWidths.push_back(st.halfWidth);
-        weights.emplace_back(context, chunked.weights.size() * sizeof(float));
-        weights.back().upload(chunked.weights);
-        rows.emplace_back(context, chunked.rows.size() * sizeof(int32_t));
-        rows.back().upload(chunked.rows);
+        const std::vector<float> onShape = weightsOnShape(st, shape);
+        weights.emplace_back(context, onShape.size() * sizeof(float));
+        weights.back().upload(onShape);
     }
     deposit.fill(0u);  // the border stays zero: uploads write the grid's cells only
-    rowFlags.fill(0u);
     for (int s = 0; s < slots; ++s) slices.emplace_back(context, uint64_t(nx) * ny * sizeof(float));
     clearSlots();
 }
 
 double TabulatedExposureEngine::GpuState::addLayer(
-    const SurfaceGrid& hostDeposit, const std::vector<std::pair<int, int>>& targets) {
+    const SurfaceGrid& hostDeposit, const std::vector<RowExtent>& extents,
+    const std::vector<std::pair<int, int>>& targets) {
     deposit.uploadRows(hostDeposit.values.data(), nx * sizeof(float), ny, nx * sizeof(float),
                        (uint64_t(padding) * paddedWidth + columnPadding) * sizeof(float),
                        paddedWidth * sizeof(float));
-    for (uint32_t j = 0; j < ny; ++j) {
-        const float* row = hostDeposit.values.data() + size_t(j) * nx;
-        hostFlags[size_t(padding) + j] =
-            std::any_of(row, row + nx, [](float v) { return v != 0.0f; }) ? 1u : 0u;
-    }
-    rowFlags.upload(hostFlags);
-    const uint32_t groupsX = uint32_t(roundUp(int(nx), GROUP_COLUMNS) / GROUP_COLUMNS);
-    const uint32_t groupsY = uint32_t(roundUp(int(ny), GROUP_ROWS) / GROUP_ROWS);
+    const std::vector<GroupRect> rects = reachedGroups(extents);
     return 1e-3 * context->submit([&](gpu::Recorder& r) {
         for (int slot : toClear) r.fill(slices[slot], 0u);
         if (!toClear.empty()) r.barrier();
@@ -114,15 +117,48 @@ double TabulatedExposureEngine::GpuState::addLayer(
             glsl::ExposureStencilParams params{};
             params.nx = nx;
             params.ny = ny;
-            params.halfWidth = halfWidths[m];
             params.paddedWidth = paddedWidth;
             params.padding = padding;
             params.columnPadding = columnPadding;
-            r.dispatch(kernel, {&deposit, &weights[m], &rows[m], &slices[slot], &rowFlags}, &params,
-                       groupsX, groupsY);
+            for (const GroupRect& rect : rects) {
+                params.groupX = int(rect.x);
+                params.groupY = int(rect.y);
+                r.dispatch(kernel, {&deposit, &weights[m], &slices[slot]}, &params, rect.width,
+                           rect.height);
+            }
         }
     });
 }
+
+std::vector<TabulatedExposureEngine::GpuState::GroupRect>
+TabulatedExposureEngine::GpuState::reachedGroups(const std::vector<RowExtent>& extents) const {
+    // Per workgroup row, the workgroup columns that deposit rows within `padding` of its rows
+    // reach, in the columns within `padding` of their extents (gaps in a row included).
+    std::vector<GroupRect> rects;
+    for (uint32_t gy = 0; gy < groupsY; ++gy) {
+        const int top = std::max(0, int(gy) * GROUP_ROWS - padding);
+        const int bottom = std::min(int(ny) - 1, int(gy + 1) * GROUP_ROWS - 1 + padding);
+        int left = int(groupsX), right = -1;
+        for (int r = top; r <= bottom; ++r) {
+            const RowExtent& e = extents[size_t(r)];
+            if (e.first > e.last) continue;
+            left = std::min(left, std::max(0, e.first - padding) / GROUP_COLUMNS);
+            right = std::max(right, std::min(int(nx) - 1, e.last + padding) / GROUP_COLUMNS);
+        }
+        if (right < left) continue;
+        // Consecutive reached rows share one rectangle, as wide as all of them.
+        GroupRect* last = rects.empty() ? nullptr : &rects.back();
+        if (last && last->y + last->height == gy) {
+            const uint32_t x0 = std::min(last->x, uint32_t(left));
+            const uint32_t x1 = std::max(last->x + last->width, uint32_t(right) + 1);
+            *last = {x0, last->y, x1 - x0, last->height + 1};
+        } else {
+            rects.push_back({uint32_t(left), gy, uint32_t(right - left + 1), 1});
+        }
+    }
+    return rects;
+}
+
 void TabulatedExposureEngine::GpuState::takeSlot(int slot, SurfaceGrid& out) {
     slices[slot].download(out.values.data(), uint64_t(nx) * ny * sizeof(float));
     toClear.push_back(slot);

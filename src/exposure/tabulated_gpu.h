@@ -1,9 +1,11 @@
 #pragma once
 // Private: the shader path of the tabulated-kernel engine. Accumulator slices stay on the device;
-// per source layer the deposit is uploaded once, zero-padded, with a flag per row saying whether
-// it holds any deposit, and each (stencil, slice) pair is one dispatch
-// (shaders/exposure_stencil.comp) in one submission, which also clears the slices taken since the
-// last one (no submission of their own).
+// per source layer the deposit is uploaded once, zero-padded, and each (stencil, slice) pair is
+// dispatched (shaders/exposure_stencil.comp) over the rectangles of workgroups that the deposit
+// reaches, in one submission, which also clears the slices taken since the last one (no
+// submission of their own). The pipeline is specialised to
+// the stencils' common shape (per stencil row, the widest row of any stencil), so each stencil's
+// weights are laid out on that shape.
 #include <memory>
 #include <vector>
 
@@ -12,13 +14,32 @@
 
 namespace vpsim::exposure {
 
+/// Non-zero columns [first, last] of a deposit row (first > last for an empty row), so the
+/// gathers skip the empty parts of a sparse scan.
+struct RowExtent {
+    int first, last;
+};
+
 struct TabulatedExposureEngine::GpuState {
-    /// @throw ResourceError when a stencil exceeds a uniform block (64 KiB: half-width about 60)
-    /// or the padded deposit exceeds the device's texel-buffer limit
+    /// Whether the shader takes these stencils on `device`: their common shape at most
+    /// glsl::STENCIL_MAX_HALF_WIDTH cells each side, and its weights within the device's shared
+    /// memory and uniform-block range.
+    static bool fits(const std::vector<DepthStencil>& stencils, const gpu::DeviceInfo& device);
+    /// @throw ResourceError when the padded deposit exceeds the device's texel-buffer limit (at
+    /// the first dispatch)
     GpuState(std::shared_ptr<gpu::Context> context, int nx, int ny,
              const std::vector<DepthStencil>& stencils, int slots);
-    /// Adds the deposit gathered by stencil m to slot t for every (m, t) in `targets`; GPU seconds.
-    double addLayer(const SurfaceGrid& deposit, const std::vector<std::pair<int, int>>& targets);
+    /// Adds the deposit (its rows' extents given) gathered by stencil m to slot t for every
+    /// (m, t) in `targets`; GPU seconds.
+    double addLayer(const SurfaceGrid& deposit, const std::vector<RowExtent>& extents,
+                    const std::vector<std::pair<int, int>>& targets);
+    /// Workgroups, first and counts, of one dispatch.
+    struct GroupRect {
+        uint32_t x, y, width, height;
+    };
+    /// The rectangles of workgroups whose outputs some deposit reaches: runs of consecutive
+    /// workgroup rows, each as wide as the union of its rows' reached columns.
+    std::vector<GroupRect> reachedGroups(const std::vector<RowExtent>& extents) const;
     /// Downloads slot t into `out`; the next addLayer clears it on the device.
     void takeSlot(int slot, SurfaceGrid& out);
     /// Clears every slot (with the next addLayer): a new run starts.
@@ -26,15 +47,13 @@ struct TabulatedExposureEngine::GpuState {
 
     std::shared_ptr<gpu::Context> context;
     uint32_t nx, ny;
-    int padding;             ///< zero rows above and below the deposit: the largest half-width
+    std::vector<int> shape;  ///< the common shape: per row dj + padding, its half-width or -1
+    int padding;             ///< zero rows above and below the deposit: the shape's half-width
     uint32_t columnPadding;  ///< zero cells left of each row: padding to a multiple of 4
     uint32_t paddedWidth;    ///< row length of the padded deposit, a multiple of 4
-    std::vector<int> halfWidths;
+    uint32_t groupsX, groupsY;
     gpu::Buffer deposit;
-    gpu::Buffer rowFlags;              ///< per padded deposit row: 1 when it holds any deposit
-    std::vector<uint32_t> hostFlags;   ///< the same on the host, filled per layer
-    std::vector<gpu::Buffer> weights;  ///< one uniform block per stencil: its rows in chunks of 8
-    std::vector<gpu::Buffer> rows;     ///< per stencil: each row's chunks and first tap
+    std::vector<gpu::Buffer> weights;  ///< one uniform block per stencil, on the common shape
     std::vector<gpu::Buffer> slices;
     std::vector<int> toClear;  ///< slots taken since the last addLayer
     gpu::Kernel kernel;

@@ -242,6 +242,84 @@ TEST_CASE("GPU and CPU tabulated exposure agree", "[exposure][tabulated][gpu]") 
     VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
 }
 
+// The shader is specialised to the stencils' common shape (the widest row of any depth's stencil)
+// and dispatched only over the workgroups the deposit reaches. A kernel that widens with depth
+// gives stencils of different shapes; a grid wider than a workgroup (128 columns) with deposits
+// on two islands far apart, and a layer with none, checks the skipped workgroups; a 2.8 um pitch
+// gives the widest shape the shader takes (32 cells each side).
+TEST_CASE(
+    "the tabulated shader agrees with the CPU path on mixed shapes, sparse deposits and at "
+    "its widest",
+    "[exposure][tabulated][gpu]") {
+    VPSIM_GPU_CONTEXT_OR_SKIP(ctx);
+    const double h = 0.05, W = 0.04, De = 0.04;
+    const double A = 2 * 10.0 / (PI * W * W);
+    // 1/e^2 radius W at the surface, twice that 50 um down.
+    const kernel::BeamKernel widening =
+        test::tableKernel(10.0, 0.001, 200, 0.002, 75, [=](double r, double z) {
+            const double w = W * (1 + z / 0.05);
+            return A * (W * W) / (w * w) * std::exp(-2 * r * r / (w * w)) * std::exp(-z / De);
+        });
+    plan::ScanPlan islands;
+    islands.machine.layerThickness = h;
+    for (int k = 0; k < 3; ++k) {
+        plan::LayerPlan layer;
+        layer.z = (k + 1) * h;
+        if (k != 1) {  // the middle layer deposits nothing
+            layer.vectors.push_back({-0.65, -0.55, -0.5, -0.5, 10.0, 500.0});
+            layer.vectors.push_back({0.5, 0.45, 0.62, 0.55, 10.0, 500.0});
+        }
+        islands.layers.push_back(layer);
+    }
+    struct Case {
+        ExposureGrid grid;
+        const kernel::BeamKernel& kernel;
+        const plan::ScanPlan& plan;
+        int halfWidth;  ///< expected widest stencil, 0: not checked
+    };
+    const kernel::BeamKernel narrow = separableKernel(10.0, 0.05, 0.04, 0.3);
+    const plan::ScanPlan scattered = test::randomPlan(2, h, 41, 0.12);
+    const Case cases[] = {
+        {ExposureGrid::covering(-0.7, -0.6, 0.7, 0.6, 0.1, 0.01, 2), widening, islands, 0},
+        {ExposureGrid::covering(-0.15, -0.15, 0.15, 0.15, 0.05, 0.0028, 1), narrow, scattered, 32}};
+    for (const Case& c : cases) {
+        TabulatedExposureEngine cpu(c.grid, c.kernel, h), gpu(c.grid, c.kernel, h, ctx);
+        REQUIRE(gpu.usesGpu());
+        if (c.halfWidth > 0) CHECK(gpu.reachCells() == c.halfWidth);
+        int smallest = gpu.reachCells();
+        for (const DepthStencil& st : gpu.stencils()) smallest = std::min(smallest, st.halfWidth);
+        if (c.halfWidth == 0) CHECK(smallest < gpu.reachCells());  // shapes differ
+        auto ec = test::exposeAll(cpu, c.plan), eg = test::exposeAll(gpu, c.plan);
+        double peak = 0;
+        for (size_t k = 0; k < ec.size(); ++k)
+            for (size_t s = 0; s < ec[k].size(); ++s)
+                for (size_t i = 0; i < ec[k][s].values.size(); ++i) {
+                    peak = std::max<double>(peak, ec[k][s].values[i]);
+                    REQUIRE(eg[k][s].values[i] ==
+                            Approx(ec[k][s].values[i]).epsilon(1e-5).margin(1e-7));
+                }
+        CHECK(peak > 0);
+    }
+    VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
+}
+
+// Wider stencils make the unrolled shader's code and shared weights too large
+// (STENCIL_MAX_HALF_WIDTH): the engine takes the CPU path, with the same figures.
+TEST_CASE("tabulated stencils wider than the shader takes are exposed on the CPU path",
+          "[exposure][tabulated][gpu]") {
+    VPSIM_GPU_CONTEXT_OR_SKIP(ctx);
+    const double h = 0.05;
+    const kernel::BeamKernel k = separableKernel(10.0, 0.05, 0.04, 0.3);
+    const ExposureGrid grid = ExposureGrid::covering(-0.1, -0.1, 0.1, 0.1, 0.05, 0.0025, 1);
+    const plan::ScanPlan plan = test::randomPlan(1, h, 43, 0.08);
+    TabulatedExposureEngine cpu(grid, k, h), wide(grid, k, h, ctx);
+    CHECK(wide.reachCells() > 32);
+    CHECK_FALSE(wide.usesGpu());
+    auto ec = test::exposeAll(cpu, plan), ew = test::exposeAll(wide, plan);
+    CHECK(ew[0][0].values == ec[0][0].values);
+    VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
+}
+
 // Issue 14: on seed 000's Monte Carlo kernel (the default job's: W0 50 um, 50 um layers, 5 slices,
 // 10 um pitch) the truncated stencils keep at least 99.5% of the kernel's energy. 100k photons,
 // track-length estimator: the halo's photon noise only widens the stencils.

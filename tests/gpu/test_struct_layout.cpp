@@ -63,11 +63,11 @@ TEST_CASE("shared structs have the same layout in C++ and std430 GLSL", "[gpu][l
     checkStruct(
         "ExposureStencilParams", sizeof(ExposureStencilParams),
         {VPSIM_MEMBER(ExposureStencilParams, nx), VPSIM_MEMBER(ExposureStencilParams, ny),
-         VPSIM_MEMBER(ExposureStencilParams, halfWidth),
+         VPSIM_MEMBER(ExposureStencilParams, groupX),
          VPSIM_MEMBER(ExposureStencilParams, paddedWidth),
          VPSIM_MEMBER(ExposureStencilParams, padding),
          VPSIM_MEMBER(ExposureStencilParams, columnPadding),
-         VPSIM_MEMBER(ExposureStencilParams, pad1), VPSIM_MEMBER(ExposureStencilParams, pad2)});
+         VPSIM_MEMBER(ExposureStencilParams, groupY), VPSIM_MEMBER(ExposureStencilParams, pad0)});
     using glsl::PhotonParams;
     checkStruct("PhotonParams", sizeof(PhotonParams),
                 {VPSIM_MEMBER(PhotonParams, seed),

@@ -18,8 +18,11 @@
 ///
 /// Layers are processed from the top down; accumulators are kept only for the layers still
 /// receiving contributions, so memory is bounded by the kernel's depth, not the part's height.
-/// Runs in a compute shader (shaders/exposure_stencil.comp) when given a Vulkan context, else on
-/// the CPU (TBB-parallel over rows); both index the stencils through exposure.glsl.
+/// Runs in a compute shader (shaders/exposure_stencil.comp) when given a Vulkan context and the
+/// stencils are at most glsl::STENCIL_MAX_HALF_WIDTH cells wide each side, else on the CPU
+/// (TBB-parallel over rows); the CPU indexes the stencils with exposure.glsl's stencilIndex, and
+/// the host and the shader lay out and walk the shader's rows with its stencilRowFirst and
+/// stencilRowChunks.
 
 #include <memory>
 #include <vector>

@@ -160,8 +160,10 @@ struct SpecConstant {
 };
 
 /// What a kernel's binding is in the shader. Storage: `buffer` (read-write); Uniform: `uniform`
-/// block (read-only, at most maxUniformBufferRange bytes; on lavapipe a load at a constant index is
-/// one scalar load, one at a computed index a per-lane gather; storage loads go lane by lane);
+/// block (read-only, at most maxUniformBufferRange bytes; on lavapipe a load at a computed index
+/// is a per-lane gather, and so were the unrolled tabulated shader's vec4 loads at constant
+/// indices, where `shared` memory loads at a constant address are one scalar load; storage loads
+/// go lane by lane);
 /// UniformTexels: `samplerBuffer` of R32_SFLOAT read with texelFetch (read-only, at most
 /// maxTexelBufferElements floats; on lavapipe a vector gather instead of a per-lane loop);
 /// UniformTexels4: the same as an R32G32B32A32_SFLOAT `samplerBuffer`, one vec4 (four consecutive
