@@ -1,6 +1,7 @@
 #include "vpsim/exposure/tabulated_engine.h"
 
 #include "exposure/exposure_glsl.h"
+#include "exposure/stencil_gather.h"
 #include "exposure/tabulated_gpu.h"
 
 #include <algorithm>
@@ -180,8 +181,13 @@ void TabulatedExposureEngine::buildStencils(const kernel::BeamKernel& kernel) {
         stencilBytes += std::pow(2.0 * halfWidth + 1, 2) * sizeof(float);
         st.halfWidth = int(std::min(halfWidth, 1e6));  // larger ones are refused just below
     }
+    double widest = 0;
+    for (const DepthStencil& st : mStencils) widest = std::max(widest, double(st.halfWidth));
+    // The accumulators, the deposit, and the deposit with zero borders the CPU gather reads.
     const double cells = double(mGrid.nx) * mGrid.ny;
-    mWorkingBytes = stencilBytes + cells * sizeof(float) * (double(mLayersInFlight) * n + 1);
+    const double padded = (mGrid.nx + 2 * widest) * mGrid.ny;
+    mWorkingBytes =
+        stencilBytes + (cells * (double(mLayersInFlight) * n + 1) + padded) * sizeof(float);
     if (mWorkingBytes > TABULATED_ENGINE_MAX_BYTES)
         throw ResourceError(
             "tabulated exposure of a " + std::to_string(mGrid.nx) + " x " +
@@ -242,7 +248,7 @@ double TabulatedExposureEngine::addLayer(int source, SurfaceGrid& deposit) {
         return mGpu->addLayer(deposit, extents, gpuTargets);
     }
     struct Target {
-        const DepthStencil* stencil;
+        StencilTaps taps;
         float* values;
     };
     std::vector<Target> targets;
@@ -250,31 +256,16 @@ double TabulatedExposureEngine::addLayer(int source, SurfaceGrid& deposit) {
         for (int s = 0; s < n; ++s) {
             int m = (source - k) * n + s;
             if (m < M)
-                targets.push_back(
-                    {&mStencils[m], mAccumulators[size_t(k % L) * n + s].values.data()});
+                targets.push_back({stencilTaps(mStencils[m]),
+                                   mAccumulators[size_t(k % L) * n + s].values.data()});
         }
-    // Gather per output row: each row is written by one task, and the row axpy vectorises.
+    PaddedDeposit padded;
+    padDeposit(deposit, reachCells(), padded);
+    // Gather per output row: each row is written by one task.
     tbb::parallel_for(tbb::blocked_range<int>(0, ny), [&](const tbb::blocked_range<int>& rows) {
         for (int j = rows.begin(); j < rows.end(); ++j)
-            for (const Target& t : targets) {
-                const DepthStencil& st = *t.stencil;
-                const int H = st.halfWidth;
-                float* out = t.values + size_t(j) * nx;
-                for (int dj = -H; dj <= H; ++dj) {
-                    const int sj = j + dj, hw = st.rowHalfWidth[dj + H];
-                    if (sj < 0 || sj >= ny || hw < 0 || extents[sj].first > extents[sj].last)
-                        continue;
-                    const float* src = deposit.values.data() + size_t(sj) * nx;
-                    for (int di = -hw; di <= hw; ++di) {
-                        const float w = st.weights[size_t(glsl::stencilIndex(di, dj, H))];
-                        if (w == 0.0f) continue;
-                        // out[i] gathers src[i + di]; only the row's non-zero columns matter.
-                        const int lo = std::max(0, extents[sj].first - di);
-                        const int hi = std::min(nx - 1, extents[sj].last - di);
-                        for (int i = lo; i <= hi; ++i) out[i] += w * src[i + di];
-                    }
-                }
-            }
+            for (const Target& t : targets)
+                gatherRow(t.values + size_t(j) * nx, j, t.taps, padded, extents);
     });
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

@@ -36,8 +36,10 @@ void exposureTerms(const Job& job, const Sizes& s, JobEstimate& e) {
     const int n = job.simulation.slicesPerLayer;
     const std::string tiled = tileText(s);
     if (tabulatedEngine(job)) {
-        // The kernel's depth (3/mua) is not known before the Monte Carlo run: at most every layer.
-        const double inFlight = double(s.layers) * n + 1;
+        // The kernel's depth (3/mua) is not known before the Monte Carlo run: at most every layer;
+        // and the deposit with its zero-bordered copy (the borders are the stencils' width, small
+        // against a row).
+        const double inFlight = double(s.layers) * n + 2;
         add(e, "tabulated exposure engine", s.windowCells * 4.0 * inFlight, Stage::Expose,
             Stage::Expose,
             fmt(s.windowCells) + " cells x " + fmt(inFlight) + " slices in flight" + tiled,

@@ -83,7 +83,8 @@ public:
     const std::vector<DepthStencil>& stencils() const { return mStencils; }
     /// Layers whose accumulators are held at once: ceil(M / n) for M depth stencils.
     int layersInFlight() const { return mLayersInFlight; }
-    /// Estimated working memory in bytes (accumulators + stencils + one deposit grid).
+    /// Estimated working memory in bytes (accumulators + stencils + the deposit grid and its
+    /// zero-bordered copy).
     double workingBytes() const { return mWorkingBytes; }
     /// Fraction of the kernel's energy (summed over the slice depths inside the table) that the
     /// truncated stencils keep.
