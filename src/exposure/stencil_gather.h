@@ -1,12 +1,12 @@
 #pragma once
 // Private: the tabulated engine's CPU gather, out(i, j) += sum w(di, dj) S(i + di, j + dj), one
-// output row at a time. Each output is loaded and stored once per stencil, 8 at a time, and gets
+// output row at a time. Each output is loaded and stored once per stencil, 32 at a time, and gets
 // its terms in the order of one axpy per tap (rows dj ascending, taps di ascending, zero weights
 // skipped): the same sums bit for bit, since the terms it adds beyond a tap's axpy range are
 // products with zero deposit (+0: weights and deposits are never negative).
 #include <vector>
 
-#include "exposure/tabulated_gpu.h"
+#include "exposure/row_extents.h"
 #include "vpsim/exposure/tabulated_engine.h"
 
 namespace vpsim::exposure {

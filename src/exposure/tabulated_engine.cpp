@@ -1,6 +1,7 @@
 #include "vpsim/exposure/tabulated_engine.h"
 
 #include "exposure/exposure_glsl.h"
+#include "exposure/row_extents.h"
 #include "exposure/stencil_gather.h"
 #include "exposure/tabulated_gpu.h"
 
@@ -104,19 +105,6 @@ int stencilCount(const std::vector<double>& planePower) {
         if (sum >= (1 - DEPTH_ENERGY_LOSS) * total) return int(m) + 1;
     }
     return std::max<int>(1, int(planePower.size()));
-}
-
-/// Each deposit row's non-zero columns.
-std::vector<RowExtent> rowExtents(const SurfaceGrid& grid) {
-    std::vector<RowExtent> extents(grid.ny);
-    tbb::parallel_for(0, grid.ny, [&](int j) {
-        const float* row = grid.values.data() + size_t(j) * grid.nx;
-        int first = 0, last = grid.nx - 1;
-        while (first < grid.nx && row[first] == 0.0f) ++first;
-        while (last >= first && row[last] == 0.0f) --last;
-        extents[j] = {first, last};
-    });
-    return extents;
 }
 
 }  // namespace

@@ -9,16 +9,11 @@
 #include <memory>
 #include <vector>
 
+#include "exposure/row_extents.h"
 #include "vpsim/exposure/tabulated_engine.h"
 #include "vpsim/gpu/context.h"
 
 namespace vpsim::exposure {
-
-/// Non-zero columns [first, last] of a deposit row (first > last for an empty row), so the
-/// gathers skip the empty parts of a sparse scan.
-struct RowExtent {
-    int first, last;
-};
 
 struct TabulatedExposureEngine::GpuState {
     /// Whether the shader takes these stencils on `device`: their common shape at most

@@ -2,8 +2,8 @@
 
 #include <random>
 
+#include "exposure/row_extents.h"
 #include "exposure/stencil_gather.h"
-#include "exposure/tabulated_gpu.h"
 
 using namespace vpsim;
 using namespace vpsim::exposure;
@@ -49,14 +49,7 @@ TEST_CASE("the blocked stencil gather equals the per-tap axpy bit for bit", "[ex
                 deposit.values[size_t(j) * nx + i] = on ? value(rng) : 0.0f;
             }
         }
-        std::vector<RowExtent> extents(static_cast<size_t>(ny));
-        for (int j = 0; j < ny; ++j) {
-            const float* row = deposit.values.data() + size_t(j) * nx;
-            int first = 0, last = nx - 1;
-            while (first < nx && row[first] == 0.0f) ++first;
-            while (last >= first && row[last] == 0.0f) --last;
-            extents[size_t(j)] = {first, last};
-        }
+        const std::vector<RowExtent> extents = rowExtents(deposit);
         // Outputs start from non-zero sums, as a slice receiving its second layer does.
         std::vector<float> start(size_t(nx) * ny);
         for (float& v : start) v = value(rng);
