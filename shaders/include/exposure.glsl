@@ -18,7 +18,8 @@ const int EXPOSURE_BLUR_STEPS = 8;
 
 /// The widest stencil exposure_stencil.comp takes (half-width in cells): its pipeline is unrolled
 /// over the stencils' common shape, so its code grows with the shape's taps (pipeline creation
-/// 0.06 s at 11 cells, 0.45 s at 29 on lavapipe); past this the engine takes the CPU path.
+/// 0.15 s at 11 cells, 0.56 s at 21, 1.29 s at 31 on lavapipe); past this the engine takes the
+/// CPU path.
 const int STENCIL_MAX_HALF_WIDTH = 32;
 
 /// Taps per chunk of a stencil row in exposure_stencil.comp, and the consecutive outputs of one
@@ -34,7 +35,9 @@ int stencilRowFirst(int halfWidth) {
 
 /// Chunks covering taps stencilRowFirst(halfWidth)..halfWidth; none for an empty row (-1).
 int stencilRowChunks(int halfWidth) {
-    return halfWidth < 0 ? 0 : (halfWidth - stencilRowFirst(halfWidth) + STENCIL_CHUNK) / STENCIL_CHUNK;
+    return halfWidth < 0
+               ? 0
+               : (halfWidth - stencilRowFirst(halfWidth) + STENCIL_CHUNK) / STENCIL_CHUNK;
 }
 
 /// Unnormalised weight of the Gaussian tap `offset` cells from the centre; sigmaCells = W/2/pitch

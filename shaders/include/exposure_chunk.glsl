@@ -1,4 +1,4 @@
-// The inner step of exposure_blur.comp and exposure_stencil.comp (GLSL only): 8 taps of a row
+// The inner step of exposure_blur.comp's x pass (GLSL only): 8 taps of a row
 // applied to 8 consecutive outputs.
 #ifndef VPSIM_EXPOSURE_CHUNK
 #define VPSIM_EXPOSURE_CHUNK

@@ -109,6 +109,13 @@ int stencilCount(const std::vector<double>& planePower) {
 
 }  // namespace
 
+/// The CPU path's state: each stencil's non-zero taps, built once, and the deposit with zero
+/// borders, whose storage serves every layer.
+struct TabulatedExposureEngine::CpuGather {
+    std::vector<StencilTaps> taps;
+    PaddedDeposit padded;
+};
+
 TabulatedExposureEngine::TabulatedExposureEngine(const ExposureGrid& grid,
                                                  const kernel::BeamKernel& kernel,
                                                  double layerThickness,
@@ -134,6 +141,10 @@ TabulatedExposureEngine::TabulatedExposureEngine(const ExposureGrid& grid,
     } else if (context) {
         mGpu = std::make_unique<GpuState>(context, grid.nx, grid.ny, mStencils,
                                           mLayersInFlight * grid.slicesPerLayer);
+    }
+    if (!mGpu) {
+        mCpu = std::make_unique<CpuGather>();
+        for (const DepthStencil& st : mStencils) mCpu->taps.push_back(stencilTaps(st));
     }
 }
 
@@ -169,11 +180,9 @@ void TabulatedExposureEngine::buildStencils(const kernel::BeamKernel& kernel) {
         stencilBytes += std::pow(2.0 * halfWidth + 1, 2) * sizeof(float);
         st.halfWidth = int(std::min(halfWidth, 1e6));  // larger ones are refused just below
     }
-    double widest = 0;
-    for (const DepthStencil& st : mStencils) widest = std::max(widest, double(st.halfWidth));
     // The accumulators, the deposit, and the deposit with zero borders the CPU gather reads.
     const double cells = double(mGrid.nx) * mGrid.ny;
-    const double padded = (mGrid.nx + 2 * widest) * mGrid.ny;
+    const double padded = (mGrid.nx + 2.0 * reachCells()) * mGrid.ny;
     mWorkingBytes =
         stencilBytes + (cells * (double(mLayersInFlight) * n + 1) + padded) * sizeof(float);
     if (mWorkingBytes > TABULATED_ENGINE_MAX_BYTES)
@@ -236,7 +245,7 @@ double TabulatedExposureEngine::addLayer(int source, SurfaceGrid& deposit) {
         return mGpu->addLayer(deposit, extents, gpuTargets);
     }
     struct Target {
-        StencilTaps taps;
+        const StencilTaps* taps;
         float* values;
     };
     std::vector<Target> targets;
@@ -244,16 +253,15 @@ double TabulatedExposureEngine::addLayer(int source, SurfaceGrid& deposit) {
         for (int s = 0; s < n; ++s) {
             int m = (source - k) * n + s;
             if (m < M)
-                targets.push_back({stencilTaps(mStencils[m]),
-                                   mAccumulators[size_t(k % L) * n + s].values.data()});
+                targets.push_back(
+                    {&mCpu->taps[size_t(m)], mAccumulators[size_t(k % L) * n + s].values.data()});
         }
-    PaddedDeposit padded;
-    padDeposit(deposit, reachCells(), padded);
+    padDeposit(deposit, reachCells(), mCpu->padded);
     // Gather per output row: each row is written by one task.
     tbb::parallel_for(tbb::blocked_range<int>(0, ny), [&](const tbb::blocked_range<int>& rows) {
         for (int j = rows.begin(); j < rows.end(); ++j)
             for (const Target& t : targets)
-                gatherRow(t.values + size_t(j) * nx, j, t.taps, padded, extents);
+                gatherRow(t.values + size_t(j) * nx, j, *t.taps, mCpu->padded, extents);
     });
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

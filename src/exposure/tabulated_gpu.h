@@ -3,9 +3,9 @@
 // per source layer the deposit is uploaded once, zero-padded, and each (stencil, slice) pair is
 // dispatched (shaders/exposure_stencil.comp) over the rectangles of workgroups that the deposit
 // reaches, in one submission, which also clears the slices taken since the last one (no
-// submission of their own). The pipeline is specialised to
-// the stencils' common shape (per stencil row, the widest row of any stencil), so each stencil's
-// weights are laid out on that shape.
+// submission of their own). The pipeline is specialised to the stencils' common shape (per
+// stencil row, the widest row of any stencil), so each stencil's weights are laid out on that
+// shape.
 #include <memory>
 #include <vector>
 

@@ -94,6 +94,7 @@ public:
 
 private:
     struct GpuState;
+    struct CpuGather;
     void buildStencils(const kernel::BeamKernel& kernel);
     void beginLayers(int layers) override;
     double addLayer(int k, SurfaceGrid& deposit) override;
@@ -102,6 +103,7 @@ private:
     int stencilIndexAt(double depth) const;
 
     std::unique_ptr<GpuState> mGpu;
+    std::unique_ptr<CpuGather> mCpu;  ///< the CPU path's state, when there is no mGpu
     ExposureGrid mGrid;
     double mLayerThickness;
     std::vector<DepthStencil> mStencils;
