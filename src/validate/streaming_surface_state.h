@@ -1,7 +1,8 @@
 #pragma once
 // Private to src/validate: the state of StreamingCuredSurface (streaming_surface.cpp: the public
 // calls; streaming_surface_layers.cpp: meshing a layer of cubes between two slices and writing
-// its triangles; streaming_surface_state.cpp: the checkpoint state).
+// its triangles; streaming_surface_tiles.cpp: a tile's working memory, started, trimmed and
+// released; streaming_surface_state.cpp: the checkpoint state).
 
 #include <array>
 #include <cstring>
