@@ -26,6 +26,14 @@ const int STENCIL_MAX_HALF_WIDTH = 32;
 /// row each invocation sums (exposure_blur.comp uses the same chunks).
 const int STENCIL_CHUNK = 8;
 const int STENCIL_OUTPUTS = 16;
+/// exposure_stencil.comp's workgroup: invocations along x (each STENCIL_OUTPUTS outputs of a row)
+/// and along y (one row each). Lavapipe runs 8 invocations along x as the lanes of one vector: 4
+/// x 16 (narrower workgroups, less padding on the grid's right) ran 1.7x slower. 32 outputs per
+/// invocation measured 42 against 45 ns/voxel in `bench_exposure engines` but 27 against 26 in
+/// `bench_pipeline --engines` (256-column workgroups pad its 1030 columns by a quarter), with
+/// twice the code to compile.
+const int STENCIL_GROUP_X = 8;
+const int STENCIL_GROUP_Y = 8;
 
 /// A stencil row whose taps reach |di| <= halfWidth is walked in chunks from this first tap,
 /// aligned to 4 cells so the shader's vec4 fetches stay aligned.

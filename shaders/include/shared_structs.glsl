@@ -39,7 +39,7 @@ struct ExposureStencilParams {
     int padding;         ///< zero rows before the deposit's first row
     uint columnPadding;  ///< zero cells before each row's first cell, a multiple of 4
     int groupY;          ///< workgroup of the dispatch's first group, along y
-    uint pad0;
+    uint sliceWidth;     ///< row length of the slice, whole workgroups of outputs
 };
 
 #endif

@@ -10,9 +10,9 @@
 namespace vpsim::exposure {
 namespace {
 
-constexpr int GROUP_ROWS = 8;  ///< local_size_y of exposure_stencil.comp: output rows per group
-/// Its outputs per group along x: 8 invocations of STENCIL_OUTPUTS outputs.
-constexpr int GROUP_COLUMNS = 8 * glsl::STENCIL_OUTPUTS;
+constexpr int GROUP_ROWS = glsl::STENCIL_GROUP_Y;  ///< output rows per workgroup
+/// Its outputs along x: STENCIL_GROUP_X invocations of STENCIL_OUTPUTS outputs.
+constexpr int GROUP_COLUMNS = glsl::STENCIL_GROUP_X * glsl::STENCIL_OUTPUTS;
 
 int roundUp(int n, int m) {
     return (n + m - 1) / m * m;
@@ -98,7 +98,10 @@ TabulatedExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> contex
         weights.back().upload(onShape);
     }
     deposit.fill(0u);  // the border stays zero: uploads write the grid's cells only
-    for (int s = 0; s < slots; ++s) slices.emplace_back(context, uint64_t(nx) * ny * sizeof(float));
+    // Rows and columns of whole workgroups, so the shader stores whole vec4 with no bounds test.
+    const uint64_t sliceBytes =
+        uint64_t(groupsX) * GROUP_COLUMNS * groupsY * GROUP_ROWS * sizeof(float);
+    for (int s = 0; s < slots; ++s) slices.emplace_back(context, sliceBytes);
     clearSlots();
 }
 
@@ -120,6 +123,7 @@ double TabulatedExposureEngine::GpuState::addLayer(
             params.paddedWidth = paddedWidth;
             params.padding = padding;
             params.columnPadding = columnPadding;
+            params.sliceWidth = groupsX * GROUP_COLUMNS;
             for (const GroupRect& rect : rects) {
                 params.groupX = int(rect.x);
                 params.groupY = int(rect.y);
@@ -160,7 +164,9 @@ TabulatedExposureEngine::GpuState::reachedGroups(const std::vector<RowExtent>& e
 }
 
 void TabulatedExposureEngine::GpuState::takeSlot(int slot, SurfaceGrid& out) {
-    slices[slot].download(out.values.data(), uint64_t(nx) * ny * sizeof(float));
+    slices[slot].downloadRows(out.values.data(), uint64_t(nx) * sizeof(float), ny, 0,
+                              uint64_t(groupsX) * GROUP_COLUMNS * sizeof(float),
+                              nx * sizeof(float));
     toClear.push_back(slot);
 }
 

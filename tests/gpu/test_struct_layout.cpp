@@ -60,14 +60,14 @@ TEST_CASE("shared structs have the same layout in C++ and std430 GLSL", "[gpu][l
                  VPSIM_MEMBER(ExposureBlurParams, scale), VPSIM_MEMBER(ExposureBlurParams, pad0),
                  VPSIM_MEMBER(ExposureBlurParams, pad1), VPSIM_MEMBER(ExposureBlurParams, pad2)});
     using glsl::ExposureStencilParams;
-    checkStruct(
-        "ExposureStencilParams", sizeof(ExposureStencilParams),
-        {VPSIM_MEMBER(ExposureStencilParams, nx), VPSIM_MEMBER(ExposureStencilParams, ny),
-         VPSIM_MEMBER(ExposureStencilParams, groupX),
-         VPSIM_MEMBER(ExposureStencilParams, paddedWidth),
-         VPSIM_MEMBER(ExposureStencilParams, padding),
-         VPSIM_MEMBER(ExposureStencilParams, columnPadding),
-         VPSIM_MEMBER(ExposureStencilParams, groupY), VPSIM_MEMBER(ExposureStencilParams, pad0)});
+    checkStruct("ExposureStencilParams", sizeof(ExposureStencilParams),
+                {VPSIM_MEMBER(ExposureStencilParams, nx), VPSIM_MEMBER(ExposureStencilParams, ny),
+                 VPSIM_MEMBER(ExposureStencilParams, groupX),
+                 VPSIM_MEMBER(ExposureStencilParams, paddedWidth),
+                 VPSIM_MEMBER(ExposureStencilParams, padding),
+                 VPSIM_MEMBER(ExposureStencilParams, columnPadding),
+                 VPSIM_MEMBER(ExposureStencilParams, groupY),
+                 VPSIM_MEMBER(ExposureStencilParams, sliceWidth)});
     using glsl::PhotonParams;
     checkStruct("PhotonParams", sizeof(PhotonParams),
                 {VPSIM_MEMBER(PhotonParams, seed),
