@@ -10,10 +10,12 @@
 // row half-width of any of the engine's stencils) and both loops are unrolled: every tap's
 // address is a constant, there is no loop state and no branch (a test per row, or a workgroup
 // returning early, kept the whole state under a lane mask: 1.3x the CPU loops -> 1.7x). Each
-// invocation sums STENCIL_OUTPUTS consecutive outputs of one row; a stencil row is walked in
-// chunks of 8 taps, the deposit window sliding along it by two vec4 texel fetches per chunk (an
-// RGBA32F view of the zero-padded deposit, aligned to 4 floats, so no fetch needs a bounds
-// check). Within a chunk one sum at a time takes its 8 taps, so the weights stay in registers
+// invocation sums STENCIL_OUTPUTS consecutive outputs of two rows, j and j + 1. A deposit row
+// feeds stencil row u of row j and row u - 1 of row j + 1, so both are walked together on the
+// wider one's chunks of 8 taps, the deposit window sliding along them by two vec4 texel fetches
+// per chunk (an RGBA32F view of the zero-padded deposit, aligned to 4 floats, so no fetch needs a
+// bounds check): half the fetch calls of one row per invocation, which were 30% of the JIT
+// samples (27.5-29.2 -> 23.7-25.5 ns/voxel, pipeline creation 2.4-3x longer). Within a chunk one sum at a time takes its 8 taps, so the weights stay in registers
 // and each sum is loaded and stored once per chunk (taps outermost, every sum was loaded and
 // stored per tap: 56 -> 48 ns/voxel). The bound stencil's weights are copied into shared memory
 // once per workgroup. The sums are added to the slice as vec4 (a store is a lane-by-lane loop per
@@ -28,8 +30,8 @@
 
 layout(local_size_x = STENCIL_GROUP_X, local_size_y = STENCIL_GROUP_Y) in;
 
-// The common shape: its half-width, its chunks in all, and per row t = dj + HALF_WIDTH the
-// largest |di| of a tap (-1: no tap in that row).
+// The common shape: its half-width, the chunks of its pairs of rows in all, and per row
+// t = dj + HALF_WIDTH the largest |di| of a tap (-1: no tap in that row).
 layout(constant_id = 0) const int HALF_WIDTH = 0;
 layout(constant_id = 1) const int CHUNKS = 1;
 #define VPSIM_ROW(t) layout(constant_id = 2 + t) const int ROW_##t = -1;
@@ -72,7 +74,8 @@ const int OUT = STENCIL_OUTPUTS;
 
 layout(push_constant) uniform Push { ExposureStencilParams params; };
 layout(binding = 0) uniform samplerBuffer deposit;
-// The stencil on the common shape: per row its chunks of 8 taps from di = stencilRowFirst(hw).
+// The stencil on the common shape, per pair of rows (below) each row's taps on the pair's chunks
+// of 8 from di = stencilRowFirst(hw), hw the wider row's (the host's rowPairs).
 layout(std140, binding = 1) uniform Weights { vec4 weights[2 * CHUNKS]; };
 // Rows of params.sliceWidth outputs (whole workgroups), as many rows as the workgroups cover.
 layout(std430, binding = 2) buffer Slice { vec4 slice[]; };
@@ -88,15 +91,22 @@ void main() {
     const int pw = int(params.paddedWidth);
     const ivec2 group = ivec2(gl_WorkGroupID.xy) + ivec2(params.groupX, params.groupY);
     const int i0 = (group.x * STENCIL_GROUP_X + int(gl_LocalInvocationID.x)) * OUT;
-    const int j = group.y * STENCIL_GROUP_Y + int(gl_LocalInvocationID.y);
-    float a[OUT];
-    [[unroll]] for (int r = 0; r < OUT; ++r) a[r] = 0.0;
-    int chunk = 0;  // the row's first chunk in taps
-    [[unroll]] for (int t = 0; t <= 2 * HALF_WIDTH; ++t) {
-        const int hw = rowHalfWidth(t), count = stencilRowChunks(hw);
-        // Texel (4 floats) holding the window's first float: i0 + di of the row's first tap in
-        // padded deposit row j + t - HALF_WIDTH.
-        const int row = j + params.padding - HALF_WIDTH + t;
+    const int j = (group.y * STENCIL_GROUP_Y + int(gl_LocalInvocationID.y)) * 2;
+    float a0[OUT], a1[OUT];  // output rows j and j + 1
+    [[unroll]] for (int r = 0; r < OUT; ++r) {
+        a0[r] = 0.0;
+        a1[r] = 0.0;
+    }
+    int chunk = 0;  // the pair's first chunk in taps
+    // Deposit row u (j - HALF_WIDTH + u) feeds stencil row u of output row j and stencil row
+    // u - 1 of row j + 1: one window, fetched once, for both.
+    [[unroll]] for (int u = 0; u <= 2 * HALF_WIDTH + 1; ++u) {
+        const int hw0 = rowHalfWidth(u), hw1 = u >= 1 ? rowHalfWidth(u - 1) : -1;
+        const int hw = max(hw0, hw1), count = stencilRowChunks(hw);
+        const int chunk1 = chunk + (hw0 >= 0 ? count : 0);  // row j + 1's first chunk
+        // Texel (4 floats) holding the window's first float: i0 + di of the pair's first tap in
+        // padded deposit row j + u - HALF_WIDTH.
+        const int row = j + params.padding - HALF_WIDTH + u;
         const int at = (row * pw + int(params.columnPadding) + i0 + stencilRowFirst(hw)) >> 2;
         // s[m]: the deposit m cells right of the current chunk's first tap, for output i0.
         float s[OUT + STENCIL_CHUNK];
@@ -123,23 +133,35 @@ void main() {
                 s[OUT + 5] = hi.y;
                 s[OUT + 6] = hi.z;
                 s[OUT + 7] = hi.w;
-                const vec4 w0 = taps[2 * (chunk + c)], w1 = taps[2 * (chunk + c) + 1];
-                const float w[STENCIL_CHUNK] =
-                    float[](w0.x, w0.y, w0.z, w0.w, w1.x, w1.y, w1.z, w1.w);
                 // One sum at a time takes the chunk's taps: the 8 weights stay in registers, the
                 // window slides by one load per sum, each sum is loaded and stored once a chunk.
-                [[unroll]] for (int r = 0; r < OUT; ++r)
-                    [[unroll]] for (int k = 0; k < STENCIL_CHUNK; ++k)
-                        a[r] = fma(w[k], s[r + k], a[r]);
+                if (hw0 >= 0) {
+                    const vec4 w0 = taps[2 * (chunk + c)], w1 = taps[2 * (chunk + c) + 1];
+                    const float w[STENCIL_CHUNK] =
+                        float[](w0.x, w0.y, w0.z, w0.w, w1.x, w1.y, w1.z, w1.w);
+                    [[unroll]] for (int r = 0; r < OUT; ++r)
+                        [[unroll]] for (int k = 0; k < STENCIL_CHUNK; ++k)
+                            a0[r] = fma(w[k], s[r + k], a0[r]);
+                }
+                if (hw1 >= 0) {
+                    const vec4 w0 = taps[2 * (chunk1 + c)], w1 = taps[2 * (chunk1 + c) + 1];
+                    const float w[STENCIL_CHUNK] =
+                        float[](w0.x, w0.y, w0.z, w0.w, w1.x, w1.y, w1.z, w1.w);
+                    [[unroll]] for (int r = 0; r < OUT; ++r)
+                        [[unroll]] for (int k = 0; k < STENCIL_CHUNK; ++k)
+                            a1[r] = fma(w[k], s[r + k], a1[r]);
+                }
                 [[unroll]] for (int r = 0; r < OUT; ++r) s[r] = s[r + STENCIL_CHUNK];
             }
         }
-        chunk += count;
+        chunk = chunk1 + (hw1 >= 0 ? count : 0);
     }
 
     // Whole vec4 (one lane-by-lane loop per 4 outputs) and no bounds test: the slice's rows and
     // columns are padded to whole workgroups.
-    const int o = (j * int(params.sliceWidth) + i0) / 4;
-    [[unroll]] for (int q = 0; q < OUT / 4; ++q)
-        slice[o + q] += vec4(a[4 * q], a[4 * q + 1], a[4 * q + 2], a[4 * q + 3]);
+    const int o = (j * int(params.sliceWidth) + i0) / 4, o1 = o + int(params.sliceWidth) / 4;
+    [[unroll]] for (int q = 0; q < OUT / 4; ++q) {
+        slice[o + q] += vec4(a0[4 * q], a0[4 * q + 1], a0[4 * q + 2], a0[4 * q + 3]);
+        slice[o1 + q] += vec4(a1[4 * q], a1[4 * q + 1], a1[4 * q + 2], a1[4 * q + 3]);
+    }
 }

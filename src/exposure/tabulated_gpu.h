@@ -5,7 +5,7 @@
 // reaches, in one submission, which also clears the slices taken since the last one (no
 // submission of their own). The pipeline is specialised to the stencils' common shape (per
 // stencil row, the widest row of any stencil), so each stencil's weights are laid out on that
-// shape.
+// shape, in the shader's pairs of rows (an invocation sums two output rows).
 #include <memory>
 #include <vector>
 
