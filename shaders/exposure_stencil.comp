@@ -15,10 +15,11 @@
 // wider one's chunks of 8 taps, the deposit window sliding along them by two vec4 texel fetches
 // per chunk (an RGBA32F view of the zero-padded deposit, aligned to 4 floats, so no fetch needs a
 // bounds check): half the fetch calls of one row per invocation, which were 30% of the JIT
-// samples (27.5-29.2 -> 23.7-25.5 ns/voxel, pipeline creation 2.4-3x longer). Within a chunk one sum at a time takes its 8 taps, so the weights stay in registers
-// and each sum is loaded and stored once per chunk (taps outermost, every sum was loaded and
-// stored per tap: 56 -> 48 ns/voxel). The bound stencil's weights are copied into shared memory
-// once per workgroup. The sums are added to the slice as vec4 (a store is a lane-by-lane loop per
+// samples (27.5-29.2 -> 23.7-25.5 ns/voxel, pipeline creation 2.4-3x longer). Within a chunk
+// one sum at a time takes its 8 taps, so the weights stay in registers and each sum is loaded
+// and stored once per chunk (taps outermost, every sum was loaded and stored per tap: 56 -> 48
+// ns/voxel). The bound stencil's weights are copied into shared memory once per workgroup. The
+// sums are added to the slice as vec4 (a store is a lane-by-lane loop per
 // vector, not per float), whose rows and columns are padded to whole workgroups, so no store
 // needs a bounds test. The host dispatches only the rectangles of workgroups that some deposit
 // reaches (params.groupX, groupY: the first workgroup of the dispatch).
@@ -135,6 +136,8 @@ void main() {
                 s[OUT + 7] = hi.w;
                 // One sum at a time takes the chunk's taps: the 8 weights stay in registers, the
                 // window slides by one load per sum, each sum is loaded and stored once a chunk.
+                // Written out for each row: a function taking the arrays made pipeline creation
+                // 1.6x longer (6.5 s at 32 cells), for the same speed.
                 if (hw0 >= 0) {
                     const vec4 w0 = taps[2 * (chunk + c)], w1 = taps[2 * (chunk + c) + 1];
                     const float w[STENCIL_CHUNK] =

@@ -111,6 +111,7 @@ TabulatedExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> contex
                                            roundUp(padding + glsl::STENCIL_CHUNK, 4))),
       groupsX(uint32_t(roundUp(nx_, GROUP_COLUMNS) / GROUP_COLUMNS)),
       groupsY(uint32_t(roundUp(ny_, GROUP_ROWS) / GROUP_ROWS)),
+      sliceWidth(groupsX * GROUP_COLUMNS),
       deposit(context,
               uint64_t(paddedWidth) * (roundUp(ny_, GROUP_ROWS) + 2 * padding) * sizeof(float)),
       kernel(context, exposure_stencil_spv, sizeof exposure_stencil_spv,
@@ -123,8 +124,7 @@ TabulatedExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> contex
     }
     deposit.fill(0u);  // the border stays zero: uploads write the grid's cells only
     // Rows and columns of whole workgroups, so the shader stores whole vec4 with no bounds test.
-    const uint64_t sliceBytes =
-        uint64_t(groupsX) * GROUP_COLUMNS * groupsY * GROUP_ROWS * sizeof(float);
+    const uint64_t sliceBytes = uint64_t(sliceWidth) * groupsY * GROUP_ROWS * sizeof(float);
     for (int s = 0; s < slots; ++s) slices.emplace_back(context, sliceBytes);
     clearSlots();
 }
@@ -147,7 +147,7 @@ double TabulatedExposureEngine::GpuState::addLayer(
             params.paddedWidth = paddedWidth;
             params.padding = padding;
             params.columnPadding = columnPadding;
-            params.sliceWidth = groupsX * GROUP_COLUMNS;
+            params.sliceWidth = sliceWidth;
             for (const GroupRect& rect : rects) {
                 params.groupX = int(rect.x);
                 params.groupY = int(rect.y);
@@ -189,8 +189,7 @@ TabulatedExposureEngine::GpuState::reachedGroups(const std::vector<RowExtent>& e
 
 void TabulatedExposureEngine::GpuState::takeSlot(int slot, SurfaceGrid& out) {
     slices[slot].downloadRows(out.values.data(), uint64_t(nx) * sizeof(float), ny, 0,
-                              uint64_t(groupsX) * GROUP_COLUMNS * sizeof(float),
-                              nx * sizeof(float));
+                              uint64_t(sliceWidth) * sizeof(float), nx * sizeof(float));
     toClear.push_back(slot);
 }
 

@@ -47,6 +47,7 @@ struct TabulatedExposureEngine::GpuState {
     uint32_t columnPadding;  ///< zero cells left of each row: padding to a multiple of 4
     uint32_t paddedWidth;    ///< row length of the padded deposit, a multiple of 4
     uint32_t groupsX, groupsY;
+    uint32_t sliceWidth;  ///< row length of a device slice: whole workgroups, a multiple of 4
     gpu::Buffer deposit;
     std::vector<gpu::Buffer> weights;  ///< one uniform block per stencil, on the common shape
     std::vector<gpu::Buffer> slices;
