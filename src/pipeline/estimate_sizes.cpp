@@ -44,6 +44,18 @@ void gridSizes(const Job& job, Sizes& s) {
     s.surfaceVoxels = 2.0 * s.area / (sim.voxel * std::min(sim.voxel, s.voxelHeight));
 }
 
+/// Edges of the grid of cells dx x dx x dz that the part's surface crosses: each triangle's
+/// area projected on the x, y and z planes over the cell face it crosses edges through (a
+/// staircase of layers projects as the slope it follows, so the count holds for the cured part).
+double crossedEdges(const geometry::Mesh& part, double dx, double dz) {
+    double edges = 0;
+    for (size_t t = 0; t < part.triangles.size(); ++t) {
+        const glm::dvec3 n = part.triangleNormal(t);  // twice the area, so halves below
+        edges += 0.5 * ((std::abs(n.x) + std::abs(n.y)) / (dx * dz) + std::abs(n.z) / (dx * dx));
+    }
+    return edges;
+}
+
 }  // namespace
 
 void tileSizes(const Job& job, double side, Sizes& s) {
@@ -79,6 +91,7 @@ Sizes sizesOf(const Job& job, const geometry::Mesh& part) {
     s.layers = geometry::layerCount(part, slicing);
     s.contourVertices = contourVertexCount(part, s.layers, job.machine.layerThickness, 0.0, 0.5);
     gridSizes(job, s);
+    s.surfaceEdges = crossedEdges(part, job.simulation.voxel, s.voxelHeight);
     return s;
 }
 

@@ -32,6 +32,9 @@ struct Sizes {
     double beamRadius = 0;  ///< upper guess of the fitted We3D (mm)
     double nx = 0, ny = 0, cells = 0, slices = 0, voxels = 0, voxelHeight = 0;
     double activeVoxels = 0, surfaceVoxels = 0;
+    /// Grid edges the part's surface crosses: each is a quad of the cured surface (the mesher
+    /// is dual: a vertex per crossed cell, a quad per crossed edge), so cured.stl's triangles.
+    double surfaceEdges = 0;
     // x-y tiles: core side (cells; 0 = one tile), count, the largest core and window, and the
     // windows' cells summed over the tiles (what the engine computes).
     double tileCells = 0, tiles = 1, coreCells = 0, windowCells = 0, computedCells = 0;

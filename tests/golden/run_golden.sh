@@ -48,6 +48,7 @@ for job in "${jobs[@]}"; do
   elif ! "$golden" compare "$figures" "$name" "$work/$name/report.json" "${run_args[@]}"; then
     failed=$((failed + 1))
   fi
+  rm -rf "${work:?}/$name"  # one job's files at a time: a CI machine's disk can be small
   echo
 done
 

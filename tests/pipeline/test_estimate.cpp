@@ -29,6 +29,9 @@ namespace {
 // estimate. The estimate rounds up (partial leaves, the whole grid when the part fills it, a
 // fixed runtime term), so a third is the floor that still catches a term twice too large.
 constexpr double MIN_RATIO = 0.3;
+// The files' estimate over what they take: laser plans' vectors are guessed from the part's
+// bounds (2.3 times those of the L-shape), and cured.stl from its model's surface.
+constexpr double FILE_RATIO = 2.5;
 
 /// kB of a "Name:   123 kB" line of /proc/self/status.
 double statusKb(const std::string& name) {
@@ -112,6 +115,14 @@ void checkJob(const nlohmann::json& job) {
          << formatBytes(measured) << ", stage of the peak " << r["stage"]);
     CHECK(measured <= estimate);
     CHECK(measured >= MIN_RATIO * estimate);
+    // The disk check (pipeline::checkDisk) refuses a run whose files the disk cannot hold: the
+    // estimate of each file must bound what is written, and not by more than FILE_RATIO.
+    for (const auto& [file, sizes] : r["files"].items()) {
+        const double guessed = sizes[0], written = sizes[1];
+        INFO(file << ": estimate " << formatBytes(guessed) << ", written " << formatBytes(written));
+        CHECK(written <= guessed);
+        if (file == "all") CHECK(guessed <= FILE_RATIO * written);
+    }
 }
 
 }  // namespace
@@ -126,10 +137,20 @@ TEST_CASE("estimate child", "[.estimate-child]") {
     const double before = statusKb("VmRSS");
     pipeline::runJob(job, base + "/out", RunContext{nullptr, false, ""});
     const double peak = statusKb("VmHWM");
+    // The files: each estimated one that is a single file, and all of them together.
+    nlohmann::json files = nlohmann::json::object();
+    for (const pipeline::OutputEstimate& o : estimate.outputs)
+        if (std::filesystem::is_regular_file(base + "/out/" + o.file))
+            files[o.file] = {o.bytes, double(std::filesystem::file_size(base + "/out/" + o.file))};
+    double written = 0;
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(base + "/out"))
+        if (entry.is_regular_file()) written += double(entry.file_size());
+    files["all"] = {estimate.outputBytes(), written};
     std::ofstream(base + "/measured.json") << nlohmann::json{
         {"estimate", estimate.peakBytes()},
         {"stage", pipeline::stageName(estimate.peakStage())},
-        {"measured", (peak - before) * 1024.0}}.dump();
+        {"measured", (peak - before) * 1024.0},
+        {"files", files}}.dump();
 }
 
 TEST_CASE("the estimate bounds a laser run's peak memory", "[pipeline][estimate]") {

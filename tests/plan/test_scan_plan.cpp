@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -40,9 +41,9 @@ TEST_CASE("scan plans round-trip through JSON", "[plan]") {
           Approx(0.003 + 10 * std::hypot(1.0, 0.5) / 250 + 0.78 * 0.0625 * 0.0625).epsilon(1e-6));
 }
 
-TEST_CASE("plan.json is written layer by layer as the whole tree's dump", "[plan]") {
-    // saveScanPlan streams one layer's JSON at a time; the file must be the text of
-    // toJson(plan).dump(1), byte for byte: no plan, one layer, and several with a trajectory.
+TEST_CASE("plan.json is written layer by layer, one line each, as the whole tree", "[plan]") {
+    // saveScanPlan streams one layer's JSON at a time; parsed, the file must be toJson(plan),
+    // each layer on a line of its own: no plan, one layer, and several with a trajectory.
     plan::ScanPlan plan;
     plan.machine.layerThickness = 0.05;
     plan.machine.laserPower = 10;
@@ -52,7 +53,7 @@ TEST_CASE("plan.json is written layer by layer as the whole tree's dump", "[plan
         return std::string(std::istreambuf_iterator<char>(in), {});
     };
     plan::saveScanPlan(plan, path);
-    CHECK(fileText() == plan::toJson(plan).dump(1));
+    CHECK(nlohmann::json::parse(fileText()) == plan::toJson(plan));
     for (int k = 0; k < 3; ++k) {
         plan::LayerPlan layer;
         layer.z = 0.05 * (k + 1);
@@ -62,7 +63,9 @@ TEST_CASE("plan.json is written layer by layer as the whole tree's dump", "[plan
         plan.layers.push_back(layer);
     }
     plan::saveScanPlan(plan, path);
-    CHECK(fileText() == plan::toJson(plan).dump(1));
+    const std::string text = fileText();
+    CHECK(nlohmann::json::parse(text) == plan::toJson(plan));
+    CHECK(std::count(text.begin(), text.end(), '\n') == 3 + 4);  // 3 layers, 4 other lines
     CHECK(plan::loadScanPlan(path).layers.size() == 3);
 }
 
