@@ -7,5 +7,6 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${BUILD_DIR:-$root/build}"
 cmake --build "$build" -j "$(nproc)" --target vpsim_cli vpsim_golden
-bash "$root/tests/golden/run_golden.sh" "$build/vpsim" "$build/tests/vpsim_golden" "$root" --update
+(cd "$build" && bash "$root/tests/golden/run_golden.sh" "$build/vpsim" "$build/tests/vpsim_golden" \
+  "$root" --update)  # its work directory goes in the build tree
 git -C "$root" --no-pager diff --stat -- tests/golden/figures.json || true

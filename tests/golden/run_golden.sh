@@ -20,7 +20,9 @@ shopt -s nullglob
 jobs=("$source"/examples/*.json)
 [[ ${#jobs[@]} -gt 0 ]] || { echo "golden: no jobs in $source/examples"; exit 1; }
 
-work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+# In the build tree (ctest's working directory), not /tmp: a CI machine's /tmp can be a small
+# tmpfs (the seed001 jobs write 140-180 MB each).
+work="$(mktemp -d "$PWD/golden-work.XXXXXX")"; trap 'rm -rf "$work"' EXIT
 # A private kernel cache: every run computes its kernel, and no user's cache is read or written.
 export VPSIM_CACHE_DIR="$work/cache"
 if [[ "$mode" == "--update" ]]; then
