@@ -18,6 +18,7 @@
 #include "vpsim/pipeline/estimate.h"
 #include "vpsim/pipeline/picture_recorders.h"
 #include "vpsim/planners/laser_exposure_review.h"
+#include "vpsim/plot/plot.h"
 #include "vpsim/report/deviation_map.h"
 #include "vpsim/report/figures.h"
 #include "vpsim/report/html_report.h"
@@ -148,6 +149,7 @@ PlanResult planJob(const Job& job, const std::string& outDir, const RunContext& 
     geometry::Mesh part = checkedPart(job);
     checkEstimate(estimateJob(job, part, true, false, context.gpu != nullptr),
                   context);  // before the kernel or anything written
+    if (job.simulation.writes("figures")) plot::requirePlotting();
     // Removes the previous manifest and dead runs' temporaries; manifest.json is written last.
     OutputDirectory output(outDir,
                            {{"command", "plan"}, {"job", job.name}, {"job_file", job.file}});
@@ -174,6 +176,7 @@ report::JobResult runJob(const Job& job, const std::string& outDir, const RunCon
         fitEstimate(job, part, context, false, saved.has_value(), context.gpu != nullptr);
     checkEstimate(estimate, context);
     checkDisk(estimate, outDir);
+    if (job.simulation.writes("figures")) plot::requirePlotting();
     const double tileSide = estimate.tileSide;
     // From here the directory is untrusted until manifest.json, written last, lists every file
     // of this run with its size and SHA-256 (core/output_directory.h).

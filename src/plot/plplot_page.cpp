@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <mutex>
 
@@ -126,10 +128,31 @@ void beginPage() {
     plschr(0, 0.85);
 }
 
+/// Refuses `needed` drivers (file stems in PLplot's drivers directory) that are not there. PLplot
+/// reads the same DIR/NAME.driver_info files; checking them here keeps its own messages and its
+/// prompt for another device out of vpsim's output.
+void checkDrivers(const std::vector<std::string>& needed) {
+    const char* env = std::getenv("PLPLOT_DRV_DIR");
+    const std::string dir = env ? env : VPSIM_PLPLOT_DRIVERS_DIR;
+    for (const std::string& driver : needed) {
+        std::error_code error;
+        if (std::filesystem::is_regular_file(dir + "/" + driver + ".driver_info", error)) continue;
+        throw ResourceError("cannot draw figures: PLplot's " + driver + " driver is not in " + dir +
+                            (env ? " (PLPLOT_DRV_DIR)" : "") +
+                            "; install libplplot17 and plplot-driver-cairo, or leave \"figures\" "
+                            "out of simulation.outputs");
+    }
+}
+
 }  // namespace
+
+void requirePlotting() {
+    checkDrivers({"svg", "cairo"});  // cairo holds memcairo
+}
 
 void plotTwice(const std::string& stem, int width, int height,
                const std::function<void(bool svg)>& draw, const Underlay* underlay) {
+    requirePlotting();
     std::lock_guard<std::mutex> lock(plplotMutex());
     writePathAtomic(stem + ".svg", [&](const std::string& temporary) {
         beginStream();

@@ -13,8 +13,11 @@ passed=0; failed=0; pending=0; number=0
 check_case() {  # KIND PATTERN ARGS...
   local kind="$1" pattern="$2"; shift 2
   local dir="$work/case$number"; mkdir -p "$dir/dir"
+  local env=()  # leading NAME=VALUE arguments set the environment
+  while [[ $# -gt 0 && $1 =~ ^[A-Z_]+= ]]; do env+=("$1"); shift; done
   local before; before=$(cd "$dir" && find . | sort)
-  (cd "$dir" && timeout 60 "$vpsim" -q "$@" >"$work/out" 2>"$work/err"); local code=$?
+  (cd "$dir" && env "${env[@]}" timeout 60 "$vpsim" -q "$@" </dev/null >"$work/out" 2>"$work/err")
+  local code=$?
   local after; after=$(cd "$dir" && find . | sort)
   local errors; errors=$(grep -c '^vpsim: error: ' "$work/err")
   local others; others=$(grep -vc '^vpsim: \(error\|warning\): ' "$work/err")

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <regex>
 
@@ -311,4 +312,22 @@ TEST_CASE("figure stems from a user's FILE.svg", "[plot]") {
     CHECK(plot::figureStem("out/wc") == "out/wc");
     CHECK(plot::figureStem(".svg") == ".svg");
     CHECK_THROWS_AS(plot::figureStem(std::filesystem::temp_directory_path().string()), InputError);
+}
+
+TEST_CASE("missing PLplot drivers: one clear error, no file, no prompt", "[plot]") {
+    const auto dir = scratch("vpsim_test_plot_no_drivers");
+    const std::string drivers = (dir / "drivers").string();
+    std::filesystem::create_directories(drivers);
+    ::setenv("PLPLOT_DRV_DIR", drivers.c_str(), 1);
+    plot::LineFigure f{"t", "x", "y", {{"c", {0, 1}, {0, 1}}}};
+    const std::string stem = (dir / "line").string();
+    CHECK_THROWS_AS(plot::writeLineFigure(stem, f), ResourceError);
+    CHECK_THROWS_WITH(
+        plot::writeLineFigure(stem, f),
+        Catch::Contains("svg driver is not in " + drivers) && Catch::Contains("PLPLOT_DRV_DIR"));
+    CHECK_FALSE(std::filesystem::exists(stem + ".svg"));
+    CHECK_FALSE(std::filesystem::exists(stem + ".png"));
+    ::unsetenv("PLPLOT_DRV_DIR");
+    CHECK_NOTHROW(plot::requirePlotting());  // the installed drivers
+    std::filesystem::remove_all(dir);
 }

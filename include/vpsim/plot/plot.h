@@ -107,10 +107,16 @@ struct MapFigure {
 /// stays quick to write and small (PLplot's cairo PNG and the SVG's embedded raster).
 constexpr int MAX_MAP_CELLS = 1000;
 
-/// Writes `stem`.svg and `stem`.png (atomically). @throw InputError when a file cannot be written
+/// Checks that PLplot's drivers for the figures (svg, and cairo's memcairo) are installed: without
+/// them PLplot asks for a device on stdin and exits. @throw ResourceError naming the missing
+/// driver and where PLplot looked (PLPLOT_DRV_DIR, else its installed directory)
+void requirePlotting();
+
+/// Writes `stem`.svg and `stem`.png (atomically). @throw InputError when a file cannot be written;
+/// ResourceError as requirePlotting
 void writeLineFigure(const std::string& stem, const LineFigure& figure);
 /// Writes `stem`.svg and `stem`.png (atomically). @throw InputError when a file cannot be written
-/// or the grid does not match its values
+/// or the grid does not match its values; ResourceError as requirePlotting
 void writeMapFigure(const std::string& stem, const MapFigure& figure);
 
 /// A round axis or scale-bar length near `span` / `parts` (1, 2 or 5 times a power of ten).
