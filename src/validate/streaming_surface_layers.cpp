@@ -3,6 +3,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 #include <glm/geometric.hpp>
 
 #include "exposure/avx2_clones.h"
@@ -311,7 +312,10 @@ void StreamingCuredSurface::State::advance(const exposure::SurfaceGrid* values, 
     };
     if (!inBackground) return makeLayer();
     layerPending = true;
-    layerWork.run(makeLayer);
+    // Isolated: a thread waiting inside the layer's own parallel loops must not take up another
+    // slice's add(), whose settle() would wait for this very layer below it on the stack (seen as
+    // a hang with 16 worker threads).
+    layerWork.run([makeLayer] { tbb::this_task_arena::isolate(makeLayer); });
 }
 
 void StreamingCuredSurface::State::settle() const {
