@@ -22,11 +22,17 @@ void RawBuffer::create(Context::Impl& context, uint64_t size, VkBufferUsageFlags
     // integrated GPUs): then uploads are a memcpy. Otherwise plain device-local memory.
     const VkMemoryPropertyFlags hostFlags =
         VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    // Device memory the host maps directly (lavapipe, integrated GPUs); a discrete GPU's is
+    // reached through staging copies, even where it is host-visible (reading it across the bus
+    // is slow).
+    const bool unified = !context.stagedTransfers &&
+                         (context.info.type == "cpu" || context.info.type == "integrated");
     int type = -1;
     if (hostVisible) {
-        type = context.findMemoryType(requirements.memoryTypeBits, hostFlags);
+        type = context.findMemoryType(requirements.memoryTypeBits,
+                                      hostFlags | VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+        if (type < 0) type = context.findMemoryType(requirements.memoryTypeBits, hostFlags);
     } else {
-        bool unified = context.info.type == "cpu" || context.info.type == "integrated";
         if (unified)
             type = context.findMemoryType(requirements.memoryTypeBits,
                                           hostFlags | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
@@ -49,7 +55,9 @@ void RawBuffer::create(Context::Impl& context, uint64_t size, VkBufferUsageFlags
         throwGpuError("vkAllocateMemory", result, __FILE__, __LINE__);
     }
     VK_CHECK(vkBindBufferMemory(device, buffer, memory, 0));
-    if (context.memory.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)
+    const bool mappable =
+        context.memory.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT;
+    if (mappable && (hostVisible || unified))
         VK_CHECK(vkMapMemory(device, memory, 0, VK_WHOLE_SIZE, 0, &mapped));
 }
 
@@ -60,6 +68,7 @@ void RawBuffer::destroy() {
     mapped = nullptr;
     buffer = VK_NULL_HANDLE;
     memory = VK_NULL_HANDLE;
+    bytes = 0;
 }
 
 Buffer::Buffer(std::shared_ptr<Context> context, uint64_t bytes) : mImpl(std::make_unique<Impl>()) {
@@ -89,7 +98,17 @@ Buffer::Buffer(std::shared_ptr<Context> context, uint64_t bytes) : mImpl(std::ma
 Buffer::Impl::~Impl() {
     if (texelView) vkDestroyBufferView(storage.device, texelView, nullptr);
     if (texelView4) vkDestroyBufferView(storage.device, texelView4, nullptr);
+    staging.destroy();
     storage.destroy();
+}
+
+RawBuffer& Buffer::Impl::stagingFor(uint64_t bytes) {
+    if (staging.bytes < bytes) {
+        staging.destroy();
+        staging.create(context->impl(), bytes,
+                       VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
+    }
+    return staging;
 }
 
 namespace {
@@ -132,17 +151,12 @@ void* Buffer::hostMemory() const {
 
 namespace {
 
-/// One submission copying `regions` from `from` to `to`; destroys `staging` when it throws.
-void copyRegions(Context::Impl& context, RawBuffer& staging, VkBuffer from, VkBuffer to,
+/// One submission copying `regions` from `from` to `to`.
+void copyRegions(Context::Impl& context, VkBuffer from, VkBuffer to,
                  const std::vector<VkBufferCopy>& regions) {
-    try {
-        context.runOnce([&](VkCommandBuffer commandBuffer) {
-            vkCmdCopyBuffer(commandBuffer, from, to, uint32_t(regions.size()), regions.data());
-        });
-    } catch (...) {
-        staging.destroy();
-        throw;
-    }
+    context.runOnce([&](VkCommandBuffer commandBuffer) {
+        vkCmdCopyBuffer(commandBuffer, from, to, uint32_t(regions.size()), regions.data());
+    });
 }
 
 }  // namespace
@@ -165,17 +179,15 @@ void Buffer::uploadRows(const void* data, uint64_t rowBytes, uint64_t rows, uint
             std::memcpy(target + r * targetStride, source + r * sourceStride, rowBytes);
         return;
     }
-    Context::Impl& context = mImpl->context->impl();
-    RawBuffer staging;
-    staging.create(context, rows * rowBytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true);
+    std::lock_guard<std::mutex> lock(mImpl->stagingMutex);
+    RawBuffer& staging = mImpl->stagingFor(rows * rowBytes);
     std::vector<VkBufferCopy> regions(rows);
     for (uint64_t r = 0; r < rows; ++r) {
         std::memcpy(static_cast<char*>(staging.mapped) + r * rowBytes, source + r * sourceStride,
                     rowBytes);
         regions[r] = {r * rowBytes, offset + r * targetStride, rowBytes};
     }
-    copyRegions(context, staging, staging.buffer, storage.buffer, regions);
-    staging.destroy();
+    copyRegions(mImpl->context->impl(), staging.buffer, storage.buffer, regions);
 }
 
 void Buffer::download(void* data, uint64_t bytes, uint64_t offset) const {
@@ -196,17 +208,15 @@ void Buffer::downloadRows(void* data, uint64_t rowBytes, uint64_t rows, uint64_t
             std::memcpy(target + r * targetStride, source + r * sourceStride, rowBytes);
         return;
     }
-    Context::Impl& context = mImpl->context->impl();
-    RawBuffer staging;
-    staging.create(context, rows * rowBytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
+    std::lock_guard<std::mutex> lock(mImpl->stagingMutex);
+    RawBuffer& staging = mImpl->stagingFor(rows * rowBytes);
     std::vector<VkBufferCopy> regions(rows);
     for (uint64_t r = 0; r < rows; ++r)
         regions[r] = {offset + r * sourceStride, r * rowBytes, rowBytes};
-    copyRegions(context, staging, storage.buffer, staging.buffer, regions);
+    copyRegions(mImpl->context->impl(), storage.buffer, staging.buffer, regions);
     for (uint64_t r = 0; r < rows; ++r)
         std::memcpy(target + r * targetStride,
                     static_cast<const char*>(staging.mapped) + r * rowBytes, rowBytes);
-    staging.destroy();
 }
 
 void Buffer::fill(uint32_t word) {

@@ -61,6 +61,7 @@ std::shared_ptr<Context> Context::create(const ContextOptions& options) {
     std::shared_ptr<Context> context(new Context());
     Impl& c = *context->mImpl;
     c.validation = options.validation;
+    c.stagedTransfers = options.stagedTransfers;
     Instance instance(c.validation, &c);
     std::vector<DeviceInfo> devices;
     auto physicals = instance.physicalDevices();

@@ -42,6 +42,7 @@ struct Context::Impl {
     VkPhysicalDeviceMemoryProperties memory{};
     DeviceInfo info;
     bool validation = false;
+    bool stagedTransfers = false;  ///< ContextOptions::stagedTransfers
     std::atomic<uint64_t> validationMessages{0};
     std::mutex mutex;  ///< guards lastMessage and queue submission
     std::string lastMessage;
@@ -76,6 +77,13 @@ struct RawBuffer {
 struct Buffer::Impl {
     std::shared_ptr<Context> context;
     RawBuffer storage;
+    /// Host-side copy area of a buffer the host cannot map (a discrete GPU's), kept between
+    /// transfers and grown as needed: allocating host-visible memory for each transfer cost more
+    /// than the transfer. Host-cached where the device offers it (reading back from uncached,
+    /// write-combined memory is slow).
+    RawBuffer staging;
+    std::mutex stagingMutex;  ///< one transfer through `staging` at a time
+    RawBuffer& stagingFor(uint64_t bytes);
     VkBufferView texelView = VK_NULL_HANDLE;   ///< R32_SFLOAT view, made on first texel binding
     VkBufferView texelView4 = VK_NULL_HANDLE;  ///< R32G32B32A32_SFLOAT view, the same way
     VkBufferView floatTexelView();

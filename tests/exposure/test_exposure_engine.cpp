@@ -102,20 +102,26 @@ TEST_CASE("exposure obeys superposition and linearity", "[exposure]") {
 
 // The shader path and the CPU path compile the same exposure.glsl; they may differ only by float
 // rounding and exp() implementations: 1e-5 relative.
+// Both ways the host reaches the device: mapped memory (lavapipe) and staging copies (a discrete
+// GPU's path, test::stagedGpuContext).
 TEST_CASE("GPU and CPU exposure agree", "[exposure][gpu]") {
-    VPSIM_GPU_CONTEXT_OR_SKIP(ctx);
+    VPSIM_GPU_CONTEXT_OR_SKIP(shared);
     const double h = 0.05;
     plan::ScanPlan plan = test::randomPlan(4, h, 21);
     ExposureGrid grid = ExposureGrid::covering(-0.4, -0.4, 0.4, 0.4, 0.1, 0.01, 2);
-    ExposureEngine cpu(grid, BEAM, h), gpu(grid, BEAM, h, ctx);
-    REQUIRE(gpu.usesGpu());
-    auto ec = test::exposeAll(cpu, plan), eg = test::exposeAll(gpu, plan);
-    for (int k = 0; k < 4; ++k)
-        for (int s = 0; s < 2; ++s)
-            for (size_t c = 0; c < ec[k][s].values.size(); ++c)
-                REQUIRE(eg[k][s].values[c] ==
-                        Approx(ec[k][s].values[c]).epsilon(1e-5).margin(1e-8));
-    VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
+    ExposureEngine cpu(grid, BEAM, h);
+    auto ec = test::exposeAll(cpu, plan);
+    for (const auto& ctx : {shared, test::stagedGpuContext()}) {
+        ExposureEngine gpu(grid, BEAM, h, ctx);
+        REQUIRE(gpu.usesGpu());
+        auto eg = test::exposeAll(gpu, plan);
+        for (int k = 0; k < 4; ++k)
+            for (int s = 0; s < 2; ++s)
+                for (size_t c = 0; c < ec[k][s].values.size(); ++c)
+                    REQUIRE(eg[k][s].values[c] ==
+                            Approx(ec[k][s].values[c]).epsilon(1e-5).margin(1e-8));
+        VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
+    }
 }
 
 // The shader blurs strips of rows, each from the 2 halfWidth rows above it: a grid taller than a

@@ -35,6 +35,32 @@ TEST_CASE("buffers round-trip data and refuse sizes beyond device limits", "[gpu
     VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
 }
 
+// A discrete GPU's buffers are not mapped: every transfer goes through the buffer's staging
+// copy, kept between transfers and grown when a larger one comes.
+TEST_CASE("buffers round-trip rows through staging copies", "[gpu]") {
+    VPSIM_GPU_CONTEXT_OR_SKIP(shared);
+    const auto ctx = test::stagedGpuContext();
+    REQUIRE(ctx);
+    gpu::Buffer buffer(ctx, 64 * 20 * sizeof(float));
+    CHECK(buffer.hostMemory() == nullptr);
+    std::vector<float> rows(40 * 10), back(40 * 10, -1.0f);
+    for (size_t i = 0; i < rows.size(); ++i) rows[i] = float(i) * 0.5f;
+    buffer.fill(0);
+    // 10 rows of 40 floats into rows of 64 from row 3, column 5; then back out, twice (the
+    // staging copy reused), then a whole-buffer transfer (the staging copy grown).
+    for (int pass = 0; pass < 2; ++pass) {
+        buffer.uploadRows(rows.data(), 40 * 4, 10, 40 * 4, (3 * 64 + 5) * 4, 64 * 4);
+        buffer.downloadRows(back.data(), 40 * 4, 10, (3 * 64 + 5) * 4, 64 * 4, 40 * 4);
+        CHECK(back == rows);
+    }
+    const std::vector<float> whole = buffer.download<float>(64 * 20);
+    CHECK(whole[3 * 64 + 4] == 0.0f);
+    CHECK(whole[3 * 64 + 5] == rows[0]);
+    CHECK(whole[12 * 64 + 44] == rows.back());
+    CHECK(whole[12 * 64 + 45] == 0.0f);
+    VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
+}
+
 TEST_CASE("backend names parse and the CPU backend needs no device") {
     CHECK(gpu::parseBackend("cpu") == gpu::Backend::Cpu);
     CHECK(gpu::contextForBackend(gpu::Backend::Cpu) == nullptr);

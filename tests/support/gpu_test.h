@@ -53,6 +53,20 @@ inline std::shared_ptr<gpu::Context> gpuContext() {
     return gpuAvailability().context;
 }
 
+/// A second validated context on the same device whose buffers move through staging copies, as
+/// a discrete GPU's do (ContextOptions::stagedTransfers): on lavapipe the shared context maps
+/// device memory and never takes that path. nullptr when no Vulkan device exists.
+inline std::shared_ptr<gpu::Context> stagedGpuContext() {
+    static const std::shared_ptr<gpu::Context> staged = []() -> std::shared_ptr<gpu::Context> {
+        if (!gpuContext()) return nullptr;
+        gpu::ContextOptions options;
+        options.validation = true;
+        options.stagedTransfers = true;
+        return gpu::Context::create(options);
+    }();
+    return staged;
+}
+
 /// True when VPSIM_REQUIRE_GPU=1: a missing device fails GPU tests instead of skipping them.
 inline bool gpuRequired() {
     const char* value = std::getenv("VPSIM_REQUIRE_GPU");

@@ -57,6 +57,9 @@ struct ContextOptions {
     /// Enable VK_LAYER_KHRONOS_validation and count its messages (the CLI sets it from --validate
     /// or VPSIM_VALIDATION=1).
     bool validation = false;
+    /// Move buffer data through staging copies, as on a discrete GPU, even where device memory
+    /// is host-visible (lavapipe, integrated GPUs): the tests run a discrete GPU's path with it.
+    bool stagedTransfers = false;
 };
 
 class Buffer;
