@@ -20,6 +20,7 @@
 //   bench_pipeline --one SIZE_MM HEIGHT_MM   one run of the block at that size (the series' step)
 //   bench_pipeline --engines             the engines' figures alone (cpu_ns_per_voxel,
 //                                        shader_ns_per_voxel and their ratios)
+//   --set KEY=VALUE (repeatable)         overrides the block job's keys, as vpsim's --set does
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -65,10 +66,10 @@ double cpuSeconds() {
     return seconds(usage.ru_utime) + seconds(usage.ru_stime);
 }
 
-/// One run of the block job; sizes in mm (0: the job's own).
-nlohmann::json runBlock(double size, double height, bool vulkan) {
+/// One run of the block job; sizes in mm (0: the job's own), with `overrides` (--set KEY=VALUE).
+nlohmann::json runBlock(double size, double height, bool vulkan,
+                        std::vector<std::string> overrides) {
     const pipeline::Builtins builtins = pipeline::makeBuiltins();
-    std::vector<std::string> overrides;
     if (size > 0) overrides.push_back("part.size=" + std::to_string(size) + "mm");
     if (height > 0) overrides.push_back("part.height=" + std::to_string(height) + "mm");
     const pipeline::Job job = pipeline::loadJob(
@@ -204,6 +205,7 @@ int main(int argc, char** argv) {
     double maxVoxels = 4.2e9, size = 0, height = 0;
     bool one = false, enginesOnly = false;
     int repeats = 3;
+    std::vector<std::string> overrides;  // --set KEY=VALUE, as vpsim's
     for (int a = 1; a < argc; ++a) {
         if (std::strcmp(argv[a], "--repeats") == 0 && a + 1 < argc)
             repeats = std::max(1, std::atoi(argv[++a]));
@@ -211,6 +213,7 @@ int main(int argc, char** argv) {
         if (std::strcmp(argv[a], "--scaling") == 0) scaling = true;
         if (std::strcmp(argv[a], "--engines") == 0) enginesOnly = true;
         if (std::strcmp(argv[a], "--max") == 0 && a + 1 < argc) maxVoxels = std::atof(argv[++a]);
+        if (std::strcmp(argv[a], "--set") == 0 && a + 1 < argc) overrides.push_back(argv[++a]);
         if (std::strcmp(argv[a], "--one") == 0 && a + 2 < argc) {
             one = true;
             size = std::atof(argv[++a]);
@@ -220,7 +223,7 @@ int main(int argc, char** argv) {
     nlohmann::json out{{"benchmark", "pipeline"}};
     try {
         if (one) {
-            out.update(runBlock(size, height, vulkan));
+            out.update(runBlock(size, height, vulkan, overrides));
             out["part_mm"] = {size, size, height};
             std::cout << out.dump(2) << std::endl;
             return 0;
@@ -235,7 +238,7 @@ int main(int argc, char** argv) {
         std::vector<nlohmann::json> runs;
         nlohmann::json each = nlohmann::json::array();
         for (int r = 0; r < repeats; ++r) {
-            runs.push_back(runBlock(0, 0, vulkan));
+            runs.push_back(runBlock(0, 0, vulkan, overrides));
             each.push_back(runs.back()["expose_cure_validate_seconds"]);
         }
         std::sort(runs.begin(), runs.end(), [](const nlohmann::json& a, const nlohmann::json& b) {
