@@ -20,7 +20,8 @@
 //   bench_pipeline --one SIZE_MM HEIGHT_MM   one run of the block at that size (the series' step)
 //   bench_pipeline --engines             the engines' figures alone (cpu_ns_per_voxel,
 //                                        shader_ns_per_voxel and their ratios)
-//   --set KEY=VALUE (repeatable)         overrides the block job's keys, as vpsim's --set does
+//   --set KEY=VALUE (repeatable)         overrides the block job's keys (every run, the series'
+//                                        steps too), as vpsim's --set does
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -109,6 +110,13 @@ nlohmann::json runBlock(double size, double height, bool vulkan,
     out["iou"] = report["iou"];
     out["surface_deviation_mm"] = report["surface_deviation_mm"];
     return out;
+}
+
+/// `text` as one word of a POSIX shell command line.
+std::string shellQuoted(const std::string& text) {
+    std::string quoted = "'";
+    for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return quoted + "'";
 }
 
 /// `layers` ACES layers of a square of side `side` mm (the bench's 50 um layers, 25 um hatch).
@@ -259,8 +267,9 @@ int main(int argc, char** argv) {
             for (double s : {2.5, 5.0, 10.0, 15.0, 20.0}) {
                 const double voxels = std::pow(100.0 * s + 40, 2) * 50.0 * s;
                 if (voxels > maxVoxels * 1.05) break;
-                const std::string command = std::string(argv[0]) + " --one " + std::to_string(s) +
-                                            " " + std::to_string(s / 2);
+                std::string command = std::string(argv[0]) + " --one " + std::to_string(s) + " " +
+                                      std::to_string(s / 2);
+                for (const std::string& o : overrides) command += " --set " + shellQuoted(o);
                 std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
                 std::string text;
                 char buffer[4096];
