@@ -47,18 +47,25 @@ int checkedHalfWidth(const std::vector<float>& taps) {
     return halfWidth;
 }
 
-/// Rows per invocation: strips of about 256 rows on CPU drivers, where each strip's lead (2
-/// halfWidth rows blurred along x and not stored) is the overhead and two threads need few
-/// invocations, of about 32 on GPUs, which need many; the grid's rows shared evenly among the
-/// strips, in whole iterations of the shader's strip loop (a last strip mostly past the grid would
-/// cost as much as a full one).
-uint32_t stripRowsFor(const gpu::DeviceInfo& device, uint32_t ny) {
-    const uint32_t longest = device.isHardware() ? 32 : 256;
-    const uint32_t strips = (ny + longest - 1) / longest;
-    return roundUp((ny + strips - 1) / strips, STEPS);
-}
-
 }  // namespace
+
+uint32_t blurStripRows(const gpu::DeviceInfo& device, uint32_t columns, uint32_t ny,
+                       int halfWidth) {
+    const auto rowsOf = [&](uint32_t strips) { return roundUp((ny + strips - 1) / strips, STEPS); };
+    if (device.hostThreads == 0) return rowsOf((ny + 31) / 32);
+    const uint64_t threads = device.hostThreads, lead = leadOf(halfWidth);
+    uint32_t best = 1;
+    uint64_t bestSteps = UINT64_MAX;
+    for (uint32_t strips = 1; strips <= (ny + STEPS - 1) / STEPS; ++strips) {
+        const uint64_t groups = uint64_t(columns) * strips;
+        const uint64_t steps = (groups + threads - 1) / threads * (rowsOf(strips) + lead);
+        if (steps < bestSteps) {
+            best = strips;
+            bestSteps = steps;
+        }
+    }
+    return rowsOf(best);
+}
 
 bool ExposureEngine::GpuState::fits(int halfWidth) {
     return shaderTakes(halfWidth);
@@ -70,7 +77,8 @@ ExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> context_, int n
       nx(uint32_t(nx_)),
       ny(uint32_t(ny_)),
       halfWidth(checkedHalfWidth(tapValues)),
-      stripRows(stripRowsFor(context->info(), ny)),
+      stripRows(blurStripRows(context->info(), roundUp(nx, GROUP_OUTPUTS) / GROUP_OUTPUTS, ny,
+                              halfWidth)),
       normX(normX_),
       normY(normY_),
       // Each row: the padding, the cells to whole groups, and the reach of the last window (its
@@ -80,7 +88,6 @@ ExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> context_, int n
                    roundUp(uint32_t(halfWidth) + CHUNK, 4)),
       depositTop(leadOf(halfWidth) - uint32_t(halfWidth)),
       runningWidth(roundUp(nx, GROUP_OUTPUTS)),
-      depositSum(size_t(nx) * ny, 0.0f),
       deposit(context, uint64_t(depositWidth) * (roundUp(ny, stripRows) + leadOf(halfWidth)) *
                            sizeof(float)),
       running(context, uint64_t(runningWidth) * roundUp(ny, stripRows) * sizeof(float)),
@@ -92,6 +99,8 @@ ExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> context_, int n
     // The padding is zero once for all: the host writes the grid's cells only. R needs no
     // clearing: the shader writes every one of its cells before it is read.
     deposit.fill(0u);
+    sumOnHost = deposit.hostMemory() == nullptr;
+    if (sumOnHost) depositSum.assign(size_t(nx) * ny, 0.0f);
     std::vector<float> block(glsl::EXPOSURE_TAP_BLOCK, 0.0f);
     const int padding = int(paddingOf(halfWidth));
     for (int o = -halfWidth; o <= halfWidth; ++o)
@@ -102,23 +111,24 @@ ExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> context_, int n
 double ExposureEngine::GpuState::addLayer(const SurfaceGrid& hostDeposit, float decay,
                                           bool restart) {
     const float* d = hostDeposit.values.data();
-    float* sum = depositSum.data();
-    // Where the host addresses the deposit buffer, S goes into its padded rows as it is made
-    // (instead of a second pass copying it there).
     float* padded = static_cast<float*>(deposit.hostMemory());
     const size_t width = nx, stride = depositWidth, padding = paddingOf(halfWidth),
                  top = depositTop;
+    // Where the host addresses the deposit buffer, S is updated where it lies in its padded rows
+    // (one pass reading D and S and writing S), unless a blur of a map alone wrote over it since
+    // (blur), which left S in depositSum.
+    const bool inPlace = padded && !sumOnHost;
     tbb::parallel_for(
         tbb::blocked_range<size_t>(0, ny, 16), [&](const tbb::blocked_range<size_t>& rows) {
             for (size_t j = rows.begin(); j < rows.end(); ++j) {
-                float* s = sum + j * width;
                 const float* dj = d + j * width;
+                float* to = padded ? padded + (j + top) * stride + padding : sumRow(j);
+                const float* from = inPlace ? to : sumRow(j);
                 for (size_t i = 0; i < width; ++i)
-                    s[i] = restart ? dj[i] : glsl::printThroughStep(dj[i], s[i], decay);
-                if (padded)
-                    std::memcpy(padded + (j + top) * stride + padding, s, width * sizeof(float));
+                    to[i] = restart ? dj[i] : glsl::printThroughStep(dj[i], from[i], decay);
             }
         });
+    sumOnHost = !padded;
     return padded ? blurUploaded() : blurRows(depositSum.data());
 }
 
@@ -127,6 +137,15 @@ const float* ExposureEngine::GpuState::runningOnHost() const {
 }
 
 double ExposureEngine::GpuState::blur(const SurfaceGrid& map) {
+    // A run's S in the mapped deposit buffer is kept on the host first: this upload writes over it.
+    if (const float* padded = static_cast<const float*>(deposit.hostMemory());
+        padded && !sumOnHost) {
+        depositSum.resize(size_t(nx) * ny);
+        for (size_t j = 0; j < ny; ++j)
+            std::memcpy(sumRow(j), padded + (j + depositTop) * depositWidth + paddingOf(halfWidth),
+                        nx * sizeof(float));
+        sumOnHost = true;
+    }
     return blurRows(map.values.data());
 }
 

@@ -14,6 +14,17 @@
 
 namespace vpsim::exposure {
 
+/// Rows per invocation of exposure_blur.comp (its STRIP_ROWS) on a grid `columns` workgroups
+/// across and ny rows down. On GPUs, strips of about 32 rows: they need many invocations. On a
+/// CPU driver, whose threads each run whole workgroups (DeviceInfo::hostThreads), the strip count
+/// that keeps the busiest thread least busy: each strip costs its rows plus its lead (2 halfWidth
+/// rows blurred along x and not stored), and the workgroups (columns times strips) go to the
+/// threads whole. (Strips of about 256 rows, as before, gave 5 strips down a 1030-row grid where
+/// 2 cost 7% fewer steps on 2 threads.) Either way the rows are shared evenly among the strips,
+/// in whole iterations of the shader's strip loop (a last strip mostly past the grid would cost
+/// as much as a full one).
+uint32_t blurStripRows(const gpu::DeviceInfo& device, uint32_t columns, uint32_t ny, int halfWidth);
+
 struct ExposureEngine::GpuState {
     /// @param taps the blur's 2 halfWidth + 1 taps; normX, normY the passes' divisors
     /// @throw ResourceError when the blur is wider than the shader takes (fits)
@@ -37,10 +48,13 @@ struct ExposureEngine::GpuState {
     int halfWidth;
     uint32_t stripRows;  ///< rows per invocation of the shader (its STRIP_ROWS)
     float normX, normY;
-    uint32_t depositWidth;          ///< row length of the padded deposit
-    uint32_t depositTop;            ///< zero rows above the deposit's first row
-    uint32_t runningWidth;          ///< row length of R on the device (nx to whole groups)
-    std::vector<float> depositSum;  ///< S, the running deposit, on the host
+    uint32_t depositWidth;  ///< row length of the padded deposit
+    uint32_t depositTop;    ///< zero rows above the deposit's first row
+    uint32_t runningWidth;  ///< row length of R on the device (nx to whole groups)
+    /// S, the running deposit, on the host: always where the host cannot address the deposit
+    /// buffer; else only after blur() wrote over S there mid-run (sumOnHost), sized then.
+    std::vector<float> depositSum;
+    bool sumOnHost = false;  ///< whether S is in depositSum rather than the deposit buffer
     gpu::Buffer deposit, running, taps;
     gpu::Kernel kernel;
 
@@ -49,6 +63,7 @@ private:
     double blurRows(const float* source);
     /// Blurs what the deposit buffer holds into R.
     double blurUploaded();
+    float* sumRow(size_t j) { return depositSum.data() + j * nx; }
 };
 
 }  // namespace vpsim::exposure

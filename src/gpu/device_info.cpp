@@ -1,4 +1,8 @@
 // Vulkan instance creation and the device survey behind `vpsim devices`.
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
 #include <cstring>
 
 #include <nlohmann/json.hpp>
@@ -8,6 +12,19 @@
 
 namespace vpsim::gpu {
 namespace {
+
+/// The worker threads of a CPU driver, as llvmpipe counts them (lp_screen.c): LP_NUM_THREADS
+/// where set, else the online CPUs, at most its 32 (LP_MAX_THREADS); at least the one thread
+/// that runs the work when it has none.
+uint32_t cpuDriverThreads() {
+    long threads = sysconf(_SC_NPROCESSORS_ONLN);
+    if (const char* text = std::getenv("LP_NUM_THREADS")) {
+        char* end = nullptr;
+        const long asked = std::strtol(text, &end, 10);
+        if (end != text && *end == '\0' && asked >= 0) threads = asked;
+    }
+    return uint32_t(std::clamp(threads, 1L, 32L));
+}
 
 std::string deviceTypeName(VkPhysicalDeviceType type) {
     switch (type) {
@@ -92,6 +109,7 @@ DeviceInfo describeDevice(VkPhysicalDevice physical, uint32_t index) {
     info.int64 = features.features.shaderInt64 == VK_TRUE;
     info.int64Atomics = features12.shaderBufferInt64Atomics == VK_TRUE;
     info.float32AtomicAdd = supportsAtomicFloat(physical);
+    if (info.type == "cpu") info.hostThreads = cpuDriverThreads();
 
     uint32_t familyCount = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(physical, &familyCount, nullptr);
@@ -125,7 +143,8 @@ nlohmann::json DeviceInfo::toJson() const {
             {"float32_atomic_add", float32AtomicAdd},
             {"int64", int64},
             {"int64_atomics", int64Atomics},
-            {"timestamp_period_ns", timestampPeriodNs}};
+            {"timestamp_period_ns", timestampPeriodNs},
+            {"host_threads", hostThreads}};
 }
 
 std::vector<DeviceInfo> listDevices() {

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <random>
 
+#include "exposure/exposure_glsl.h"
+#include "exposure/exposure_gpu.h"
 #include "exposure/exposure_test_util.h"
 #include "support/gpu_test.h"
 #include "vpsim/core/error.h"
@@ -125,9 +127,9 @@ TEST_CASE("GPU and CPU exposure agree", "[exposure][gpu]") {
 }
 
 // The shader blurs strips of rows, each from the 2 halfWidth rows above it: a grid taller than a
-// strip (at most 256 rows on a CPU device, 32 on a GPU; here two of 160 on lavapipe) checks the
-// seams, and a blur of half-width 32 cells
-// (a 50 um beam on a 2.75 um grid), the widest the shader takes, its largest state.
+// strip (about 32 rows on a GPU; on lavapipe with two or more threads, one strip per thread here,
+// blurStripRows) checks the seams, and a blur of half-width 32 cells (a 50 um beam on a 2.75 um
+// grid), the widest the shader takes, its largest state.
 TEST_CASE("the shader blur agrees with the CPU path across its strips and at its widest",
           "[exposure][gpu]") {
     VPSIM_GPU_CONTEXT_OR_SKIP(ctx);
@@ -140,6 +142,13 @@ TEST_CASE("the shader blur agrees with the CPU path across its strips and at its
                            test::randomPlan(3, h, 31, 1.4)},
                           {ExposureGrid::covering(-0.15, -0.15, 0.15, 0.15, 0.05, 0.00275, 1),
                            test::randomPlan(2, h, 32, 0.15)}};
+    const gpu::DeviceInfo& device = ctx->info();
+    const int tallReach = blurHalfWidth(BEAM.radius, cases[0].grid.pitch);
+    if (device.hostThreads == 1)
+        WARN("one thread runs this CPU driver's workgroups: one strip, no seams checked");
+    else
+        REQUIRE(blurStripRows(device, 1, uint32_t(cases[0].grid.ny), tallReach) <
+                uint32_t(cases[0].grid.ny));
     for (const Case& c : cases) {
         ExposureEngine cpu(c.grid, BEAM, h), gpu(c.grid, BEAM, h, ctx);
         REQUIRE(gpu.usesGpu());
@@ -159,6 +168,37 @@ TEST_CASE("the shader blur agrees with the CPU path across its strips and at its
         CHECK(peakBelow > 0.1 * peak);
     }
     VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
+}
+
+// The strips' rows: on a GPU about 32; on a CPU driver the strip count whose busiest thread has the
+// fewest steps (rows plus the lead of 2 halfWidth rows per strip, workgroups dealt out whole), the
+// same as counting every strip count's steps by hand; the rows always cover the grid.
+TEST_CASE("the blur's strips keep the busiest thread of a CPU driver least busy", "[exposure]") {
+    constexpr uint32_t STEPS = uint32_t(glsl::EXPOSURE_BLUR_STEPS);
+    gpu::DeviceInfo gpuDevice, cpuDevice;
+    gpuDevice.type = "discrete";
+    cpuDevice.type = "cpu";
+    CHECK(blurStripRows(gpuDevice, 17, 1030, 12) == 32);
+    cpuDevice.hostThreads = 2;
+    CHECK(blurStripRows(cpuDevice, 17, 1030, 12) == 520);  // 2 strips of the bench's block
+    cpuDevice.hostThreads = 1;
+    CHECK(blurStripRows(cpuDevice, 17, 1030, 12) == 1032);  // one strip: leads only cost
+    std::mt19937 rng(7);
+    for (int trial = 0; trial < 300; ++trial) {
+        const uint32_t threads = 1 + rng() % 32, columns = 1 + rng() % 40, ny = 1 + rng() % 3000;
+        const int halfWidth = 1 + int(rng() % 32);
+        cpuDevice.hostThreads = threads;
+        const uint32_t rows = blurStripRows(cpuDevice, columns, ny, halfWidth);
+        REQUIRE(rows % STEPS == 0);
+        const uint32_t strips = (ny + rows - 1) / rows;  // as the engine dispatches them
+        auto steps = [&](uint32_t n, uint32_t rowsEach) {
+            return (uint64_t(columns) * n + threads - 1) / threads * (rowsEach + 2 * halfWidth);
+        };
+        uint64_t best = UINT64_MAX;
+        for (uint32_t n = 1; n <= ny; ++n)
+            best = std::min(best, steps(n, ((ny + n - 1) / n + STEPS - 1) / STEPS * STEPS));
+        REQUIRE(steps(strips, rows) == best);
+    }
 }
 
 // Wider blurs cost the shader more than they save (EXPOSURE_BLUR_MAX_HALF_WIDTH): the engine

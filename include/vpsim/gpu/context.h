@@ -36,6 +36,9 @@ struct DeviceInfo {
     bool int64 = false;              ///< shaderInt64
     bool int64Atomics = false;       ///< shaderBufferInt64Atomics
     double timestampPeriodNs = 0.0;  ///< 0 when the compute queue has no timestamps
+    /// On a CPU driver, the threads that run its workgroups (lavapipe's rule: LP_NUM_THREADS,
+    /// else the CPU count, at most 32); 0 on other devices.
+    uint32_t hostThreads = 0;
     bool isHardware() const { return type == "discrete" || type == "integrated"; }
     nlohmann::json toJson() const;
 };
