@@ -6,12 +6,22 @@
 //
 // Each invocation owns 8 consecutive cells of a row (i0 .. i0 + 7) and walks a strip of
 // STRIP_ROWS rows down y. At each step it blurs one source row along x at its 8 cells (the x pass,
-// a row of P), adds that row of P to the 2 HALF_WIDTH output rows it reaches (the y pass, whose
-// open rows it keeps as sums in registers), and stores the output row that this row of P completes.
-// So nothing passes through memory between the passes: on lavapipe every storage store is a
-// lane-by-lane loop (docs/PLATFORM.md), and two passes through a buffer stored every cell twice.
-// The strip's first 2 HALF_WIDTH steps only open its first rows (the P rows above the strip that
-// they need).
+// a row of P), and the y pass takes that row of P into the output rows it reaches and stores the
+// output row that this row completes. So nothing passes through memory between the passes: on
+// lavapipe every storage store is a lane-by-lane loop (docs/PLATFORM.md), and two passes through a
+// buffer stored every cell twice. The strip's first 2 HALF_WIDTH steps only take in the P rows
+// above the strip.
+//
+// The y pass has two forms, chosen by HALF_WIDTH (GATHER). Up to
+// EXPOSURE_BLUR_GATHER_MAX_HALF_WIDTH it keeps the last 2 HALF_WIDTH + 1 rows of P in a ring and
+// gathers each output row from it (in the CPU pass's order of taps): the strip loop is unrolled by
+// the ring's length so that every slot has a constant address, and each step stores one row of P
+// and loads the ring. Wider, it keeps the 2 HALF_WIDTH open output rows as running sums and adds
+// each row of P to all of them, the loop unrolled by EXPOSURE_BLUR_STEPS: on lavapipe each open
+// value costs a load, a store and a blend with the loop's execution mask per step, so the gather is
+// 9-11% faster over a whole slab (bench_pipeline --engines, 12 cells each side), but its code grows
+// with the square of the ring (pipeline creation on lavapipe 0.12 s at 12 cells each side, 0.2-0.4 s
+// at 15, 2.3-2.9 s at 32, against 0.05-0.2 s for the open rows).
 //
 // The x pass is shaped for lavapipe like exposure_stencil.comp (a texelFetch is a call that spills
 // every live vector, a uniform-block load at a computed index is a per-lane gather): 8 outputs in
@@ -19,8 +29,8 @@
 // same in every lane), the window of 16 source floats sliding by two vec4 texel fetches per chunk.
 // Rows are zero-padded by PADDING cells on the left, and the taps by zeros from -PADDING, so no
 // fetch needs a bounds check and the fetches stay aligned. HALF_WIDTH and STRIP_ROWS (a multiple
-// of EXPOSURE_BLUR_STEPS) are specialisation constants, so every loop below has a fixed count and
-// the unrolled ones index the open rows with constants (registers, not memory).
+// of the strip loop's unrolled steps) are specialisation constants, so every loop below has a
+// fixed count.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 layout(local_size_x = 8) in;
@@ -39,7 +49,14 @@ const int TAPS = PADDING + HALF_WIDTH + 1;
 // (Integer arithmetic only: glslang's specialisation-constant logic made invalid SPIR-V.)
 const int HALF_CHUNK = ((TAPS % STENCIL_CHUNK + 3) / 4) % 2;
 const int CHUNKS = (TAPS + STENCIL_CHUNK - 1) / STENCIL_CHUNK - HALF_CHUNK;
+// The y pass's form: 1 gathers from a ring of P rows (HALF_WIDTH up to
+// EXPOSURE_BLUR_GATHER_MAX_HALF_WIDTH), 0 scatters into open rows. Each form's array has one
+// slot in the other.
+const int GATHER = 1 - HALF_WIDTH / (EXPOSURE_BLUR_GATHER_MAX_HALF_WIDTH + 1);
+const int RING = 2 * HALF_WIDTH + 1;
+const int RING_SLOTS = GATHER * RING + 1 - GATHER;
 const int OPEN_ROWS = 2 * HALF_WIDTH;
+const int OPEN_SLOTS = (1 - GATHER) * OPEN_ROWS + GATHER;
 
 layout(push_constant) uniform Push { ExposureBlurParams params; };
 layout(binding = 0) uniform samplerBuffer source;
@@ -49,17 +66,19 @@ layout(std140, binding = 1) uniform Taps { vec4 taps[EXPOSURE_TAP_BLOCK / 4]; };
 // its 8 cells as two vec4, one lane-by-lane loop each on lavapipe instead of one per cell.
 layout(std430, binding = 2) buffer Target { vec4 target[]; };
 
-// open[8 m + r]: the sum so far of output row (P row now arriving) - HALF_WIDTH + m at cell i0 + r.
-float open[8 * OPEN_ROWS];
+// The gather's ring: ring[8 q' + r] is P of source row q at cell i0 + r, q' = q % RING.
+float ring[8 * RING_SLOTS];
+// The scatter's open rows: open[8 m + r] is the sum so far of output row (P row now arriving) -
+// HALF_WIDTH + m at cell i0 + r.
+float open[8 * OPEN_SLOTS];
 
 float tap(int offset) {
     const int k = offset + PADDING;
     return taps[k >> 2][k & 3];
 }
 
-/// One step: P of source texel row `at` at the invocation's 8 cells, added to the open rows. Stores
-/// the row it completes at `row` when `store`.
-void step(int at, bool store, int row, int i0) {
+/// The x pass: P of source texel row `at` at the invocation's 8 cells.
+void blurAlongX(int at, out float p[8]) {
     float a0 = 0.0, a1 = 0.0, a2 = 0.0, a3 = 0.0, a4 = 0.0, a5 = 0.0, a6 = 0.0, a7 = 0.0;
     vec4 lo = texelFetch(source, at), hi = texelFetch(source, at + 1);
     [[unroll]] for (int c = 0; c < CHUNKS; ++c) {
@@ -71,16 +90,48 @@ void step(int at, bool store, int row, int i0) {
     if (HALF_CHUNK == 1)
         addHalfChunk(taps[2 * CHUNKS], lo, hi, texelFetch(source, at + 2 + 2 * CHUNKS), a0, a1, a2,
                      a3, a4, a5, a6, a7);
-    const float p[8] = float[8](a0, a1, a2, a3, a4, a5, a6, a7);
+    p = float[8](a0, a1, a2, a3, a4, a5, a6, a7);
+}
+
+/// Stores 8 cells of output row `row` of R, scaled by the passes' divisors.
+void storeCells(int row, int i0, float o[8]) {
+    const float scale = params.scale;
+    const int at = (row * int(params.targetWidth) + i0) >> 2;
+    target[at] = vec4(o[0], o[1], o[2], o[3]) * scale;
+    target[at + 1] = vec4(o[4], o[5], o[6], o[7]) * scale;
+}
+
+/// Gather form: P of source texel row `at` into ring slot `slot`.
+void keepRow(int at, int slot) {
+    float p[8];
+    blurAlongX(at, p);
+    [[unroll]] for (int r = 0; r < 8; ++r) ring[8 * slot + r] = p[r];
+}
+
+/// Gather form: output row `row` from ring slots first .. first + 2 HALF_WIDTH (mod RING), the
+/// offsets -HALF_WIDTH .. HALF_WIDTH in that order.
+void gatherRow(int row, int first, int i0) {
+    float o[8] = float[8](0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    [[unroll]] for (int m = 0; m < RING; ++m) {
+        const float t = tap(m - HALF_WIDTH);
+        const int slot = (first + m) % RING;
+        [[unroll]] for (int r = 0; r < 8; ++r) o[r] = fma(t, ring[8 * slot + r], o[r]);
+    }
+    storeCells(row, i0, o);
+}
+
+/// Scatter form, one step: P of source texel row `at` added to the open rows. Stores the row it
+/// completes at `row` when `store`.
+void scatterRow(int at, bool store, int row, int i0) {
+    float p[8];
+    blurAlongX(at, p);
     // The row this P row completes (its last tap, offset +HALF_WIDTH), then the others move up a
     // slot with this row's tap added, and the newest open row starts at offset -HALF_WIDTH.
-    const float last = tap(HALF_WIDTH), scale = params.scale;
+    const float last = tap(HALF_WIDTH);
     if (store) {
-        const int o = (row * int(params.targetWidth) + i0) >> 2;
-        target[o] = vec4(fma(last, p[0], open[0]), fma(last, p[1], open[1]),
-                         fma(last, p[2], open[2]), fma(last, p[3], open[3])) * scale;
-        target[o + 1] = vec4(fma(last, p[4], open[4]), fma(last, p[5], open[5]),
-                             fma(last, p[6], open[6]), fma(last, p[7], open[7])) * scale;
+        float o[8];
+        [[unroll]] for (int r = 0; r < 8; ++r) o[r] = fma(last, p[r], open[r]);
+        storeCells(row, i0, o);
     }
     [[unroll]] for (int m = 0; m + 1 < OPEN_ROWS; ++m) {
         const float t = tap(HALF_WIDTH - m - 1);
@@ -93,18 +144,30 @@ void step(int at, bool store, int row, int i0) {
 void main() {
     const int i0 = int(gl_GlobalInvocationID.x) * 8, j0 = int(gl_WorkGroupID.y) * STRIP_ROWS;
     const int rowTexels = int(params.sourceWidth) / 4;
-    [[unroll]] for (int m = 0; m < 8 * OPEN_ROWS; ++m) open[m] = 0.0;
-    // Source row q holds grid row q - HALF_WIDTH (zero rows above the grid): the strip reads rows
-    // j0 .. j0 + OPEN_ROWS + STRIP_ROWS - 1, and the step reading row j0 + OPEN_ROWS + s completes
-    // grid row j0 + s.
+    // Source row q holds grid row q - HALF_WIDTH (zero rows above the grid): grid row j0 + s
+    // takes source rows j0 + s .. j0 + s + 2 HALF_WIDTH, and the step reading the last of them
+    // completes it.
     int at = (j0 * rowTexels) + (i0 >> 2);
-    for (int s = 0; s < OPEN_ROWS; ++s) {
-        step(at, false, 0, i0);
-        at += rowTexels;
-    }
-    for (int s = 0; s < STRIP_ROWS; s += EXPOSURE_BLUR_STEPS) {
-        [[unroll]] for (int u = 0; u < EXPOSURE_BLUR_STEPS; ++u)
-            step(at + u * rowTexels, true, j0 + s + u, i0);
-        at += EXPOSURE_BLUR_STEPS * rowTexels;
+    if (GATHER == 1) {
+        [[unroll]] for (int q = 0; q < 2 * HALF_WIDTH; ++q) keepRow(at + q * rowTexels, q);
+        at += 2 * HALF_WIDTH * rowTexels;
+        for (int s = 0; s < STRIP_ROWS; s += RING) {
+            [[unroll]] for (int u = 0; u < RING; ++u) {
+                keepRow(at + u * rowTexels, (2 * HALF_WIDTH + u) % RING);
+                gatherRow(j0 + s + u, u, i0);
+            }
+            at += RING * rowTexels;
+        }
+    } else {
+        [[unroll]] for (int m = 0; m < 8 * OPEN_ROWS; ++m) open[m] = 0.0;
+        for (int s = 0; s < OPEN_ROWS; ++s) {
+            scatterRow(at, false, 0, i0);
+            at += rowTexels;
+        }
+        for (int s = 0; s < STRIP_ROWS; s += EXPOSURE_BLUR_STEPS) {
+            [[unroll]] for (int u = 0; u < EXPOSURE_BLUR_STEPS; ++u)
+                scatterRow(at + u * rowTexels, true, j0 + s + u, i0);
+            at += EXPOSURE_BLUR_STEPS * rowTexels;
+        }
     }
 }

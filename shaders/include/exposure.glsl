@@ -12,9 +12,14 @@ const int EXPOSURE_BLUR_MAX_HALF_WIDTH = 32;
 /// from its padding on, in whole chunks.
 const int EXPOSURE_TAP_BLOCK = 128;
 
-/// Rows exposure_blur.comp blurs per iteration of its strip loop (unrolled): on lavapipe the loop
-/// carries its open rows through memory, once per iteration.
+/// Rows exposure_blur.comp blurs per iteration of its strip loop (unrolled) where its y pass
+/// scatters into open rows: on lavapipe the loop carries its open rows through memory, once per
+/// iteration. Where it gathers from a ring of rows, an iteration is the ring's 2 HALF_WIDTH + 1.
 const int EXPOSURE_BLUR_STEPS = 8;
+
+/// The widest blur (half-width in cells) whose y pass gathers from a ring of rows: its code grows
+/// with the square of the ring (exposure_blur.comp).
+const int EXPOSURE_BLUR_GATHER_MAX_HALF_WIDTH = 16;
 
 /// The widest stencil exposure_stencil.comp takes (half-width in cells): its pipeline is unrolled
 /// over the stencils' common shape, so its code grows with the shape's taps (pipeline creation

@@ -14,7 +14,6 @@ namespace {
 
 constexpr uint32_t GROUP_OUTPUTS = 64;  ///< cells along x per group of exposure_blur.comp: 8 x 8
 constexpr uint32_t CHUNK = uint32_t(glsl::STENCIL_CHUNK);
-constexpr uint32_t STEPS = uint32_t(glsl::EXPOSURE_BLUR_STEPS);
 
 uint32_t roundUp(uint32_t n, uint32_t m) {
     return (n + m - 1) / m * m;
@@ -49,19 +48,25 @@ int checkedHalfWidth(const std::vector<float>& taps) {
 
 }  // namespace
 
+uint32_t blurStripSteps(int halfWidth) {
+    return halfWidth <= glsl::EXPOSURE_BLUR_GATHER_MAX_HALF_WIDTH ? 2 * uint32_t(halfWidth) + 1
+                                                                  : glsl::EXPOSURE_BLUR_STEPS;
+}
+
 uint32_t blurStripRows(const gpu::DeviceInfo& device, uint32_t columns, uint32_t ny,
                        int halfWidth) {
-    const auto rowsOf = [&](uint32_t strips) { return roundUp((ny + strips - 1) / strips, STEPS); };
+    const uint32_t steps = blurStripSteps(halfWidth);
+    const auto rowsOf = [&](uint32_t strips) { return roundUp((ny + strips - 1) / strips, steps); };
     if (device.hostThreads == 0) return rowsOf((ny + 31) / 32);
     const uint64_t threads = device.hostThreads, lead = leadOf(halfWidth);
     uint32_t best = 1;
     uint64_t bestSteps = UINT64_MAX;
-    for (uint32_t strips = 1; strips <= (ny + STEPS - 1) / STEPS; ++strips) {
+    for (uint32_t strips = 1; strips <= (ny + steps - 1) / steps; ++strips) {
         const uint64_t groups = uint64_t(columns) * strips;
-        const uint64_t steps = (groups + threads - 1) / threads * (rowsOf(strips) + lead);
-        if (steps < bestSteps) {
+        const uint64_t busiest = (groups + threads - 1) / threads * (rowsOf(strips) + lead);
+        if (busiest < bestSteps) {
             best = strips;
-            bestSteps = steps;
+            bestSteps = busiest;
         }
     }
     return rowsOf(best);

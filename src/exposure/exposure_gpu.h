@@ -14,6 +14,10 @@
 
 namespace vpsim::exposure {
 
+/// Rows per iteration of exposure_blur.comp's strip loop: its ring of 2 halfWidth + 1 rows where
+/// the y pass gathers (EXPOSURE_BLUR_GATHER_MAX_HALF_WIDTH), else EXPOSURE_BLUR_STEPS.
+uint32_t blurStripSteps(int halfWidth);
+
 /// Rows per invocation of exposure_blur.comp (its STRIP_ROWS) on a grid `columns` workgroups
 /// across and ny rows down. On GPUs, strips of about 32 rows: they need many invocations. On a
 /// CPU driver, whose threads each run whole workgroups (DeviceInfo::hostThreads), the strip count
@@ -22,7 +26,7 @@ namespace vpsim::exposure {
 /// threads whole. (Strips of about 256 rows, as before, gave 5 strips down a 1030-row grid where
 /// 2 cost 7% fewer steps on 2 threads.) Either way the rows are shared evenly among the strips,
 /// in whole iterations of the shader's strip loop (a last strip mostly past the grid would cost
-/// as much as a full one).
+/// as much as a full one), in whole iterations of the shader's strip loop (blurStripSteps).
 uint32_t blurStripRows(const gpu::DeviceInfo& device, uint32_t columns, uint32_t ny, int halfWidth);
 
 struct ExposureEngine::GpuState {

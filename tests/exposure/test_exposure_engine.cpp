@@ -3,7 +3,6 @@
 #include <cmath>
 #include <random>
 
-#include "exposure/exposure_glsl.h"
 #include "exposure/exposure_gpu.h"
 #include "exposure/exposure_test_util.h"
 #include "support/gpu_test.h"
@@ -174,29 +173,33 @@ TEST_CASE("the shader blur agrees with the CPU path across its strips and at its
 // fewest steps (rows plus the lead of 2 halfWidth rows per strip, workgroups dealt out whole), the
 // same as counting every strip count's steps by hand; the rows always cover the grid.
 TEST_CASE("the blur's strips keep the busiest thread of a CPU driver least busy", "[exposure]") {
-    constexpr uint32_t STEPS = uint32_t(glsl::EXPOSURE_BLUR_STEPS);
     gpu::DeviceInfo gpuDevice, cpuDevice;
     gpuDevice.type = "discrete";
     cpuDevice.type = "cpu";
-    CHECK(blurStripRows(gpuDevice, 17, 1030, 12) == 32);
+    // Rows in whole iterations of the shader's loop, 2 halfWidth + 1 = 25 rows here (its y pass
+    // gathers from a ring of rows), 8 past 16 cells each side.
+    CHECK(blurStripRows(gpuDevice, 17, 1030, 12) == 50);  // 32 rows, rounded up
     cpuDevice.hostThreads = 2;
-    CHECK(blurStripRows(cpuDevice, 17, 1030, 12) == 520);  // 2 strips of the bench's block
+    CHECK(blurStripRows(cpuDevice, 17, 1030, 12) == 525);  // 2 strips of the bench's block
     cpuDevice.hostThreads = 1;
-    CHECK(blurStripRows(cpuDevice, 17, 1030, 12) == 1032);  // one strip: leads only cost
+    CHECK(blurStripRows(cpuDevice, 17, 1030, 12) == 1050);  // one strip: leads only cost
+    CHECK(blurStripRows(cpuDevice, 17, 1030, 17) == 1032);
     std::mt19937 rng(7);
     for (int trial = 0; trial < 300; ++trial) {
         const uint32_t threads = 1 + rng() % 32, columns = 1 + rng() % 40, ny = 1 + rng() % 3000;
         const int halfWidth = 1 + int(rng() % 32);
         cpuDevice.hostThreads = threads;
         const uint32_t rows = blurStripRows(cpuDevice, columns, ny, halfWidth);
-        REQUIRE(rows % STEPS == 0);
+        const uint32_t loop = blurStripSteps(halfWidth);
+        REQUIRE(loop == (halfWidth <= 16 ? 2 * uint32_t(halfWidth) + 1 : 8));
+        REQUIRE(rows % loop == 0);
         const uint32_t strips = (ny + rows - 1) / rows;  // as the engine dispatches them
         auto steps = [&](uint32_t n, uint32_t rowsEach) {
             return (uint64_t(columns) * n + threads - 1) / threads * (rowsEach + 2 * halfWidth);
         };
         uint64_t best = UINT64_MAX;
         for (uint32_t n = 1; n <= ny; ++n)
-            best = std::min(best, steps(n, ((ny + n - 1) / n + STEPS - 1) / STEPS * STEPS));
+            best = std::min(best, steps(n, ((ny + n - 1) / n + loop - 1) / loop * loop));
         REQUIRE(steps(strips, rows) == best);
     }
 }
