@@ -173,8 +173,8 @@ void ExposureEngine::blurAndAccumulateCpu(SurfaceGrid& deposit, SurfaceGrid& run
 SurfaceGrid ExposureEngine::layerMap(const SurfaceGrid& deposit, double depth) {
     SurfaceGrid running = mGrid.surface();
     if (mGpu) {
-        // Leaves a run's running deposit (on the host) as it is; its next layer uploads it whole.
-        // A run's R read in place is kept first: this blur writes over the device's R.
+        // Leaves a run's running deposit as it is (GpuState::blur keeps it). A run's R read in
+        // place is kept first: this blur writes over R.
         if (mRunningView && mRunningView != mRunning.values.data()) {
             mGpu->downloadRunning(mRunning);
             mRunningView = mRunning.values.data();
@@ -213,11 +213,8 @@ double ExposureEngine::addLayer(int k, SurfaceGrid& deposit) {
     }
     seconds = mGpu->addLayer(deposit, decay, mGpuRestart);
     mGpuRestart = false;
-    if (const float* onHost = mGpu->runningOnHost()) {
-        mRunningView = onHost;
-        mRunningStride = mGpu->runningWidth;
-    } else
-        mGpu->downloadRunning(mRunning);
+    mRunningView = mGpu->runningOnHost();  // the slices read R where it lies
+    mRunningStride = mGpu->runningWidth;
     return seconds;
 }
 

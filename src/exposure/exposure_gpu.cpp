@@ -101,11 +101,12 @@ ExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> context_, int n
              {gpu::Binding::UniformTexels4, gpu::Binding::Uniform, gpu::Binding::Storage},
              sizeof(glsl::ExposureBlurParams), {{0, uint32_t(halfWidth)}, {1, stripRows}},
              GROUP_OUTPUTS / 8) {
-    // The padding is zero once for all: the host writes the grid's cells only. R needs no
-    // clearing: the shader writes every one of its cells before it is read.
+    // The padding is zero once for all (the mirror starts as the buffer): the host writes the
+    // grid's cells only. R needs no clearing: the shader writes every one of its cells before it
+    // is read.
     deposit.fill(0u);
-    sumOnHost = deposit.hostMemory() == nullptr;
-    if (sumOnHost) depositSum.assign(size_t(nx) * ny, 0.0f);
+    depositMirror = static_cast<float*>(deposit.hostMirror());
+    runningMirror = static_cast<const float*>(running.hostMirror());
     std::vector<float> block(glsl::EXPOSURE_TAP_BLOCK, 0.0f);
     const int padding = int(paddingOf(halfWidth));
     for (int o = -halfWidth; o <= halfWidth; ++o)
@@ -113,70 +114,67 @@ ExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> context_, int n
     taps.upload(block);
 }
 
+float* ExposureEngine::GpuState::mirrorRow(size_t j) {
+    return depositMirror + (j + depositTop) * depositWidth + paddingOf(halfWidth);
+}
+
 double ExposureEngine::GpuState::addLayer(const SurfaceGrid& hostDeposit, float decay,
                                           bool restart) {
     const float* d = hostDeposit.values.data();
-    float* padded = static_cast<float*>(deposit.hostMemory());
-    const size_t width = nx, stride = depositWidth, padding = paddingOf(halfWidth),
-                 top = depositTop;
-    // Where the host addresses the deposit buffer, S is updated where it lies in its padded rows
-    // (one pass reading D and S and writing S), unless a blur of a map alone wrote over it since
-    // (blur), which left S in depositSum.
-    const bool inPlace = padded && !sumOnHost;
+    const size_t width = nx;
+    // S is updated where it lies in the deposit's padded rows in host memory (one pass reading D
+    // and S and writing S), unless a blur of a map alone wrote over it since (blur), which left S
+    // in depositSum.
     tbb::parallel_for(
         tbb::blocked_range<size_t>(0, ny, 16), [&](const tbb::blocked_range<size_t>& rows) {
             for (size_t j = rows.begin(); j < rows.end(); ++j) {
                 const float* dj = d + j * width;
-                float* to = padded ? padded + (j + top) * stride + padding : sumRow(j);
-                const float* from = inPlace ? to : sumRow(j);
+                float* to = mirrorRow(j);
+                const float* from = sumOnHost ? sumRow(j) : to;
                 for (size_t i = 0; i < width; ++i)
                     to[i] = restart ? dj[i] : glsl::printThroughStep(dj[i], from[i], decay);
             }
         });
-    sumOnHost = !padded;
-    return padded ? blurUploaded() : blurRows(depositSum.data());
+    sumOnHost = false;
+    return blurMirror();
 }
 
 const float* ExposureEngine::GpuState::runningOnHost() const {
-    return static_cast<const float*>(running.hostMemory());
+    return runningMirror;
 }
 
 double ExposureEngine::GpuState::blur(const SurfaceGrid& map) {
-    // A run's S in the mapped deposit buffer is kept on the host first: this upload writes over it.
-    if (const float* padded = static_cast<const float*>(deposit.hostMemory());
-        padded && !sumOnHost) {
+    // A run's S is kept on the host first: the map goes where it lies.
+    if (!sumOnHost) {
         depositSum.resize(size_t(nx) * ny);
-        for (size_t j = 0; j < ny; ++j)
-            std::memcpy(sumRow(j), padded + (j + depositTop) * depositWidth + paddingOf(halfWidth),
-                        nx * sizeof(float));
+        for (size_t j = 0; j < ny; ++j) std::memcpy(sumRow(j), mirrorRow(j), nx * sizeof(float));
         sumOnHost = true;
     }
-    return blurRows(map.values.data());
+    for (size_t j = 0; j < ny; ++j)
+        std::memcpy(mirrorRow(j), map.values.data() + j * nx, nx * sizeof(float));
+    return blurMirror();
 }
 
-double ExposureEngine::GpuState::blurRows(const float* source) {
-    deposit.uploadRows(source, nx * sizeof(float), ny, nx * sizeof(float),
-                       (uint64_t(depositTop) * depositWidth + paddingOf(halfWidth)) * sizeof(float),
-                       depositWidth * sizeof(float));
-    return blurUploaded();
-}
-
-double ExposureEngine::GpuState::blurUploaded() {
+double ExposureEngine::GpuState::blurMirror() {
     glsl::ExposureBlurParams params{};
     params.nx = nx;
     params.ny = ny;
     params.sourceWidth = depositWidth;
     params.targetWidth = runningWidth;
     params.scale = float(1.0 / (double(normX) * double(normY)));
+    // One submission: the deposit to the device (a discrete GPU's), the blur, R back.
     return 1e-3 * context->submit([&](gpu::Recorder& r) {
+        r.toDevice(deposit);
         r.dispatch(kernel, {&deposit, &taps, &running}, &params,
                    roundUp(nx, GROUP_OUTPUTS) / GROUP_OUTPUTS, roundUp(ny, stripRows) / stripRows);
+        r.toHost(running);
     });
 }
 
 void ExposureEngine::GpuState::downloadRunning(SurfaceGrid& host) const {
-    running.downloadRows(host.values.data(), nx * sizeof(float), ny, 0,
-                         runningWidth * sizeof(float), nx * sizeof(float));
+    for (size_t j = 0; j < ny; ++j)
+        std::memcpy(host.values.data() + j * nx, runningMirror + j * runningWidth,
+                    nx * sizeof(float));
 }
 
 }  // namespace vpsim::exposure

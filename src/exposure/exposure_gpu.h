@@ -2,10 +2,11 @@
 // Private: the shader path of the exposure engine. The print-through recursion is taken on the
 // deposit, on the host: S_k = D_k + a S_(k-1) (printThroughStep, the CPU path's recursion on the
 // blurred maps), and since the blur is linear, its blur is the running sum R_k = B_k + a R_(k-1).
-// S is written once per layer into a zero-padded texel buffer, and one dispatch
-// (exposure_blur.comp: both passes, the x pass's rows kept in registers for the y pass) stores R,
-// downloaded once per layer for the slices or read where it lies when the host addresses the
-// device's memory, as on lavapipe. The taps are uploaded once per engine.
+// The host updates S in place in the zero-padded deposit's host mirror (gpu::Buffer::hostMirror:
+// the buffer itself where the host addresses it, as on lavapipe, else its staging copy), and one
+// submission per layer moves it to the device, runs exposure_blur.comp (both passes in one
+// dispatch) and brings R back to its mirror, where the slices read it. The taps are uploaded once
+// per engine.
 #include <memory>
 #include <vector>
 
@@ -43,8 +44,7 @@ struct ExposureEngine::GpuState {
     /// seconds.
     double blur(const SurfaceGrid& map);
     void downloadRunning(SurfaceGrid& running) const;
-    /// R where the host addresses the device's buffer (until the next blur; rows runningWidth
-    /// cells apart), else nullptr.
+    /// R in host memory (until the next blur; rows runningWidth cells apart).
     const float* runningOnHost() const;
 
     std::shared_ptr<gpu::Context> context;
@@ -55,18 +55,20 @@ struct ExposureEngine::GpuState {
     uint32_t depositWidth;  ///< row length of the padded deposit
     uint32_t depositTop;    ///< zero rows above the deposit's first row
     uint32_t runningWidth;  ///< row length of R on the device (nx to whole groups)
-    /// S, the running deposit, on the host: always where the host cannot address the deposit
-    /// buffer; else only after blur() wrote over S there mid-run (sumOnHost), sized then.
+    /// S, the running deposit, apart from the deposit's mirror: only after blur() wrote over S
+    /// there mid-run (sumOnHost), sized then.
     std::vector<float> depositSum;
-    bool sumOnHost = false;  ///< whether S is in depositSum rather than the deposit buffer
+    bool sumOnHost = false;      ///< whether S is in depositSum rather than the deposit's mirror
+    float* depositMirror;        ///< the padded deposit in host memory (gpu::Buffer::hostMirror)
+    const float* runningMirror;  ///< R in host memory, rows runningWidth cells apart
     gpu::Buffer deposit, running, taps;
     gpu::Kernel kernel;
 
 private:
-    /// Uploads nx x ny floats and blurs them into R.
-    double blurRows(const float* source);
-    /// Blurs what the deposit buffer holds into R.
-    double blurUploaded();
+    /// Blurs what the deposit's mirror holds into R, and brings R to its mirror.
+    double blurMirror();
+    /// Grid row j of the deposit's mirror (past the padding).
+    float* mirrorRow(size_t j);
     float* sumRow(size_t j) { return depositSum.data() + j * nx; }
 };
 

@@ -161,6 +161,18 @@ void copyRegions(Context::Impl& context, VkBuffer from, VkBuffer to,
 
 }  // namespace
 
+void* Buffer::hostMirror() {
+    RawBuffer& storage = mImpl->storage;
+    if (storage.mapped) return storage.mapped;
+    std::lock_guard<std::mutex> lock(mImpl->stagingMutex);
+    RawBuffer& staging = mImpl->stagingFor(storage.bytes);
+    if (!mImpl->mirrored)
+        copyRegions(mImpl->context->impl(), storage.buffer, staging.buffer,
+                    {{0, 0, storage.bytes}});
+    mImpl->mirrored = true;
+    return staging.mapped;
+}
+
 void Buffer::upload(const void* data, uint64_t bytes, uint64_t offset) {
     if (offset + bytes > size()) throw ResourceError("GPU buffer upload beyond the buffer's end");
     uploadRows(data, bytes, 1, bytes, offset, bytes);

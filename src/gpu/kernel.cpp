@@ -240,6 +240,24 @@ void Recorder::fill(Buffer& buffer, uint32_t word) {
     vkCmdFillBuffer(mImpl->commandBuffer, buffer.impl().storage.buffer, 0, VK_WHOLE_SIZE, word);
 }
 
+void Recorder::toDevice(Buffer& buffer) {
+    Buffer::Impl& b = buffer.impl();
+    if (b.storage.mapped) return;
+    if (!b.mirrored) throw GpuError("a buffer's host mirror was recorded before it was made");
+    const VkBufferCopy region{0, 0, b.storage.bytes};
+    vkCmdCopyBuffer(mImpl->commandBuffer, b.staging.buffer, b.storage.buffer, 1, &region);
+    barrier();
+}
+
+void Recorder::toHost(Buffer& buffer) {
+    Buffer::Impl& b = buffer.impl();
+    if (b.storage.mapped) return;
+    if (!b.mirrored) throw GpuError("a buffer's host mirror was recorded before it was made");
+    barrier();
+    const VkBufferCopy region{0, 0, b.storage.bytes};
+    vkCmdCopyBuffer(mImpl->commandBuffer, b.storage.buffer, b.staging.buffer, 1, &region);
+}
+
 void Recorder::copy(const Buffer& source, Buffer& destination, uint64_t bytes,
                     uint64_t sourceOffset, uint64_t destinationOffset) {
     if (sourceOffset + bytes > source.size() || destinationOffset + bytes > destination.size())

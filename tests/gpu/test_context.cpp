@@ -61,6 +61,34 @@ TEST_CASE("buffers round-trip rows through staging copies", "[gpu]") {
     VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
 }
 
+// A buffer's host mirror: the buffer itself where mapped, else its staging copy, moved inside a
+// submission (Recorder::toDevice, toHost) with the work that uses it; on both contexts.
+TEST_CASE("host mirrors move with the work in one submission", "[gpu]") {
+    VPSIM_GPU_CONTEXT_OR_SKIP(shared);
+    for (const auto& ctx : {shared, test::stagedGpuContext()}) {
+        gpu::Buffer a(ctx, 100 * sizeof(uint32_t)), b(ctx, 100 * sizeof(uint32_t));
+        a.fill(3u);
+        auto* mirrorA = static_cast<uint32_t*>(a.hostMirror());
+        auto* mirrorB = static_cast<uint32_t*>(b.hostMirror());
+        CHECK((mirrorA == a.hostMemory()) == (a.hostMemory() != nullptr));
+        CHECK(mirrorA[0] == 3u);
+        CHECK(mirrorA[99] == 3u);  // the buffer's contents when first made
+        for (uint32_t i = 0; i < 100; ++i) mirrorA[i] = 7 * i + 1;
+        ctx->submit([&](gpu::Recorder& r) {
+            r.toDevice(a);
+            r.fill(b, 0u);
+            r.barrier();
+            r.copy(a, b, 60 * sizeof(uint32_t), 0, 40 * sizeof(uint32_t));
+            r.toHost(b);
+        });
+        CHECK(mirrorB[39] == 0u);
+        CHECK(mirrorB[40] == 1u);
+        CHECK(mirrorB[99] == 7u * 59 + 1);
+        CHECK(b.download<uint32_t>(1, 41 * sizeof(uint32_t))[0] == 8u);
+        VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
+    }
+}
+
 TEST_CASE("backend names parse and the CPU backend needs no device") {
     CHECK(gpu::parseBackend("cpu") == gpu::Backend::Cpu);
     CHECK(gpu::contextForBackend(gpu::Backend::Cpu) == nullptr);

@@ -78,9 +78,9 @@ private:
     double mLayerThickness;
     std::unique_ptr<GpuState> mGpu;
     SurfaceGrid mRunning, mSlice;  ///< the recursion's running sum, the slice handed to sinks
-    /// The running sum the slices are made from: mRunning, or the shader path's R where the
-    /// host addresses it (no copy; layerMap copies it to mRunning before it blurs over it), in
-    /// rows mRunningStride cells apart.
+    /// The running sum the slices are made from: mRunning, or the shader path's R in host memory
+    /// (no copy; layerMap copies it to mRunning before it blurs over it), in rows mRunningStride
+    /// cells apart.
     const float* mRunningView = nullptr;
     size_t mRunningStride = 0;
     SurfaceGrid mPass;        ///< the blur's first pass, kept from layer to layer

@@ -138,6 +138,14 @@ public:
     /// Read or write it only while no submission that uses the buffer runs (Context::submit
     /// waits for its work, and makes the shaders' writes visible to the host).
     void* hostMemory() const;
+    /// Host memory mirroring the whole buffer, holding its contents when first asked for:
+    /// hostMemory() where the host addresses the buffer, else the buffer's staging copy, kept at
+    /// the buffer's size. Write
+    /// it and record Recorder::toDevice, or record Recorder::toHost and read it after the
+    /// submission: one submission moves the data and runs the work, and the host reads and writes
+    /// the data where it lies (no staged copy of its own per transfer). upload(Rows) and
+    /// download(Rows) of the same buffer pass through that staging copy and overwrite it.
+    void* hostMirror();
     /// Fills the whole buffer with a repeated 32-bit word.
     void fill(uint32_t word);
 
@@ -226,6 +234,12 @@ public:
     void barrier();
     /// Fills `buffer` with a repeated 32-bit word inside the submission (no submission of its own).
     void fill(Buffer& buffer, uint32_t word);
+    /// Copies `buffer`'s host mirror (Buffer::hostMirror) to the device and makes it visible to
+    /// the work recorded after; nothing where the mirror is the buffer itself.
+    void toDevice(Buffer& buffer);
+    /// Copies `buffer` to its host mirror once the work recorded before has written it; nothing
+    /// where the mirror is the buffer itself (Context::submit's wait makes the writes visible).
+    void toHost(Buffer& buffer);
     /// Copies bytes between buffers inside the submission.
     void copy(const Buffer& source, Buffer& destination, uint64_t bytes, uint64_t sourceOffset = 0,
               uint64_t destinationOffset = 0);
