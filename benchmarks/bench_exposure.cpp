@@ -7,7 +7,9 @@
 // time over the whole slab per voxel, upload, dispatch, readback and the slices' hand-over
 // included, the deposit's time taken out: engine_timing.h; the best of `repeats` alternating runs
 // of each path, so drift of the shared machine hits both), and the same with the deposit
-// (*_with_deposit).
+// (*_with_deposit). Each engine's construction (stencils, shader pipelines) is timed on its own
+// (cpu_setup_seconds, shader_setup_seconds), and the shader's first run, before the timed ones
+// (shader_first_run_seconds: what a small job pays once).
 //
 // bench_exposure [engines] [--repeats N] [--side MM] [--engine NAME]: "engines" runs only the
 // engine comparison (of one engine with --engine), on a slab of side MM (default 10).
@@ -115,12 +117,17 @@ using EngineFactory =
 void compareEngine(nlohmann::json& out, const std::string& name, const EngineFactory& make,
                    const plan::ScanPlan& slab, const std::shared_ptr<gpu::Context>& context,
                    int repeats) {
+    auto start = std::chrono::steady_clock::now();
     auto cpu = make(nullptr);
+    out["cpu_setup_seconds"][name] = bench::secondsSince(start);
     const double voxels = bench::slabVoxels(cpu->grid(), slab);
     std::vector<exposure::ExposureModel*> engines{cpu.get()};
     std::unique_ptr<exposure::ExposureModel> shader;
     if (context) {
+        start = std::chrono::steady_clock::now();
         shader = make(context);
+        out["shader_setup_seconds"][name] = bench::secondsSince(start);
+        out["shader_first_run_seconds"][name] = bench::firstRunSeconds(*shader, slab);
         engines.push_back(shader.get());
     }
     const bench::EngineTimes t = bench::timeEngines(engines, slab, repeats);

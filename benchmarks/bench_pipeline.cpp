@@ -158,8 +158,10 @@ kernel::BeamKernel tableOf(const kernel::FittedBeam& beam, double power) {
 /// the block's 10 mm square on its grid (1030 x 1030 cells, 5 slices a layer: 2.1e7 voxels; a
 /// smaller grid would weigh each dispatch's fixed cost more than the run does): ns per voxel of
 /// the engine's wall time, upload, dispatch and readback included, the deposit taken out
-/// (engine_timing.h), best of alternating runs: 9 for the fitted engine, whose runs take about 10
-/// ms each and on the shared 2-core machine swing by half from run to run, 3 for the tabulated.
+/// (engine_timing.h), best of alternating runs (the shader engines' construction and first run are
+/// reported apart: shader_setup_seconds, shader_first_run_seconds): 9 for the fitted engine, whose
+/// runs take about 10 ms each and on the shared 2-core machine swing by half from run to run, 3 for
+/// the tabulated.
 void engineFigures(nlohmann::json& out, const std::shared_ptr<gpu::Context>& context) {
     const kernel::FittedBeam beam{0.063, 0.037};
     const auto grid = exposure::ExposureGrid::covering(0, 0, 10, 10, 0.15, 0.01, 5);
@@ -179,10 +181,21 @@ void engineFigures(nlohmann::json& out, const std::shared_ptr<gpu::Context>& con
         out["shader_ns_per_voxel"][name] = shaderNs;
         out["shader_over_cpu"][name] = shaderNs / cpuNs;
     };
+    // The shader engine's construction (pipeline creation) and first run, timed on their own.
+    auto setUp = [&](const std::string& name, auto make) {
+        const auto start = std::chrono::steady_clock::now();
+        auto shader = make();
+        out["shader_setup_seconds"][name] = bench::secondsSince(start);
+        out["shader_first_run_seconds"][name] = bench::firstRunSeconds(*shader, slab);
+        return shader;
+    };
     {
         exposure::ExposureEngine cpu(grid, beam, 0.05);
         std::unique_ptr<exposure::ExposureEngine> shader;
-        if (context) shader = std::make_unique<exposure::ExposureEngine>(grid, beam, 0.05, context);
+        if (context)
+            shader = setUp("fitted", [&] {
+                return std::make_unique<exposure::ExposureEngine>(grid, beam, 0.05, context);
+            });
         figures("fitted", cpu, shader.get(), 9);
     }
     {
@@ -190,8 +203,10 @@ void engineFigures(nlohmann::json& out, const std::shared_ptr<gpu::Context>& con
         exposure::TabulatedExposureEngine cpu(grid, table, 0.05);
         std::unique_ptr<exposure::TabulatedExposureEngine> shader;
         if (context)
-            shader =
-                std::make_unique<exposure::TabulatedExposureEngine>(grid, table, 0.05, context);
+            shader = setUp("tabulated", [&] {
+                return std::make_unique<exposure::TabulatedExposureEngine>(grid, table, 0.05,
+                                                                           context);
+            });
         figures("tabulated", cpu, shader.get(), 3);
     }
 }

@@ -84,6 +84,14 @@ inline double runSeconds(exposure::ExposureModel& engine,
     return secondsSince(start);
 }
 
+/// Wall seconds of one run of `plan`, deposits included, right after the engine is made: the
+/// first dispatches' costs (on a GPU, first use of the pipeline and buffers) on top of a run's.
+inline double firstRunSeconds(exposure::ExposureModel& engine, const plan::ScanPlan& plan) {
+    const auto start = std::chrono::steady_clock::now();
+    engine.run(plan, [](const exposure::ExposureSlice&) {});
+    return secondsSince(start);
+}
+
 /// Best-of times of the engines on the plan's deposits and of the deposit alone, wall and process
 /// CPU; runs and cpuRuns add the deposit's best to each engine's (see the top of this file).
 struct EngineTimes {
