@@ -227,8 +227,12 @@ void TabulatedExposureEngine::buildStencils(const kernel::BeamKernel& kernel) {
 }
 
 void TabulatedExposureEngine::beginLayers(int layers) {
-    mAccumulators.assign(size_t(mLayersInFlight) * mGrid.slicesPerLayer, mGrid.surface());
-    if (mGpu) mGpu->clearSlots();
+    if (mGpu) {
+        mGpu->clearSlots();  // the slices accumulate on the device; one grid takes each in turn
+        mAccumulators.assign(1, mGrid.surface());
+    } else {
+        mAccumulators.assign(size_t(mLayersInFlight) * mGrid.slicesPerLayer, mGrid.surface());
+    }
 }
 
 double TabulatedExposureEngine::addLayer(int source, SurfaceGrid& deposit) {
@@ -242,7 +246,10 @@ double TabulatedExposureEngine::addLayer(int source, SurfaceGrid& deposit) {
             for (int s = 0; s < n; ++s)
                 if ((source - k) * n + s < M)
                     gpuTargets.push_back({(source - k) * n + s, (k % L) * n + s});
-        return mGpu->addLayer(deposit, extents, gpuTargets);
+        // Every layer above has been added: with this one, its slices are final.
+        std::vector<int> finished;
+        for (int s = 0; s < n; ++s) finished.push_back((source % L) * n + s);
+        return mGpu->addLayer(deposit, extents, gpuTargets, finished);
     }
     struct Target {
         const StencilTaps* taps;
@@ -271,11 +278,16 @@ void TabulatedExposureEngine::emitLayer(int source, double top, const SliceSink&
     const int n = mGrid.slicesPerLayer, L = mLayersInFlight;
     const double dz = mLayerThickness / n;
     for (int s = 0; s < n; ++s) {
-        SurfaceGrid& slice = mAccumulators[size_t(source % L) * n + s];
-        if (mGpu) mGpu->takeSlot((source % L) * n + s, slice);
+        const int slot = (source % L) * n + s;
+        if (mGpu) {
+            mGpu->takeSlot(slot, mAccumulators.front());
+            sink({source, s, top - (s + 0.5) * dz, &mAccumulators.front()});
+            continue;
+        }
+        SurfaceGrid& slice = mAccumulators[size_t(slot)];
         sink({source, s, top - (s + 0.5) * dz, &slice});
         // The slot serves layer source - L next.
-        if (!mGpu) std::fill(slice.values.begin(), slice.values.end(), 0.0f);
+        std::fill(slice.values.begin(), slice.values.end(), 0.0f);
     }
 }
 

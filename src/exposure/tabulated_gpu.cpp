@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <cstring>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "exposure/exposure_glsl.h"
 #include "vpsim/core/error.h"
@@ -122,24 +126,33 @@ TabulatedExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> contex
         weights.emplace_back(context, onShape.size() * sizeof(float));
         weights.back().upload(onShape);
     }
-    deposit.fill(0u);  // the border stays zero: uploads write the grid's cells only
+    deposit.fill(0u);  // the border stays zero: the host writes the grid's cells only
+    depositMirror = static_cast<float*>(deposit.hostMirror());
     // Rows and columns of whole workgroups, so the shader stores whole vec4 with no bounds test.
     const uint64_t sliceBytes = uint64_t(sliceWidth) * groupsY * GROUP_ROWS * sizeof(float);
-    for (int s = 0; s < slots; ++s) slices.emplace_back(context, sliceBytes);
+    for (int s = 0; s < slots; ++s) {
+        slices.emplace_back(context, sliceBytes);
+        slices.back().hostMirror();
+    }
     clearSlots();
 }
 
-double TabulatedExposureEngine::GpuState::addLayer(
-    const SurfaceGrid& hostDeposit, const std::vector<RowExtent>& extents,
-    const std::vector<std::pair<int, int>>& targets) {
-    deposit.uploadRows(hostDeposit.values.data(), nx * sizeof(float), ny, nx * sizeof(float),
-                       (uint64_t(padding) * paddedWidth + columnPadding) * sizeof(float),
-                       paddedWidth * sizeof(float));
+double TabulatedExposureEngine::GpuState::addLayer(const SurfaceGrid& hostDeposit,
+                                                   const std::vector<RowExtent>& extents,
+                                                   const std::vector<std::pair<int, int>>& targets,
+                                                   const std::vector<int>& finished) {
+    tbb::parallel_for(
+        tbb::blocked_range<uint32_t>(0, ny, 16), [&](const tbb::blocked_range<uint32_t>& rows) {
+            for (uint32_t j = rows.begin(); j < rows.end(); ++j)
+                std::memcpy(depositMirror + (uint64_t(padding) + j) * paddedWidth + columnPadding,
+                            hostDeposit.values.data() + uint64_t(j) * nx, nx * sizeof(float));
+        });
     const std::vector<GroupRect> rects = reachedGroups(extents);
     return 1e-3 * context->submit([&](gpu::Recorder& r) {
         for (int slot : toClear) r.fill(slices[slot], 0u);
-        if (!toClear.empty()) r.barrier();
         toClear.clear();
+        r.toDevice(deposit);
+        r.barrier();  // the clears, where toDevice records nothing
         for (const auto& [m, slot] : targets) {
             glsl::ExposureStencilParams params{};
             params.nx = nx;
@@ -155,6 +168,7 @@ double TabulatedExposureEngine::GpuState::addLayer(
                            rect.height);
             }
         }
+        for (int slot : finished) r.toHost(slices[slot]);
     });
 }
 
@@ -188,8 +202,13 @@ TabulatedExposureEngine::GpuState::reachedGroups(const std::vector<RowExtent>& e
 }
 
 void TabulatedExposureEngine::GpuState::takeSlot(int slot, SurfaceGrid& out) {
-    slices[slot].downloadRows(out.values.data(), uint64_t(nx) * sizeof(float), ny, 0,
-                              uint64_t(sliceWidth) * sizeof(float), nx * sizeof(float));
+    const float* mirror = static_cast<const float*>(slices[slot].hostMirror());
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, ny, 16),
+                      [&](const tbb::blocked_range<uint32_t>& rows) {
+                          for (uint32_t j = rows.begin(); j < rows.end(); ++j)
+                              std::memcpy(out.values.data() + uint64_t(j) * nx,
+                                          mirror + uint64_t(j) * sliceWidth, nx * sizeof(float));
+                      });
     toClear.push_back(slot);
 }
 

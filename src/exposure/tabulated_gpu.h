@@ -1,10 +1,11 @@
 #pragma once
 // Private: the shader path of the tabulated-kernel engine. Accumulator slices stay on the device;
-// per source layer the deposit is uploaded once, zero-padded, and each (stencil, slice) pair is
-// dispatched (shaders/exposure_stencil.comp) over the rectangles of workgroups that the deposit
-// reaches, in one submission, which also clears the slices taken since the last one (no
-// submission of their own). The pipeline is specialised to the stencils' common shape (per
-// stencil row, the widest row of any stencil), so each stencil's weights are laid out on that
+// per source layer one submission moves the zero-padded deposit to the device (the host writes it
+// in the buffer's host mirror, gpu::Buffer::hostMirror), clears the slices taken since the last
+// one, dispatches each (stencil, slice) pair (shaders/exposure_stencil.comp) over the rectangles
+// of workgroups that the deposit reaches, and brings the layer's finished slices back to their
+// mirrors, where the host takes them. The pipeline is specialised to the stencils' common shape
+// (per stencil row, the widest row of any stencil), so each stencil's weights are laid out on that
 // shape, in the shader's pairs of rows (an invocation sums two output rows).
 #include <memory>
 #include <vector>
@@ -25,9 +26,10 @@ struct TabulatedExposureEngine::GpuState {
     GpuState(std::shared_ptr<gpu::Context> context, int nx, int ny,
              const std::vector<DepthStencil>& stencils, int slots);
     /// Adds the deposit (its rows' extents given) gathered by stencil m to slot t for every
-    /// (m, t) in `targets`; GPU seconds.
+    /// (m, t) in `targets`, then brings the `finished` slots to the host; GPU seconds.
     double addLayer(const SurfaceGrid& deposit, const std::vector<RowExtent>& extents,
-                    const std::vector<std::pair<int, int>>& targets);
+                    const std::vector<std::pair<int, int>>& targets,
+                    const std::vector<int>& finished);
     /// Workgroups, first and counts, of one dispatch.
     struct GroupRect {
         uint32_t x, y, width, height;
@@ -35,7 +37,8 @@ struct TabulatedExposureEngine::GpuState {
     /// The rectangles of workgroups whose outputs some deposit reaches: runs of consecutive
     /// workgroup rows, each as wide as the union of its rows' reached columns.
     std::vector<GroupRect> reachedGroups(const std::vector<RowExtent>& extents) const;
-    /// Downloads slot t into `out`; the next addLayer clears it on the device.
+    /// Copies finished slot t from its host mirror into `out`; the next addLayer clears it on
+    /// the device.
     void takeSlot(int slot, SurfaceGrid& out);
     /// Clears every slot (with the next addLayer): a new run starts.
     void clearSlots();
@@ -49,6 +52,7 @@ struct TabulatedExposureEngine::GpuState {
     uint32_t groupsX, groupsY;
     uint32_t sliceWidth;  ///< row length of a device slice: whole workgroups, a multiple of 4
     gpu::Buffer deposit;
+    float* depositMirror;  ///< the padded deposit in host memory (gpu::Buffer::hostMirror)
     std::vector<gpu::Buffer> weights;  ///< one uniform block per stencil, on the common shape
     std::vector<gpu::Buffer> slices;
     std::vector<int> toClear;  ///< slots taken since the last addLayer

@@ -110,7 +110,9 @@ private:
     int mLayersInFlight = 1;
     double mWorkingBytes = 0;
     double mKeptEnergyFraction = 1.0;
-    std::vector<SurfaceGrid> mAccumulators;  ///< ring: layer k's slice s in slot (k mod L) n + s
+    /// CPU path: a ring, layer k's slice s in slot (k mod L) n + s; shader path: the one grid
+    /// that takes each finished slice from the device in turn.
+    std::vector<SurfaceGrid> mAccumulators;
 };
 
 }  // namespace vpsim::exposure
