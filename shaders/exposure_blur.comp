@@ -18,10 +18,11 @@
 // the ring's length so that every slot has a constant address, and each step stores one row of P
 // and loads the ring. Wider, it keeps the 2 HALF_WIDTH open output rows as running sums and adds
 // each row of P to all of them, the loop unrolled by EXPOSURE_BLUR_STEPS: on lavapipe each open
-// value costs a load, a store and a blend with the loop's execution mask per step, so the gather is
-// 9-11% faster over a whole slab (bench_pipeline --engines, 12 cells each side), but its code grows
-// with the square of the ring (pipeline creation on lavapipe 0.12 s at 12 cells each side, 0.2-0.4 s
-// at 15, 2.3-2.9 s at 32, against 0.05-0.2 s for the open rows).
+// value costs a load, a store and a blend with the loop's execution mask per step, so the gather
+// takes 11-17% less time over a whole slab (bench_exposure engines at 9 cells each side,
+// bench_pipeline --engines at 12), but its code grows with the square of the ring (pipeline
+// creation on lavapipe 0.12 s at 12 cells each side, 0.2-0.4 s at 15, 2.3-2.9 s at 32, against
+// 0.05-0.2 s for the open rows).
 //
 // The x pass is shaped for lavapipe like exposure_stencil.comp (a texelFetch is a call that spills
 // every live vector, a uniform-block load at a computed index is a per-lane gather): 8 outputs in

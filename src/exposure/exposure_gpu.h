@@ -26,8 +26,8 @@ uint32_t blurStripSteps(int halfWidth);
 /// rows blurred along x and not stored), and the workgroups (columns times strips) go to the
 /// threads whole. (Strips of about 256 rows, as before, gave 5 strips down a 1030-row grid where
 /// 2 cost 7% fewer steps on 2 threads.) Either way the rows are shared evenly among the strips,
-/// in whole iterations of the shader's strip loop (a last strip mostly past the grid would cost
-/// as much as a full one), in whole iterations of the shader's strip loop (blurStripSteps).
+/// in whole iterations of the shader's strip loop (blurStripSteps; a last strip mostly past the
+/// grid would cost as much as a full one).
 uint32_t blurStripRows(const gpu::DeviceInfo& device, uint32_t columns, uint32_t ny, int halfWidth);
 
 struct ExposureEngine::GpuState {
