@@ -83,7 +83,8 @@ void blurAlongX(int at, out float p[8]) {
     float a0 = 0.0, a1 = 0.0, a2 = 0.0, a3 = 0.0, a4 = 0.0, a5 = 0.0, a6 = 0.0, a7 = 0.0;
     vec4 lo = texelFetch(source, at), hi = texelFetch(source, at + 1);
     [[unroll]] for (int c = 0; c < CHUNKS; ++c) {
-        const vec4 lo2 = texelFetch(source, at + 2 + 2 * c), hi2 = texelFetch(source, at + 3 + 2 * c);
+        const vec4 lo2 = texelFetch(source, at + 2 + 2 * c);
+        const vec4 hi2 = texelFetch(source, at + 3 + 2 * c);
         addChunk(taps[2 * c], taps[2 * c + 1], lo, hi, lo2, hi2, a0, a1, a2, a3, a4, a5, a6, a7);
         lo = lo2;
         hi = hi2;
