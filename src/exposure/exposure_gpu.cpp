@@ -1,10 +1,9 @@
 #include "exposure/exposure_gpu.h"
 
-#include <cstring>
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "exposure/copy_rows.h"
 #include "exposure/exposure_glsl.h"
 #include "vpsim/core/error.h"
 #include "vpsim/shaders/exposure_blur_spv.h"
@@ -147,11 +146,10 @@ double ExposureEngine::GpuState::blur(const SurfaceGrid& map) {
     // A run's S is kept on the host first: the map goes where it lies.
     if (!sumOnHost) {
         depositSum.resize(size_t(nx) * ny);
-        for (size_t j = 0; j < ny; ++j) std::memcpy(sumRow(j), mirrorRow(j), nx * sizeof(float));
+        copyRows(depositSum.data(), nx, mirrorRow(0), depositWidth, nx, ny);
         sumOnHost = true;
     }
-    for (size_t j = 0; j < ny; ++j)
-        std::memcpy(mirrorRow(j), map.values.data() + j * nx, nx * sizeof(float));
+    copyRows(mirrorRow(0), depositWidth, map.values.data(), nx, nx, ny);
     return blurMirror();
 }
 
@@ -172,9 +170,7 @@ double ExposureEngine::GpuState::blurMirror() {
 }
 
 void ExposureEngine::GpuState::downloadRunning(SurfaceGrid& host) const {
-    for (size_t j = 0; j < ny; ++j)
-        std::memcpy(host.values.data() + j * nx, runningMirror + j * runningWidth,
-                    nx * sizeof(float));
+    copyRows(host.values.data(), nx, runningMirror, runningWidth, nx, ny);
 }
 
 }  // namespace vpsim::exposure

@@ -2,11 +2,8 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <cstring>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
+#include "exposure/copy_rows.h"
 #include "exposure/exposure_glsl.h"
 #include "vpsim/core/error.h"
 #include "vpsim/shaders/exposure_stencil_spv.h"
@@ -141,18 +138,14 @@ double TabulatedExposureEngine::GpuState::addLayer(const SurfaceGrid& hostDeposi
                                                    const std::vector<RowExtent>& extents,
                                                    const std::vector<std::pair<int, int>>& targets,
                                                    const std::vector<int>& finished) {
-    tbb::parallel_for(
-        tbb::blocked_range<uint32_t>(0, ny, 16), [&](const tbb::blocked_range<uint32_t>& rows) {
-            for (uint32_t j = rows.begin(); j < rows.end(); ++j)
-                std::memcpy(depositMirror + (uint64_t(padding) + j) * paddedWidth + columnPadding,
-                            hostDeposit.values.data() + uint64_t(j) * nx, nx * sizeof(float));
-        });
+    copyRows(depositMirror + size_t(padding) * paddedWidth + columnPadding, paddedWidth,
+             hostDeposit.values.data(), nx, nx, ny);
     const std::vector<GroupRect> rects = reachedGroups(extents);
     return 1e-3 * context->submit([&](gpu::Recorder& r) {
         for (int slot : toClear) r.fill(slices[slot], 0u);
+        if (!toClear.empty()) r.barrier();
         toClear.clear();
         r.toDevice(deposit);
-        r.barrier();  // the clears, where toDevice records nothing
         for (const auto& [m, slot] : targets) {
             glsl::ExposureStencilParams params{};
             params.nx = nx;
@@ -202,13 +195,8 @@ TabulatedExposureEngine::GpuState::reachedGroups(const std::vector<RowExtent>& e
 }
 
 void TabulatedExposureEngine::GpuState::takeSlot(int slot, SurfaceGrid& out) {
-    const float* mirror = static_cast<const float*>(slices[slot].hostMirror());
-    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, ny, 16),
-                      [&](const tbb::blocked_range<uint32_t>& rows) {
-                          for (uint32_t j = rows.begin(); j < rows.end(); ++j)
-                              std::memcpy(out.values.data() + uint64_t(j) * nx,
-                                          mirror + uint64_t(j) * sliceWidth, nx * sizeof(float));
-                      });
+    copyRows(out.values.data(), nx, static_cast<const float*>(slices[slot].hostMirror()),
+             sliceWidth, nx, ny);
     toClear.push_back(slot);
 }
 

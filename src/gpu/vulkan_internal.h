@@ -84,7 +84,7 @@ struct Buffer::Impl {
     RawBuffer staging;
     std::mutex stagingMutex;  ///< one transfer through `staging` at a time
     RawBuffer& stagingFor(uint64_t bytes);
-    bool mirrored = false;  ///< hostMirror() has sized and zeroed `staging` as the mirror
+    bool mirrored = false;  ///< hostMirror() has sized `staging` and copied the buffer in
     VkBufferView texelView = VK_NULL_HANDLE;   ///< R32_SFLOAT view, made on first texel binding
     VkBufferView texelView4 = VK_NULL_HANDLE;  ///< R32G32B32A32_SFLOAT view, the same way
     VkBufferView floatTexelView();
