@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cstring>
+#include <stdexcept>
 
 #include "exposure/avx2_clones.h"
-#include "exposure/exposure_glsl.h"
 
 namespace vpsim::exposure {
 namespace {
@@ -87,10 +87,14 @@ StencilTaps stencilTaps(const DepthStencil& stencil) {
     const int H = stencil.halfWidth;
     taps.halfWidth = H;
     taps.rowStart.push_back(0);
-    for (int dj = -H; dj <= H; ++dj) {
+    for (int dj = 0; dj <= H; ++dj) {
         const int hw = stencil.rowHalfWidth[size_t(dj + H)];
+        if (hw != stencil.rowHalfWidth[size_t(H - dj)])
+            throw std::logic_error("stencilTaps: the stencil is not symmetric in dj");
         for (int di = -hw; di <= hw; ++di) {
-            const float w = stencil.weights[size_t(glsl::stencilIndex(di, dj, H))];
+            const float w = stencil.at(di, dj);
+            if (w != stencil.at(di, -dj))
+                throw std::logic_error("stencilTaps: the stencil is not symmetric in dj");
             if (w == 0.0f) continue;
             taps.offset.push_back(di);
             taps.weight.push_back(w);
@@ -110,26 +114,68 @@ void padDeposit(const SurfaceGrid& deposit, int padding, PaddedDeposit& padded) 
                     size_t(deposit.nx) * sizeof(float));
 }
 
-void gatherRow(float* out, int j, const StencilTaps& taps, const PaddedDeposit& deposit,
-               const std::vector<RowExtent>& extents) {
-    const int H = taps.halfWidth, nx = deposit.nx;
+void FoldedRows::fold(const PaddedDeposit& deposit, const std::vector<RowExtent>& extents, int j,
+                      int reach) {
+    if (mNx != deposit.nx || mPadding != deposit.padding || mReach != reach) {
+        mNx = deposit.nx;
+        mPadding = deposit.padding;
+        mReach = reach;
+        mWidth = mNx + 2 * mPadding;
+        mValues.assign(size_t(reach) * size_t(mWidth), 0.0f);
+        mExtents.assign(size_t(reach) + 1, RowExtent{0, -1});
+        mWritten.assign(size_t(reach) + 1, RowExtent{0, -1});
+    }
+    const auto present = [&](int sj) {
+        return sj >= 0 && sj < deposit.ny && extents[size_t(sj)].first <= extents[size_t(sj)].last;
+    };
+    mCentre = deposit.row(j);
+    mExtents[0] = present(j) ? extents[size_t(j)] : RowExtent{0, -1};
+    for (int d = 1; d <= reach; ++d) {
+        float* out = mValues.data() + offset(d);
+        const RowExtent written = mWritten[size_t(d)];
+        if (written.first <= written.last)
+            std::fill(out + written.first, out + written.last + 1, 0.0f);
+        const bool up = present(j + d), down = present(j - d);
+        RowExtent e{0, -1};
+        if (up) e = extents[size_t(j + d)];
+        if (down)
+            e = up ? RowExtent{std::min(e.first, extents[size_t(j - d)].first),
+                               std::max(e.last, extents[size_t(j - d)].last)}
+                   : extents[size_t(j - d)];
+        if (up && down) {
+            const float *a = deposit.row(j + d), *b = deposit.row(j - d);
+            for (int i = e.first; i <= e.last; ++i) out[i] = a[i] + b[i];
+        } else if (up || down) {
+            const float* a = deposit.row(up ? j + d : j - d);
+            std::copy(a + e.first, a + e.last + 1, out + e.first);
+        }
+        mExtents[size_t(d)] = e;
+        mWritten[size_t(d)] = e;
+    }
+}
+
+const float* FoldedRows::row(int d) const {
+    return d == 0 ? mCentre : mValues.data() + offset(d);
+}
+
+void gatherRow(float* out, const StencilTaps& taps, const FoldedRows& rows) {
+    const int H = taps.halfWidth, nx = rows.nx();
     thread_local std::vector<SourceRow> list;  // reused: one per stencil row
-    list.resize(size_t(2 * H + 1));
+    list.resize(size_t(H + 1));
     int count = 0, lo = nx, hi = -1;
-    for (int dj = -H; dj <= H; ++dj) {
-        const int sj = j + dj, first = taps.rowStart[size_t(dj + H)],
-                  end = taps.rowStart[size_t(dj + H + 1)];
-        if (sj < 0 || sj >= deposit.ny || first == end || extents[sj].first > extents[sj].last)
-            continue;
+    for (int d = 0; d <= H && d <= rows.reach(); ++d) {
+        const int first = taps.rowStart[size_t(d)], end = taps.rowStart[size_t(d + 1)];
+        const RowExtent& extent = rows.extent(d);
+        if (first == end || extent.first > extent.last) continue;
         // Output i gathers cell i + di: the row's non-zero cells reach outputs
         // [extent.first - largest di, extent.last - smallest di].
         SourceRow& row = list[count++];
-        row = {deposit.row(sj),
+        row = {rows.row(d),
                &taps.offset[size_t(first)],
                &taps.weight[size_t(first)],
                end - first,
-               std::max(0, extents[sj].first - taps.offset[size_t(end - 1)]),
-               std::min(nx - 1, extents[sj].last - taps.offset[size_t(first)])};
+               std::max(0, extent.first - taps.offset[size_t(end - 1)]),
+               std::min(nx - 1, extent.last - taps.offset[size_t(first)])};
         lo = std::min(lo, row.lo);
         hi = std::max(hi, row.hi);
     }

@@ -1,9 +1,11 @@
 #pragma once
 // Private: the tabulated engine's CPU gather, out(i, j) += sum w(di, dj) S(i + di, j + dj), one
-// output row at a time. Each output is loaded and stored once per stencil, 32 at a time, and gets
-// its terms in the order of one axpy per tap (rows dj ascending, taps di ascending, zero weights
-// skipped): the same sums bit for bit, since the terms it adds beyond a tap's axpy range are
-// products with zero deposit (+0: weights and deposits are never negative).
+// output row at a time. The stencils are symmetric in dj (the kernel is radial), so the deposit
+// rows j + d and j - d are added first (FoldedRows, once per output row for every stencil) and
+// each stencil row pair is gathered once: half the multiply-adds of a gather over all 2H + 1
+// rows. Each output is loaded and stored once per stencil, 32 at a time, and gets its terms in
+// a fixed order (folded rows d ascending, taps di ascending, zero weights skipped), the same
+// whatever the grid around it, so tiled and untiled runs sum alike.
 #include <vector>
 
 #include "exposure/row_extents.h"
@@ -11,8 +13,8 @@
 
 namespace vpsim::exposure {
 
-/// A stencil's non-zero taps, row by row: row dj + halfWidth holds taps rowStart[dj + halfWidth]
-/// up to rowStart[dj + halfWidth + 1], in ascending di.
+/// A stencil's non-zero taps on its rows dj = 0..halfWidth (row -dj holds the same): row dj
+/// holds taps rowStart[dj] up to rowStart[dj + 1], in ascending di.
 struct StencilTaps {
     int halfWidth = 0;
     std::vector<int> rowStart;
@@ -20,6 +22,7 @@ struct StencilTaps {
     std::vector<float> weight;
 };
 
+/// @throw std::logic_error when the stencil is not symmetric in dj bit for bit
 StencilTaps stencilTaps(const DepthStencil& stencil);
 
 /// A deposit copied with halfWidth zero cells on each side of every row, so that a gather reads
@@ -36,9 +39,34 @@ struct PaddedDeposit {
 /// Copies `deposit` into `padded` (reusing its storage), with `padding` zeros on each side.
 void padDeposit(const SurfaceGrid& deposit, int padding, PaddedDeposit& padded);
 
-/// Adds stencil `taps` gathered from `deposit` (its rows' non-zero extents given) to output row j,
-/// `out` (nx cells).
-void gatherRow(float* out, int j, const StencilTaps& taps, const PaddedDeposit& deposit,
-               const std::vector<RowExtent>& extents);
+/// A deposit's rows folded about output row j: row d (0..reach) holds S(j + d) + S(j - d) (row 0:
+/// S(j)), rows outside the grid counted as zero, readable from column -padding to
+/// nx - 1 + padding and zero outside its non-zero columns, extent(d). Reused from row to row:
+/// each fold clears only what the one before it wrote.
+class FoldedRows {
+public:
+    /// Folds `deposit` (its rows' non-zero extents given) about row j, `reach` rows each side
+    /// (at most the deposit's padding).
+    void fold(const PaddedDeposit& deposit, const std::vector<RowExtent>& extents, int j,
+              int reach);
+    /// Row d, indexed by the deposit's column.
+    const float* row(int d) const;
+    const RowExtent& extent(int d) const { return mExtents[size_t(d)]; }
+    int nx() const { return mNx; }
+    int reach() const { return mReach; }
+
+private:
+    /// Where row d >= 1 starts in mValues (its column 0).
+    size_t offset(int d) const { return size_t(d - 1) * size_t(mWidth) + size_t(mPadding); }
+    int mNx = 0, mPadding = 0, mReach = 0, mWidth = 0;
+    const float* mCentre = nullptr;   ///< row 0: the deposit's row j itself
+    std::vector<float> mValues;       ///< rows 1..reach, padded like the deposit
+    std::vector<RowExtent> mExtents;  ///< per row d, its non-zero columns
+    std::vector<RowExtent> mWritten;  ///< per row d >= 1, the columns the last fold wrote
+};
+
+/// Adds stencil `taps` gathered from the deposit folded about output row j to that row, `out`
+/// (nx cells).
+void gatherRow(float* out, const StencilTaps& taps, const FoldedRows& rows);
 
 }  // namespace vpsim::exposure

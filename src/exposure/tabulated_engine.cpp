@@ -195,26 +195,39 @@ void TabulatedExposureEngine::buildStencils(const kernel::BeamKernel& kernel) {
             "); use a coarser pitch, fewer slices per layer or a smaller build area");
 
     // w(di, dj) = pitch^2 <I(r, d)>_cell / P: exposure (mJ/mm^2) per deposit (mJ/mm^2) of a cell.
+    // The kernel is radial, so each weight is computed once for 0 <= b <= a (a, b = |di|, |dj|
+    // in either order) and copied to the cell's 8 mirror images: the stencil is symmetric bit for
+    // bit, which the CPU gather relies on (it folds rows dj and -dj, stencil_gather.h), where
+    // sub-samples summed in another order could differ in the last bit.
     const double scale = pitch * pitch / kernel.power;
     tbb::parallel_for(0, depthCount, [&](int m) {
         DepthStencil& st = mStencils[m];
         const int H = st.halfWidth, side = 2 * H + 1;
         st.weights.assign(size_t(side) * side, 0.0f);
         st.rowHalfWidth.assign(side, -1);
-        for (int dj = -H; dj <= H; ++dj)
-            for (int di = -H; di <= H; ++di) {
+        for (int a = 0; a <= H; ++a)
+            for (int b = 0; b <= a; ++b) {
                 double sum = 0;
                 for (int sy = 0; sy < SUBSAMPLES; ++sy)
                     for (int sx = 0; sx < SUBSAMPLES; ++sx) {
-                        double x = (di + (sx + 0.5) / SUBSAMPLES - 0.5) * pitch;
-                        double y = (dj + (sy + 0.5) / SUBSAMPLES - 0.5) * pitch;
+                        double x = (a + (sx + 0.5) / SUBSAMPLES - 0.5) * pitch;
+                        double y = (b + (sy + 0.5) / SUBSAMPLES - 0.5) * pitch;
                         double r = std::sqrt(x * x + y * y);
                         if (r <= st.radius) sum += table.sample(r, st.depth);
                     }
-                float w = float(scale * sum / (SUBSAMPLES * SUBSAMPLES));
-                st.weights[size_t(dj + H) * side + size_t(di + H)] = w;
-                if (w != 0.0f)
-                    st.rowHalfWidth[dj + H] = std::max(st.rowHalfWidth[dj + H], std::abs(di));
+                const float w = float(scale * sum / (SUBSAMPLES * SUBSAMPLES));
+                for (const auto& [di, dj] : {std::pair{a, b},
+                                             {-a, b},
+                                             {a, -b},
+                                             {-a, -b},
+                                             {b, a},
+                                             {-b, a},
+                                             {b, -a},
+                                             {-b, -a}}) {
+                    st.weights[size_t(dj + H) * side + size_t(di + H)] = w;
+                    if (w != 0.0f)
+                        st.rowHalfWidth[dj + H] = std::max(st.rowHalfWidth[dj + H], std::abs(di));
+                }
             }
     });
     // Kept energy: the stencils' weights (each sums to the power inside Reff / P) against the
@@ -263,12 +276,16 @@ double TabulatedExposureEngine::addLayer(int source, SurfaceGrid& deposit) {
                 targets.push_back(
                     {&mCpu->taps[size_t(m)], mAccumulators[size_t(k % L) * n + s].values.data()});
         }
-    padDeposit(deposit, reachCells(), mCpu->padded);
-    // Gather per output row: each row is written by one task.
+    const int reach = reachCells();
+    padDeposit(deposit, reach, mCpu->padded);
+    // Gather per output row: each row is written by one task, from the deposit folded about it
+    // once for every stencil.
     tbb::parallel_for(tbb::blocked_range<int>(0, ny), [&](const tbb::blocked_range<int>& rows) {
-        for (int j = rows.begin(); j < rows.end(); ++j)
-            for (const Target& t : targets)
-                gatherRow(t.values + size_t(j) * nx, j, *t.taps, mCpu->padded, extents);
+        thread_local FoldedRows folded;
+        for (int j = rows.begin(); j < rows.end(); ++j) {
+            folded.fold(mCpu->padded, extents, j, reach);
+            for (const Target& t : targets) gatherRow(t.values + size_t(j) * nx, *t.taps, folded);
+        }
     });
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

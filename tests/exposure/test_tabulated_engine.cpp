@@ -342,3 +342,28 @@ TEST_CASE("the tabulated truncation keeps 99.5% of a Monte Carlo kernel's energy
     CHECK(engine.keptEnergyFraction() >= 0.995);
     CHECK(engine.keptEnergyFraction() <= 1.002);
 }
+
+// The kernel is radial, so every stencil is symmetric under di -> -di, dj -> -dj and di <-> dj
+// bit for bit (the CPU gather folds rows dj and -dj and refuses a stencil that is not), on the
+// non-separable kernel above.
+TEST_CASE("the tabulated stencils are mirror symmetric bit for bit", "[exposure][tabulated]") {
+    const double P = 10.0, W0 = 0.05;
+    kernel::BeamKernel k = test::tableKernel(P, 0.001, 250, 0.0025, 120, [&](double r, double z) {
+        const double W = W0 * (1 + z / 0.2);
+        return 2 * P / (PI * W * W) * (1 + z / 0.01) * std::exp(-z / 0.05 - 2 * r * r / (W * W));
+    });
+    TabulatedExposureEngine engine(centredGrid(30, 0.007, 3), k, 0.05);
+    REQUIRE(engine.stencils().size() > 3);
+    for (const DepthStencil& st : engine.stencils()) {
+        const int H = st.halfWidth;
+        REQUIRE(H > 3);
+        for (int dj = -H; dj <= H; ++dj)
+            for (int di = -H; di <= H; ++di) {
+                const float w = st.at(di, dj);
+                REQUIRE(w == st.at(-di, dj));
+                REQUIRE(w == st.at(di, -dj));
+                REQUIRE(w == st.at(dj, di));
+            }
+        CHECK(st.at(0, 0) > 0.0f);
+    }
+}
