@@ -2,6 +2,10 @@
 // Tabulated-kernel exposure: adds one depth stencil's gather of a layer's deposit to one voxel
 // slice (see include/vpsim/exposure/tabulated_engine.h). out(i, j) += sum w(di, dj) S(i+di, j+dj).
 //
+// The stencils are symmetric in dj (the kernel is radial), so stencil row d takes deposit rows
+// j + d and j - d added as they are fetched (the CPU gather's folded rows, stencil_gather.h):
+// H + 1 rows of multiply-adds per output instead of 2H + 1.
+//
 // Shaped for lavapipe (Mesa 22.3, 8 lanes; docs/PLATFORM.md), where a texelFetch is a call that
 // spills every live vector, a load from a uniform block is a per-lane gather even at a constant
 // address, a load from shared memory at an address the same in every lane is one scalar load,
@@ -9,20 +13,20 @@
 // So the pipeline is specialised to the stencils' common shape (per stencil row, the widest
 // row half-width of any of the engine's stencils) and both loops are unrolled: every tap's
 // address is a constant, there is no loop state and no branch (a test per row, or a workgroup
-// returning early, kept the whole state under a lane mask: 1.3x the CPU loops -> 1.7x). Each
-// invocation sums STENCIL_OUTPUTS consecutive outputs of two rows, j and j + 1. A deposit row
-// feeds stencil row u of row j and row u - 1 of row j + 1, so both are walked together on the
-// wider one's chunks of 8 taps, the deposit window sliding along them by two vec4 texel fetches
-// per chunk (an RGBA32F view of the zero-padded deposit, aligned to 4 floats, so no fetch needs a
-// bounds check): half the fetch calls of one row per invocation, which were 30% of the JIT
-// samples (27.5-29.2 -> 23.7-25.5 ns/voxel, pipeline creation 2.4-3x longer). Within a chunk
-// one sum at a time takes its 8 taps, so the weights stay in registers and each sum is loaded
-// and stored once per chunk (taps outermost, every sum was loaded and stored per tap: 56 -> 48
-// ns/voxel). The bound stencil's weights are copied into shared memory once per workgroup. The
-// sums are added to the slice as vec4 (a store is a lane-by-lane loop per
-// vector, not per float), whose rows and columns are padded to whole workgroups, so no store
-// needs a bounds test. The host dispatches only the rectangles of workgroups that some deposit
-// reaches (params.groupX, groupY: the first workgroup of the dispatch).
+// returning early, kept the whole state under a lane mask). Each invocation sums
+// STENCIL_OUTPUTS consecutive outputs of row j, walking each stencil row in chunks of 8 taps,
+// the folded window sliding along it by two vec4 texel fetches per deposit row and chunk (an
+// RGBA32F view of the zero-padded deposit, aligned to 4 floats, so no fetch needs a bounds
+// check). Within a chunk one sum at a time takes its 8 taps, so the weights stay in registers
+// and each sum is loaded and stored once per chunk. The bound stencil's weights are copied into
+// shared memory once per workgroup. The sums are added to the slice as vec4 (a store is a
+// lane-by-lane loop per vector, not per float), whose rows and columns are padded to whole
+// workgroups, so no store needs a bounds test. The host dispatches only the rectangles of
+// workgroups that some deposit reaches (params.groupX, groupY: the first workgroup of the
+// dispatch). Before the fold each invocation summed two output rows from each fetched deposit
+// row: the fold costs twice the fetches per output and halves the multiply-adds, 18.6-19.3 ->
+// 14.9-17.5 ns/voxel in `bench_pipeline --engines`, with a quarter of the code (pipeline
+// creation 0.18 -> 0.06 s at 12 cells each side).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 #include "glsl_common.glsl"
@@ -92,28 +96,25 @@ void main() {
     const int pw = int(params.paddedWidth);
     const ivec2 group = ivec2(gl_WorkGroupID.xy) + ivec2(params.groupX, params.groupY);
     const int i0 = (group.x * STENCIL_GROUP_X + int(gl_LocalInvocationID.x)) * OUT;
-    const int j = (group.y * STENCIL_GROUP_Y + int(gl_LocalInvocationID.y)) * 2;
-    float a0[OUT], a1[OUT];  // output rows j and j + 1
-    [[unroll]] for (int r = 0; r < OUT; ++r) {
-        a0[r] = 0.0;
-        a1[r] = 0.0;
-    }
-    int chunk = 0;  // the pair's first chunk in taps
-    // Deposit row u (j - HALF_WIDTH + u) feeds stencil row u of output row j and stencil row
-    // u - 1 of row j + 1: one window, fetched once, for both.
-    [[unroll]] for (int u = 0; u <= 2 * HALF_WIDTH + 1; ++u) {
-        const int hw0 = rowHalfWidth(u), hw1 = u >= 1 ? rowHalfWidth(u - 1) : -1;
-        const int hw = max(hw0, hw1), count = stencilRowChunks(hw);
-        const int chunk1 = chunk + (hw0 >= 0 ? count : 0);  // row j + 1's first chunk
-        // Texel (4 floats) holding the window's first float: i0 + di of the pair's first tap in
-        // padded deposit row j + u - HALF_WIDTH.
-        const int row = j + params.padding - HALF_WIDTH + u;
-        const int at = (row * pw + int(params.columnPadding) + i0 + stencilRowFirst(hw)) >> 2;
-        // s[m]: the deposit m cells right of the current chunk's first tap, for output i0.
+    const int j = group.y * STENCIL_GROUP_Y + int(gl_LocalInvocationID.y);
+    float a[OUT];
+    [[unroll]] for (int r = 0; r < OUT; ++r) a[r] = 0.0;
+    int chunk = 0;  // the row's first chunk in taps
+    // Stencil row d takes the deposit rows j + d and j - d, added as they are fetched (the
+    // stencils are symmetric in dj): the CPU gather's folded rows, in its order.
+    [[unroll]] for (int d = 0; d <= HALF_WIDTH; ++d) {
+        const int hw = rowHalfWidth(HALF_WIDTH + d), count = stencilRowChunks(hw);
+        // Texels (4 floats) holding the window's first float: i0 + di of the row's first tap in
+        // padded deposit rows j + d and j - d.
+        const int column = int(params.columnPadding) + i0 + stencilRowFirst(hw);
+        const int up = ((j + params.padding + d) * pw + column) >> 2;
+        const int down = ((j + params.padding - d) * pw + column) >> 2;
+        // s[m]: the folded deposit m cells right of the current chunk's first tap, for output i0.
         float s[OUT + STENCIL_CHUNK];
         if (count > 0) {
             [[unroll]] for (int q = 0; q < OUT / 4; ++q) {
-                const vec4 v = texelFetch(deposit, at + q);
+                vec4 v = texelFetch(deposit, up + q);
+                if (d > 0) v += texelFetch(deposit, down + q);
                 s[4 * q] = v.x;
                 s[4 * q + 1] = v.y;
                 s[4 * q + 2] = v.z;
@@ -124,8 +125,12 @@ void main() {
         // count fold away once it is.
         [[unroll]] for (int c = 0; c < MAX_ROW_CHUNKS; ++c) {
             if (c < count) {
-                const vec4 lo = texelFetch(deposit, at + OUT / 4 + 2 * c);
-                const vec4 hi = texelFetch(deposit, at + OUT / 4 + 2 * c + 1);
+                vec4 lo = texelFetch(deposit, up + OUT / 4 + 2 * c);
+                vec4 hi = texelFetch(deposit, up + OUT / 4 + 2 * c + 1);
+                if (d > 0) {
+                    lo += texelFetch(deposit, down + OUT / 4 + 2 * c);
+                    hi += texelFetch(deposit, down + OUT / 4 + 2 * c + 1);
+                }
                 s[OUT] = lo.x;
                 s[OUT + 1] = lo.y;
                 s[OUT + 2] = lo.z;
@@ -136,35 +141,21 @@ void main() {
                 s[OUT + 7] = hi.w;
                 // One sum at a time takes the chunk's taps: the 8 weights stay in registers, the
                 // window slides by one load per sum, each sum is loaded and stored once a chunk.
-                // Written out for each row: a function taking the arrays made pipeline creation
-                // 1.6x longer (6.5 s at 32 cells), for the same speed.
-                if (hw0 >= 0) {
-                    const vec4 w0 = taps[2 * (chunk + c)], w1 = taps[2 * (chunk + c) + 1];
-                    const float w[STENCIL_CHUNK] =
-                        float[](w0.x, w0.y, w0.z, w0.w, w1.x, w1.y, w1.z, w1.w);
-                    [[unroll]] for (int r = 0; r < OUT; ++r)
-                        [[unroll]] for (int k = 0; k < STENCIL_CHUNK; ++k)
-                            a0[r] = fma(w[k], s[r + k], a0[r]);
-                }
-                if (hw1 >= 0) {
-                    const vec4 w0 = taps[2 * (chunk1 + c)], w1 = taps[2 * (chunk1 + c) + 1];
-                    const float w[STENCIL_CHUNK] =
-                        float[](w0.x, w0.y, w0.z, w0.w, w1.x, w1.y, w1.z, w1.w);
-                    [[unroll]] for (int r = 0; r < OUT; ++r)
-                        [[unroll]] for (int k = 0; k < STENCIL_CHUNK; ++k)
-                            a1[r] = fma(w[k], s[r + k], a1[r]);
-                }
+                const vec4 w0 = taps[2 * (chunk + c)], w1 = taps[2 * (chunk + c) + 1];
+                const float w[STENCIL_CHUNK] =
+                    float[](w0.x, w0.y, w0.z, w0.w, w1.x, w1.y, w1.z, w1.w);
+                [[unroll]] for (int r = 0; r < OUT; ++r)
+                    [[unroll]] for (int k = 0; k < STENCIL_CHUNK; ++k)
+                        a[r] = fma(w[k], s[r + k], a[r]);
                 [[unroll]] for (int r = 0; r < OUT; ++r) s[r] = s[r + STENCIL_CHUNK];
             }
         }
-        chunk = chunk1 + (hw1 >= 0 ? count : 0);
+        chunk += count;
     }
 
     // Whole vec4 (one lane-by-lane loop per 4 outputs) and no bounds test: the slice's rows and
     // columns are padded to whole workgroups.
-    const int o = (j * int(params.sliceWidth) + i0) / 4, o1 = o + int(params.sliceWidth) / 4;
-    [[unroll]] for (int q = 0; q < OUT / 4; ++q) {
-        slice[o + q] += vec4(a0[4 * q], a0[4 * q + 1], a0[4 * q + 2], a0[4 * q + 3]);
-        slice[o1 + q] += vec4(a1[4 * q], a1[4 * q + 1], a1[4 * q + 2], a1[4 * q + 3]);
-    }
+    const int o = (j * int(params.sliceWidth) + i0) / 4;
+    [[unroll]] for (int q = 0; q < OUT / 4; ++q)
+        slice[o + q] += vec4(a[4 * q], a[4 * q + 1], a[4 * q + 2], a[4 * q + 3]);
 }

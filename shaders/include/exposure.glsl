@@ -22,9 +22,10 @@ const int EXPOSURE_BLUR_STEPS = 8;
 const int EXPOSURE_BLUR_GATHER_MAX_HALF_WIDTH = 16;
 
 /// The widest stencil exposure_stencil.comp takes (half-width in cells): its pipeline is unrolled
-/// over the stencils' common shape, so its code grows with the shape's taps (pipeline creation
-/// 0.36 s at 11 cells, 1.07 s at 20, 4.05 s at 32 on lavapipe); past this the engine takes the
-/// CPU path.
+/// over the stencils' common shape, so its code grows with the shape's taps (pipeline creation on
+/// lavapipe, when each invocation summed two output rows over all 2H + 1 stencil rows: 0.36 s at
+/// 11 cells, 1.07 s at 20, 4.05 s at 32; the folded rows since took 0.18 -> 0.06 s at 12); past
+/// this the engine takes the CPU path.
 const int STENCIL_MAX_HALF_WIDTH = 32;
 
 /// Taps per chunk of a stencil row in exposure_stencil.comp, and the consecutive outputs of one
@@ -32,7 +33,7 @@ const int STENCIL_MAX_HALF_WIDTH = 32;
 const int STENCIL_CHUNK = 8;
 const int STENCIL_OUTPUTS = 16;
 /// exposure_stencil.comp's workgroup: invocations along x (each STENCIL_OUTPUTS outputs of a row)
-/// and along y (two rows each). Lavapipe runs 8 invocations along x as the lanes of one vector: 4
+/// and along y (a row each). Lavapipe runs 8 invocations along x as the lanes of one vector: 4
 /// x 16 (narrower workgroups, less padding on the grid's right) ran 1.7x slower. 32 outputs per
 /// invocation measured 42 against 45 ns/voxel in `bench_exposure engines` but 27 against 26 in
 /// `bench_pipeline --engines` (256-column workgroups pad its 1030 columns by a quarter), with

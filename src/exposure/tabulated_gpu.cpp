@@ -11,7 +11,7 @@
 namespace vpsim::exposure {
 namespace {
 
-constexpr int GROUP_ROWS = 2 * glsl::STENCIL_GROUP_Y;  ///< output rows per workgroup: 2 each
+constexpr int GROUP_ROWS = glsl::STENCIL_GROUP_Y;  ///< output rows per workgroup: 1 each
 /// Its outputs along x: STENCIL_GROUP_X invocations of STENCIL_OUTPUTS outputs.
 constexpr int GROUP_COLUMNS = glsl::STENCIL_GROUP_X * glsl::STENCIL_OUTPUTS;
 
@@ -33,47 +33,26 @@ std::vector<int> commonShape(const std::vector<DepthStencil>& stencils) {
     return shape;
 }
 
-/// The shader's pairs of stencil rows: deposit row u feeds stencil row u of an invocation's
-/// first output row and row u - 1 of its second, both walked on the wider row's chunks.
-struct RowPair {
-    int halfWidth;  ///< the wider row's (-1: neither row has taps)
-    int rows[2];    ///< stencil rows t (dj + H) in the pair's order, -1 where the row is empty
-};
-
-std::vector<RowPair> rowPairs(const std::vector<int>& shape) {
-    const auto at = [&](int t) { return t >= 0 && t < int(shape.size()) ? shape[size_t(t)] : -1; };
-    std::vector<RowPair> pairs;
-    for (int u = 0; u <= int(shape.size()); ++u) {
-        const int hw0 = at(u), hw1 = at(u - 1);
-        pairs.push_back({std::max(hw0, hw1), {hw0 >= 0 ? u : -1, hw1 >= 0 ? u - 1 : -1}});
-    }
-    return pairs;
-}
-
+/// The shader's rows: stencil rows d = 0..H of the shape (row -d is the same), each walked in
+/// stencilRowChunks of its half-width.
 int shapeChunks(const std::vector<int>& shape) {
+    const int H = int(shape.size() / 2);
     int chunks = 0;
-    for (const RowPair& p : rowPairs(shape))
-        for (int t : p.rows)
-            if (t >= 0) chunks += glsl::stencilRowChunks(p.halfWidth);
+    for (int d = 0; d <= H; ++d) chunks += glsl::stencilRowChunks(shape[size_t(H + d)]);
     return chunks;
 }
 
-/// A stencil's weights on the common shape, in the shader's order: per pair of rows, each row's
-/// taps on the pair's chunks of STENCIL_CHUNK from stencilRowFirst (zeros outside the stencil's
-/// support).
+/// A stencil's weights on the common shape, in the shader's order: per row d = 0..H, its taps on
+/// the row's chunks of STENCIL_CHUNK from stencilRowFirst (zeros outside the stencil's support).
 std::vector<float> weightsOnShape(const DepthStencil& st, const std::vector<int>& shape) {
     const int H = int(shape.size() / 2);
     std::vector<float> weights;
-    for (const RowPair& p : rowPairs(shape)) {
-        const int first = glsl::stencilRowFirst(p.halfWidth);
-        for (int t : p.rows) {
-            if (t < 0) continue;
-            const int dj = t - H;
-            for (int k = 0; k < glsl::stencilRowChunks(p.halfWidth) * glsl::STENCIL_CHUNK; ++k) {
-                const int di = first + k;
-                const bool inside = std::abs(di) <= st.halfWidth && std::abs(dj) <= st.halfWidth;
-                weights.push_back(inside ? st.at(di, dj) : 0.0f);
-            }
+    for (int d = 0; d <= H; ++d) {
+        const int hw = shape[size_t(H + d)], first = glsl::stencilRowFirst(hw);
+        for (int k = 0; k < glsl::stencilRowChunks(hw) * glsl::STENCIL_CHUNK; ++k) {
+            const int di = first + k;
+            const bool inside = std::abs(di) <= st.halfWidth && d <= st.halfWidth;
+            weights.push_back(inside ? st.at(di, d) : 0.0f);
         }
     }
     return weights;

@@ -6,7 +6,7 @@
 // of workgroups that the deposit reaches, and brings the layer's finished slices back to their
 // mirrors, where the host takes them. The pipeline is specialised to the stencils' common shape
 // (per stencil row, the widest row of any stencil), so each stencil's weights are laid out on that
-// shape, in the shader's pairs of rows (an invocation sums two output rows).
+// shape, in the shader's rows dj = 0..H (it folds deposit rows j + dj and j - dj).
 #include <memory>
 #include <vector>
 
