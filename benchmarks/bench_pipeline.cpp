@@ -8,7 +8,8 @@
 //   alone on a slab of the same grid, the paths alternating, wall time with the deposit taken out
 //   (engine_timing.h); the shaders on the Vulkan device found, lavapipe on a CPU-only machine,
 //   upload, dispatch and readback included; null when none), and shader_over_cpu, their ratio
-//   (target 1.5 for both engines).
+//   (target 1.5 for both engines); tabulated_shader_stencils_per_invocation, the depth stencils
+//   the tabulated shader applies to each deposit window it fetches.
 // Targets (issue 22, 2 cores): expose+cure+validate < 1.8 s, every stage after the plan < 4 s,
 // peak < 1 GiB without a .vdb. The block runs 3 times (--repeats N); the figures are those of the
 // run with the median expose+cure+validate, and expose_cure_validate_runs lists every run's (a
@@ -207,6 +208,8 @@ void engineFigures(nlohmann::json& out, const std::shared_ptr<gpu::Context>& con
                 return std::make_unique<exposure::TabulatedExposureEngine>(grid, table, 0.05,
                                                                            context);
             });
+        if (shader)
+            out["tabulated_shader_stencils_per_invocation"] = shader->shaderStencilsPerInvocation();
         figures("tabulated", cpu, shader.get(), 3);
     }
 }

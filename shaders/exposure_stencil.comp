@@ -1,10 +1,13 @@
 #version 450
-// Tabulated-kernel exposure: adds one depth stencil's gather of a layer's deposit to one voxel
-// slice (see include/vpsim/exposure/tabulated_engine.h). out(i, j) += sum w(di, dj) S(i+di, j+dj).
+// Tabulated-kernel exposure: adds STENCILS depth stencils' gathers of a layer's deposit each to
+// its voxel slice (see include/vpsim/exposure/tabulated_engine.h).
+// out_t(i, j) += sum w_t(di, dj) S(i+di, j+dj).
 //
 // The stencils are symmetric in dj (the kernel is radial), so stencil row d takes deposit rows
 // j + d and j - d added as they are fetched (the CPU gather's folded rows, stencil_gather.h):
-// H + 1 rows of multiply-adds per output instead of 2H + 1.
+// H + 1 rows of multiply-adds per output instead of 2H + 1. Each folded window fetched feeds
+// the STENCILS stencils of the host's group (up to STENCIL_MAX_PER_INVOCATION), since the
+// fetches cost on lavapipe about what one stencil's multiply-adds do.
 //
 // Shaped for lavapipe (Mesa 22.3, 8 lanes; docs/PLATFORM.md), where a texelFetch is a call that
 // spills every live vector, a load from a uniform block is a per-lane gather even at a constant
@@ -25,8 +28,8 @@
 // workgroups that some deposit reaches (params.groupX, groupY: the first workgroup of the
 // dispatch). Before the fold each invocation summed two output rows from each fetched deposit
 // row: the fold costs twice the fetches per output and halves the multiply-adds, 18.6-19.3 ->
-// 14.9-17.5 ns/voxel in `bench_pipeline --engines`, with a quarter of the code (pipeline
-// creation 0.18 -> 0.06 s at 12 cells each side).
+// 14.9-17.5 ns/voxel in `bench_pipeline --engines`, with a quarter of the code per stencil
+// (pipeline creation 0.18 -> 0.06 s at 12 cells each side, one stencil per invocation).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 #include "glsl_common.glsl"
@@ -39,6 +42,8 @@ layout(local_size_x = STENCIL_GROUP_X, local_size_y = STENCIL_GROUP_Y) in;
 // t = dj + HALF_WIDTH the largest |di| of a tap (-1: no tap in that row).
 layout(constant_id = 0) const int HALF_WIDTH = 0;
 layout(constant_id = 1) const int CHUNKS = 1;
+// Stencils per invocation, 1..STENCIL_MAX_GROUP: each folded window fetched feeds them all.
+layout(constant_id = 67) const int STENCILS = 1;
 #define VPSIM_ROW(t) layout(constant_id = 2 + t) const int ROW_##t = -1;
 VPSIM_ROW(0) VPSIM_ROW(1) VPSIM_ROW(2) VPSIM_ROW(3) VPSIM_ROW(4) VPSIM_ROW(5) VPSIM_ROW(6)
 VPSIM_ROW(7) VPSIM_ROW(8) VPSIM_ROW(9) VPSIM_ROW(10) VPSIM_ROW(11) VPSIM_ROW(12) VPSIM_ROW(13)
@@ -79,17 +84,29 @@ const int OUT = STENCIL_OUTPUTS;
 
 layout(push_constant) uniform Push { ExposureStencilParams params; };
 layout(binding = 0) uniform samplerBuffer deposit;
-// The stencil on the common shape, per pair of rows (below) each row's taps on the pair's chunks
-// of 8 from di = stencilRowFirst(hw), hw the wider row's (the host's rowPairs).
-layout(std140, binding = 1) uniform Weights { vec4 weights[2 * CHUNKS]; };
-// Rows of params.sliceWidth outputs (whole workgroups), as many rows as the workgroups cover.
-layout(std430, binding = 2) buffer Slice { vec4 slice[]; };
+// The group's stencils on the common shape, one after another, each per row dj = 0..H its taps on
+// the row's chunks of 8 from di = stencilRowFirst(hw) (the host's weightsOnShape).
+layout(std140, binding = 1) uniform Weights { vec4 weights[2 * CHUNKS * STENCILS]; };
+// Rows of params.sliceWidth outputs (whole workgroups), as many rows as the workgroups cover: the
+// slices of the group's stencils (bindings past STENCILS are not used).
+layout(std430, binding = 2) buffer Slice0 { vec4 slice0[]; };
+layout(std430, binding = 3) buffer Slice1 { vec4 slice1[]; };
+layout(std430, binding = 4) buffer Slice2 { vec4 slice2[]; };
+layout(std430, binding = 5) buffer Slice3 { vec4 slice3[]; };
 
-shared vec4 taps[2 * CHUNKS];
+shared vec4 taps[2 * CHUNKS * STENCILS];
+
+// Adds sum to texel o of stencil t's slice (t a constant once the loops are unrolled).
+void addToSlice(int t, int o, vec4 sum) {
+    if (t == 0) slice0[o] += sum;
+    else if (t == 1) slice1[o] += sum;
+    else if (t == 2) slice2[o] += sum;
+    else slice3[o] += sum;
+}
 
 void main() {
     const uint invocations = uint(STENCIL_GROUP_X * STENCIL_GROUP_Y);
-    for (uint k = gl_LocalInvocationIndex; k < uint(2 * CHUNKS); k += invocations)
+    for (uint k = gl_LocalInvocationIndex; k < uint(2 * CHUNKS * STENCILS); k += invocations)
         taps[k] = weights[k];
     barrier();
 
@@ -97,9 +114,10 @@ void main() {
     const ivec2 group = ivec2(gl_WorkGroupID.xy) + ivec2(params.groupX, params.groupY);
     const int i0 = (group.x * STENCIL_GROUP_X + int(gl_LocalInvocationID.x)) * OUT;
     const int j = group.y * STENCIL_GROUP_Y + int(gl_LocalInvocationID.y);
-    float a[OUT];
-    [[unroll]] for (int r = 0; r < OUT; ++r) a[r] = 0.0;
-    int chunk = 0;  // the row's first chunk in taps
+    float a[STENCILS][OUT];
+    [[unroll]] for (int t = 0; t < STENCILS; ++t)
+        [[unroll]] for (int r = 0; r < OUT; ++r) a[t][r] = 0.0;
+    int chunk = 0;  // the row's first chunk in a stencil's taps
     // Stencil row d takes the deposit rows j + d and j - d, added as they are fetched (the
     // stencils are symmetric in dj): the CPU gather's folded rows, in its order.
     [[unroll]] for (int d = 0; d <= HALF_WIDTH; ++d) {
@@ -139,14 +157,18 @@ void main() {
                 s[OUT + 5] = hi.y;
                 s[OUT + 6] = hi.z;
                 s[OUT + 7] = hi.w;
-                // One sum at a time takes the chunk's taps: the 8 weights stay in registers, the
-                // window slides by one load per sum, each sum is loaded and stored once a chunk.
-                const vec4 w0 = taps[2 * (chunk + c)], w1 = taps[2 * (chunk + c) + 1];
-                const float w[STENCIL_CHUNK] =
-                    float[](w0.x, w0.y, w0.z, w0.w, w1.x, w1.y, w1.z, w1.w);
-                [[unroll]] for (int r = 0; r < OUT; ++r)
-                    [[unroll]] for (int k = 0; k < STENCIL_CHUNK; ++k)
-                        a[r] = fma(w[k], s[r + k], a[r]);
+                // Per stencil, one sum at a time takes the chunk's taps: the 8 weights stay in
+                // registers, the window slides by one load per sum, each sum is loaded and
+                // stored once a chunk.
+                [[unroll]] for (int t = 0; t < STENCILS; ++t) {
+                    const int at = 2 * (t * CHUNKS + chunk + c);
+                    const vec4 w0 = taps[at], w1 = taps[at + 1];
+                    const float w[STENCIL_CHUNK] =
+                        float[](w0.x, w0.y, w0.z, w0.w, w1.x, w1.y, w1.z, w1.w);
+                    [[unroll]] for (int r = 0; r < OUT; ++r)
+                        [[unroll]] for (int k = 0; k < STENCIL_CHUNK; ++k)
+                            a[t][r] = fma(w[k], s[r + k], a[t][r]);
+                }
                 [[unroll]] for (int r = 0; r < OUT; ++r) s[r] = s[r + STENCIL_CHUNK];
             }
         }
@@ -156,6 +178,8 @@ void main() {
     // Whole vec4 (one lane-by-lane loop per 4 outputs) and no bounds test: the slice's rows and
     // columns are padded to whole workgroups.
     const int o = (j * int(params.sliceWidth) + i0) / 4;
-    [[unroll]] for (int q = 0; q < OUT / 4; ++q)
-        slice[o + q] += vec4(a[4 * q], a[4 * q + 1], a[4 * q + 2], a[4 * q + 3]);
+    [[unroll]] for (int t = 0; t < STENCILS; ++t)
+        [[unroll]] for (int q = 0; q < OUT / 4; ++q)
+            addToSlice(t, o + q, vec4(a[t][4 * q], a[t][4 * q + 1], a[t][4 * q + 2],
+                                      a[t][4 * q + 3]));
 }

@@ -40,6 +40,9 @@ const int STENCIL_OUTPUTS = 16;
 /// twice the code to compile.
 const int STENCIL_GROUP_X = 8;
 const int STENCIL_GROUP_Y = 8;
+/// The most depth stencils one exposure_stencil.comp invocation applies to each folded window it
+/// fetches (its slices are bindings 2..5).
+const int STENCIL_MAX_PER_INVOCATION = 4;
 
 /// A stencil row whose taps reach |di| <= halfWidth is walked in chunks from this first tap,
 /// aligned to 4 cells so the shader's vec4 fetches stay aligned.

@@ -314,6 +314,10 @@ int TabulatedExposureEngine::reachCells() const {
     return reach;
 }
 
+int TabulatedExposureEngine::shaderStencilsPerInvocation() const {
+    return mGpu ? mGpu->perInvocation : 0;
+}
+
 int TabulatedExposureEngine::stencilIndexAt(double depth) const {
     if (!(depth >= 0)) throw InputError("exposure depth must be >= 0");
     int m = int(std::floor(depth * mGrid.slicesPerLayer / mLayerThickness));

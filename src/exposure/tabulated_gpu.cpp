@@ -58,13 +58,59 @@ std::vector<float> weightsOnShape(const DepthStencil& st, const std::vector<int>
     return weights;
 }
 
-/// exposure_stencil.comp's specialisation: the shape's half-width, chunks and rows.
-std::vector<gpu::SpecConstant> shapeConstants(const std::vector<int>& shape) {
+/// exposure_stencil.comp's specialisation: the shape's half-width, chunks and rows, and the
+/// stencils per invocation.
+std::vector<gpu::SpecConstant> shaderConstants(const std::vector<int>& shape, int perInvocation) {
     std::vector<gpu::SpecConstant> constants{{0, uint32_t(shape.size() / 2)},
                                              {1, uint32_t(shapeChunks(shape))}};
     for (size_t t = 0; t < shape.size(); ++t)
         constants.push_back({uint32_t(2 + t), uint32_t(shape[t])});
+    constants.push_back({67, uint32_t(perInvocation)});
     return constants;
+}
+
+/// The most chunks the shader's unrolled body may hold for several stencils per invocation (each
+/// stencil's shape chunks, all stencils together): its compilation grows with them. On lavapipe
+/// here, uncached, at 12 cells each side (52 chunks): pipeline creation and the first dispatch
+/// (where LLVM compiles) 0.06 + 0.51 s for one stencil, 0.30 + 1.05 s for four, about what the
+/// shader took before the fold; at 32 cells (about 230 chunks) two stencils took 1.7 + 3.4 s. So
+/// several stencils per invocation stay within four at 12 cells.
+constexpr int MAX_UNROLLED_CHUNKS = 256;
+
+/// The most stencils whose weights on `shape` fit the device's shared memory and uniform range
+/// together (0: not even one), at most STENCIL_MAX_PER_INVOCATION, and more than one only within
+/// MAX_UNROLLED_CHUNKS.
+int mostPerInvocation(const std::vector<int>& shape, const gpu::DeviceInfo& device) {
+    const int chunks = shapeChunks(shape);
+    const uint64_t bytes = uint64_t(chunks) * glsl::STENCIL_CHUNK * sizeof(float);
+    int most = 0;
+    while (most < glsl::STENCIL_MAX_PER_INVOCATION &&
+           (most + 1) * bytes <= device.maxSharedMemoryBytes &&
+           (most + 1) * bytes <= device.maxUniformBufferRange &&
+           (most == 0 || (most + 1) * chunks <= MAX_UNROLLED_CHUNKS))
+        ++most;
+    return most;
+}
+
+/// Stencils per invocation for M stencils on `device`. On a CPU driver, the fewest window fetches
+/// and multiply-adds, counted as ceil(M / K) groups each costing a window (about one stencil's
+/// multiply-adds on lavapipe: the fetch calls took as many JIT samples as the arithmetic with one
+/// stencil) plus K stencils; the group's stencils past M have zero weights and still cost their
+/// multiply-adds. Measured against one stencil per invocation: `bench_pipeline --engines` (M = 11)
+/// 15.2 -> 13.0-13.9 ns/voxel with four, `bench_exposure engines` (M = 23) 27.6 -> 22.5-23.2.
+/// One on a GPU, where fetches are cheap against the arithmetic (not yet measured there).
+int chooseStencilsPerInvocation(int M, int most, const gpu::DeviceInfo& device) {
+    if (device.hostThreads == 0) return 1;
+    int best = 1;
+    double bestCost = 1e300;
+    for (int k = 1; k <= most; ++k) {
+        const double cost = double((M + k - 1) / k) * (k + 1);
+        if (cost <= bestCost) {
+            best = k;
+            bestCost = cost;
+        }
+    }
+    return best;
 }
 
 }  // namespace
@@ -72,9 +118,8 @@ std::vector<gpu::SpecConstant> shapeConstants(const std::vector<int>& shape) {
 bool TabulatedExposureEngine::GpuState::fits(const std::vector<DepthStencil>& stencils,
                                              const gpu::DeviceInfo& device) {
     const std::vector<int> shape = commonShape(stencils);
-    const uint64_t bytes = uint64_t(shapeChunks(shape)) * glsl::STENCIL_CHUNK * sizeof(float);
     return int(shape.size() / 2) <= glsl::STENCIL_MAX_HALF_WIDTH &&
-           bytes <= device.maxSharedMemoryBytes && bytes <= device.maxUniformBufferRange;
+           mostPerInvocation(shape, device) >= 1;
 }
 
 TabulatedExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> context_, int nx_,
@@ -92,22 +137,35 @@ TabulatedExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> contex
       groupsX(uint32_t(roundUp(nx_, GROUP_COLUMNS) / GROUP_COLUMNS)),
       groupsY(uint32_t(roundUp(ny_, GROUP_ROWS) / GROUP_ROWS)),
       sliceWidth(groupsX * GROUP_COLUMNS),
+      perInvocation(chooseStencilsPerInvocation(
+          int(stencils.size()), mostPerInvocation(shape, context->info()), context->info())),
       deposit(context,
               uint64_t(paddedWidth) * (roundUp(ny_, GROUP_ROWS) + 2 * padding) * sizeof(float)),
+      // Rows and columns of whole workgroups, so the shader stores whole vec4 with no bounds
+      // test.
+      scratch(context, uint64_t(sliceWidth) * groupsY * GROUP_ROWS * sizeof(float)),
       kernel(context, exposure_stencil_spv, sizeof exposure_stencil_spv,
-             {gpu::Binding::UniformTexels4, gpu::Binding::Uniform, gpu::Binding::Storage},
-             sizeof(glsl::ExposureStencilParams), shapeConstants(shape), 8) {
-    for (const auto& st : stencils) {
-        const std::vector<float> onShape = weightsOnShape(st, shape);
-        weights.emplace_back(context, onShape.size() * sizeof(float));
-        weights.back().upload(onShape);
+             {gpu::Binding::UniformTexels4, gpu::Binding::Uniform, gpu::Binding::Storage,
+              gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
+             sizeof(glsl::ExposureStencilParams), shaderConstants(shape, perInvocation), 8) {
+    // Stencils perInvocation m .. m + perInvocation - 1 share a weights block, zeros past the last.
+    for (size_t first = 0; first < stencils.size(); first += size_t(perInvocation)) {
+        std::vector<float> group;
+        for (size_t m = first; m < first + size_t(perInvocation); ++m) {
+            const std::vector<float> onShape =
+                m < stencils.size()
+                    ? weightsOnShape(stencils[m], shape)
+                    : std::vector<float>(size_t(shapeChunks(shape)) * glsl::STENCIL_CHUNK, 0.0f);
+            group.insert(group.end(), onShape.begin(), onShape.end());
+        }
+        weights.emplace_back(context, group.size() * sizeof(float));
+        weights.back().upload(group);
     }
     deposit.fill(0u);  // the border stays zero: the host writes the grid's cells only
     depositMirror = static_cast<float*>(deposit.hostMirror());
-    // Rows and columns of whole workgroups, so the shader stores whole vec4 with no bounds test.
-    const uint64_t sliceBytes = uint64_t(sliceWidth) * groupsY * GROUP_ROWS * sizeof(float);
+    scratch.fill(0u);
     for (int s = 0; s < slots; ++s) {
-        slices.emplace_back(context, sliceBytes);
+        slices.emplace_back(context, scratch.size());
         slices.back().hostMirror();
     }
     clearSlots();
@@ -125,19 +183,30 @@ double TabulatedExposureEngine::GpuState::addLayer(const SurfaceGrid& hostDeposi
         if (!toClear.empty()) r.barrier();
         toClear.clear();
         r.toDevice(deposit);
-        for (const auto& [m, slot] : targets) {
-            glsl::ExposureStencilParams params{};
-            params.nx = nx;
-            params.ny = ny;
-            params.paddedWidth = paddedWidth;
-            params.padding = padding;
-            params.columnPadding = columnPadding;
-            params.sliceWidth = sliceWidth;
+        // Each group of stencils with a target is one dispatch per rectangle; a stencil of the
+        // group without one (the part's first layers, or past the last stencil) adds to scratch.
+        std::vector<int> slotOf(weights.size() * size_t(perInvocation), -1);
+        for (const auto& [m, slot] : targets) slotOf[size_t(m)] = slot;
+        glsl::ExposureStencilParams params{};
+        params.nx = nx;
+        params.ny = ny;
+        params.paddedWidth = paddedWidth;
+        params.padding = padding;
+        params.columnPadding = columnPadding;
+        params.sliceWidth = sliceWidth;
+        for (size_t g = 0; g < weights.size(); ++g) {
+            std::vector<const gpu::Buffer*> buffers{&deposit, &weights[g]};
+            bool any = false;
+            for (int t = 0; t < glsl::STENCIL_MAX_PER_INVOCATION; ++t) {
+                const int slot = t < perInvocation ? slotOf[g * perInvocation + size_t(t)] : -1;
+                buffers.push_back(slot >= 0 ? &slices[size_t(slot)] : &scratch);
+                any = any || slot >= 0;
+            }
+            if (!any) continue;
             for (const GroupRect& rect : rects) {
                 params.groupX = int(rect.x);
                 params.groupY = int(rect.y);
-                r.dispatch(kernel, {&deposit, &weights[m], &slices[slot]}, &params, rect.width,
-                           rect.height);
+                r.dispatch(kernel, buffers, &params, rect.width, rect.height);
             }
         }
         for (int slot : finished) r.toHost(slices[slot]);

@@ -2,11 +2,12 @@
 // Private: the shader path of the tabulated-kernel engine. Accumulator slices stay on the device;
 // per source layer one submission moves the zero-padded deposit to the device (the host writes it
 // in the buffer's host mirror, gpu::Buffer::hostMirror), clears the slices taken since the last
-// one, dispatches each (stencil, slice) pair (shaders/exposure_stencil.comp) over the rectangles
-// of workgroups that the deposit reaches, and brings the layer's finished slices back to their
-// mirrors, where the host takes them. The pipeline is specialised to the stencils' common shape
-// (per stencil row, the widest row of any stencil), so each stencil's weights are laid out on that
-// shape, in the shader's rows dj = 0..H (it folds deposit rows j + dj and j - dj).
+// one, dispatches each group of perInvocation stencils with their slices
+// (shaders/exposure_stencil.comp) over the rectangles of workgroups that the deposit reaches, and
+// brings the layer's finished slices back to their mirrors, where the host takes them. The
+// pipeline is specialised to the stencils' common shape (per stencil row, the widest row of any
+// stencil), so each stencil's weights are laid out on that shape, in the shader's rows
+// dj = 0..H (it folds deposit rows j + dj and j - dj).
 #include <memory>
 #include <vector>
 
@@ -51,9 +52,15 @@ struct TabulatedExposureEngine::GpuState {
     uint32_t paddedWidth;    ///< row length of the padded deposit, a multiple of 4
     uint32_t groupsX, groupsY;
     uint32_t sliceWidth;  ///< row length of a device slice: whole workgroups, a multiple of 4
+    /// Stencils each invocation applies to a fetched window (the shader's STENCILS).
+    int perInvocation;
     gpu::Buffer deposit;
     float* depositMirror;  ///< the padded deposit in host memory (gpu::Buffer::hostMirror)
-    std::vector<gpu::Buffer> weights;  ///< one uniform block per stencil, on the common shape
+    /// A slice that takes the sums of a group's stencils without a target, never read.
+    gpu::Buffer scratch;
+    /// One uniform block per group of perInvocation stencils (m / perInvocation), on the
+    /// common shape.
+    std::vector<gpu::Buffer> weights;
     std::vector<gpu::Buffer> slices;
     std::vector<int> toClear;  ///< slots taken since the last addLayer
     gpu::Kernel kernel;

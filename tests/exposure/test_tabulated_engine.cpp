@@ -220,7 +220,8 @@ TEST_CASE("the tabulated engine rejects bad inputs", "[exposure][tabulated]") {
 }
 
 // The shader and the CPU loop gather the same stencils (indexed through exposure.glsl) in
-// different orders: float rounding only, 1e-5 relative. Both ways the host reaches the device:
+// different orders (the shader's zero taps, fused multiply-adds on GPUs): float rounding only,
+// 1e-5 relative. Both ways the host reaches the device:
 // mapped memory (lavapipe) and staging copies (a discrete GPU's path, test::stagedGpuContext).
 TEST_CASE("GPU and CPU tabulated exposure agree", "[exposure][tabulated][gpu]") {
     VPSIM_GPU_CONTEXT_OR_SKIP(shared);
@@ -233,6 +234,18 @@ TEST_CASE("GPU and CPU tabulated exposure agree", "[exposure][tabulated][gpu]") 
     for (const auto& ctx : {shared, test::stagedGpuContext()}) {
         TabulatedExposureEngine gpu(grid, k, h, ctx);
         REQUIRE(gpu.usesGpu());
+        // On a CPU driver several stencils per invocation (16 KiB of shared memory, the least a
+        // device has, holds four of these), a last group that is not full (its stencils past M
+        // have zero weights), and layers whose group members have no slice yet (3 layers of the
+        // kernel's 5): those sums go to the scratch slice. One on a GPU.
+        const int perInvocation = gpu.shaderStencilsPerInvocation();
+        if (ctx->info().hostThreads > 0) {
+            REQUIRE(perInvocation > 1);
+            CHECK(gpu.stencils().size() % size_t(perInvocation) != 0);
+            CHECK(gpu.layersInFlight() > int(plan.layers.size()));
+        } else {
+            CHECK(perInvocation == 1);
+        }
         // Twice: the device's slots must be clear when a second run starts.
         for (int run = 0; run < 2; ++run) {
             auto eg = test::exposeAll(gpu, plan);
@@ -289,6 +302,7 @@ TEST_CASE(
     for (const Case& c : cases) {
         TabulatedExposureEngine cpu(c.grid, c.kernel, h), gpu(c.grid, c.kernel, h, ctx);
         REQUIRE(gpu.usesGpu());
+        CHECK(gpu.shaderStencilsPerInvocation() >= 1);
         if (c.halfWidth > 0) CHECK(gpu.reachCells() == c.halfWidth);
         int smallest = gpu.reachCells();
         for (const DepthStencil& st : gpu.stencils()) smallest = std::min(smallest, st.halfWidth);

@@ -91,6 +91,8 @@ public:
     double keptEnergyFraction() const override { return mKeptEnergyFraction; }
     /// The widest stencil's half-width.
     int reachCells() const override;
+    /// Depth stencils the shader applies to each deposit window it fetches (0 on the CPU path).
+    int shaderStencilsPerInvocation() const;
 
 private:
     struct GpuState;
