@@ -90,11 +90,11 @@ StencilTaps stencilTaps(const DepthStencil& stencil) {
     for (int dj = 0; dj <= H; ++dj) {
         const int hw = stencil.rowHalfWidth[size_t(dj + H)];
         if (hw != stencil.rowHalfWidth[size_t(H - dj)])
-            throw std::logic_error("stencilTaps: the stencil is not symmetric in dj");
+            throw std::logic_error("stencilTaps: the stencil is not mirror symmetric");
         for (int di = -hw; di <= hw; ++di) {
             const float w = stencil.at(di, dj);
-            if (w != stencil.at(di, -dj))
-                throw std::logic_error("stencilTaps: the stencil is not symmetric in dj");
+            if (w != stencil.at(di, -dj) || w != stencil.at(-di, dj))
+                throw std::logic_error("stencilTaps: the stencil is not mirror symmetric");
             if (w == 0.0f) continue;
             taps.offset.push_back(di);
             taps.weight.push_back(w);

@@ -22,7 +22,9 @@ struct StencilTaps {
     std::vector<float> weight;
 };
 
-/// @throw std::logic_error when the stencil is not symmetric in dj bit for bit
+/// @throw std::logic_error when the stencil is not mirror symmetric (w(di, dj) = w(-di, dj) =
+/// w(di, -dj)) bit for bit: the gather folds rows dj and -dj, and the engine takes the gather as
+/// its own adjoint
 StencilTaps stencilTaps(const DepthStencil& stencil);
 
 /// A deposit copied with halfWidth zero cells on each side of every row, so that a gather reads

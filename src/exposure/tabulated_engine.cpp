@@ -109,8 +109,8 @@ int stencilCount(const std::vector<double>& planePower) {
 
 }  // namespace
 
-/// The CPU path's state: each stencil's non-zero taps, built once, and the deposit with zero
-/// borders, whose storage serves every layer.
+/// The CPU gather's state: each stencil's non-zero taps, built once (the CPU path and the maps the
+/// planners take), and the CPU path's deposit with zero borders, whose storage serves every layer.
 struct TabulatedExposureEngine::CpuGather {
     std::vector<StencilTaps> taps;
     PaddedDeposit padded;
@@ -142,10 +142,8 @@ TabulatedExposureEngine::TabulatedExposureEngine(const ExposureGrid& grid,
         mGpu = std::make_unique<GpuState>(context, grid.nx, grid.ny, mStencils,
                                           mLayersInFlight * grid.slicesPerLayer);
     }
-    if (!mGpu) {
-        mCpu = std::make_unique<CpuGather>();
-        for (const DepthStencil& st : mStencils) mCpu->taps.push_back(stencilTaps(st));
-    }
+    mCpu = std::make_unique<CpuGather>();
+    for (const DepthStencil& st : mStencils) mCpu->taps.push_back(stencilTaps(st));
 }
 
 TabulatedExposureEngine::~TabulatedExposureEngine() = default;
@@ -326,23 +324,18 @@ int TabulatedExposureEngine::stencilIndexAt(double depth) const {
 
 namespace {
 
-/// out(i, j) += sum_d w(d) in(i + sign di, j + sign dj): the stencil as a convolution-style
-/// gather (sign +1, the forward map) or its transpose (sign -1).
-void applyStencil(const DepthStencil& st, const SurfaceGrid& in, SurfaceGrid& out, int sign) {
-    const int nx = in.nx, ny = in.ny, H = st.halfWidth;
-    tbb::parallel_for(0, ny, [&](int j) {
-        float* row = out.values.data() + size_t(j) * nx;
-        for (int dj = -H; dj <= H; ++dj) {
-            const int sj = j + sign * dj, hw = st.rowHalfWidth[dj + H];
-            if (sj < 0 || sj >= ny || hw < 0) continue;
-            const float* src = in.values.data() + size_t(sj) * nx;
-            for (int di = -hw; di <= hw; ++di) {
-                const float w = st.weights[size_t(glsl::stencilIndex(di, dj, H))];
-                if (w == 0.0f) continue;
-                const int o = sign * di;
-                const int lo = std::max(0, -o), hi = std::min(nx - 1, nx - 1 - o);
-                for (int i = lo; i <= hi; ++i) row[i] += w * src[i + o];
-            }
+/// out(i, j) += sum w(di, dj) in(i + di, j + dj), through the CPU gather (in's rows folded about
+/// each output row). The stencils are symmetric (w(-di, -dj) = w(di, dj) bit for bit), so this
+/// is the map's adjoint as well.
+void applyStencil(const StencilTaps& taps, const SurfaceGrid& in, SurfaceGrid& out) {
+    PaddedDeposit padded;
+    padDeposit(in, taps.halfWidth, padded);
+    const std::vector<RowExtent> extents = rowExtents(in);
+    tbb::parallel_for(tbb::blocked_range<int>(0, in.ny), [&](const tbb::blocked_range<int>& rows) {
+        thread_local FoldedRows folded;
+        for (int j = rows.begin(); j < rows.end(); ++j) {
+            folded.fold(padded, extents, j, taps.halfWidth);
+            gatherRow(out.values.data() + size_t(j) * in.nx, taps, folded);
         }
     });
 }
@@ -352,14 +345,14 @@ void applyStencil(const DepthStencil& st, const SurfaceGrid& in, SurfaceGrid& ou
 SurfaceGrid TabulatedExposureEngine::layerMap(const SurfaceGrid& deposit, double depth) {
     SurfaceGrid out = mGrid.surface();
     int m = stencilIndexAt(depth);
-    if (m >= 0) applyStencil(mStencils[m], deposit, out, +1);
+    if (m >= 0) applyStencil(mCpu->taps[size_t(m)], deposit, out);
     return out;
 }
 
 SurfaceGrid TabulatedExposureEngine::layerMapAdjoint(const SurfaceGrid& map, double depth) {
     SurfaceGrid out = mGrid.surface();
     int m = stencilIndexAt(depth);
-    if (m >= 0) applyStencil(mStencils[m], map, out, -1);
+    if (m >= 0) applyStencil(mCpu->taps[size_t(m)], map, out);
     return out;
 }
 
@@ -370,8 +363,8 @@ std::vector<SurfaceGrid> TabulatedExposureEngine::stackAdjoint(const ExposureFie
     for (int source = 0; source < layers; ++source)
         for (int k = source; k >= 0 && (source - k) * n < M; --k)
             for (int s = 0; s < n && (source - k) * n + s < M; ++s)
-                applyStencil(mStencils[(source - k) * n + s], field[size_t(k) * n + s],
-                             deposits[source], -1);
+                applyStencil(mCpu->taps[size_t((source - k) * n + s)], field[size_t(k) * n + s],
+                             deposits[source]);
     return deposits;
 }
 
