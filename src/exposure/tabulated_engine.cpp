@@ -109,8 +109,8 @@ int stencilCount(const std::vector<double>& planePower) {
 
 }  // namespace
 
-/// The CPU gather's state: each stencil's non-zero taps, built once (the CPU path and the maps the
-/// planners take), and the CPU path's deposit with zero borders, whose storage serves every layer.
+/// The CPU gather's state: each stencil's non-zero taps, built once (for the CPU path and the layer
+/// maps), and the CPU path's deposit with zero borders, whose storage serves every layer.
 struct TabulatedExposureEngine::CpuGather {
     std::vector<StencilTaps> taps;
     PaddedDeposit padded;
