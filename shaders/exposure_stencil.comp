@@ -21,8 +21,8 @@
 // the folded window sliding along it by two vec4 texel fetches per deposit row and chunk (an
 // RGBA32F view of the zero-padded deposit, aligned to 4 floats, so no fetch needs a bounds
 // check). Within a chunk one sum at a time takes its 8 taps, so the weights stay in registers
-// and each sum is loaded and stored once per chunk. The bound stencil's weights are copied into
-// shared memory once per workgroup. The sums are added to the slice as vec4 (a store is a
+// and each sum is loaded and stored once per chunk. The group's weights are copied into shared
+// memory once per workgroup. The sums are added to the slice as vec4 (a store is a
 // lane-by-lane loop per vector, not per float), whose rows and columns are padded to whole
 // workgroups, so no store needs a bounds test. The host dispatches only the rectangles of
 // workgroups that some deposit reaches (params.groupX, groupY: the first workgroup of the
@@ -38,11 +38,11 @@
 
 layout(local_size_x = STENCIL_GROUP_X, local_size_y = STENCIL_GROUP_Y) in;
 
-// The common shape: its half-width, the chunks of its pairs of rows in all, and per row
+// The common shape: its half-width, the chunks of its rows dj = 0..HALF_WIDTH in all, and per row
 // t = dj + HALF_WIDTH the largest |di| of a tap (-1: no tap in that row).
 layout(constant_id = 0) const int HALF_WIDTH = 0;
 layout(constant_id = 1) const int CHUNKS = 1;
-// Stencils per invocation, 1..STENCIL_MAX_GROUP: each folded window fetched feeds them all.
+// Stencils per invocation, 1..STENCIL_MAX_PER_INVOCATION: each folded window fetched feeds all.
 layout(constant_id = 67) const int STENCILS = 1;
 #define VPSIM_ROW(t) layout(constant_id = 2 + t) const int ROW_##t = -1;
 VPSIM_ROW(0) VPSIM_ROW(1) VPSIM_ROW(2) VPSIM_ROW(3) VPSIM_ROW(4) VPSIM_ROW(5) VPSIM_ROW(6)
