@@ -141,33 +141,32 @@ TabulatedExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> contex
           int(stencils.size()), mostPerInvocation(shape, context->info()), context->info())),
       deposit(context,
               uint64_t(paddedWidth) * (roundUp(ny_, GROUP_ROWS) + 2 * padding) * sizeof(float)),
-      // Rows and columns of whole workgroups, so the shader stores whole vec4 with no bounds
-      // test.
-      scratch(context, uint64_t(sliceWidth) * groupsY * GROUP_ROWS * sizeof(float)),
       kernel(context, exposure_stencil_spv, sizeof exposure_stencil_spv,
              {gpu::Binding::UniformTexels4, gpu::Binding::Uniform, gpu::Binding::Storage,
               gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
              sizeof(glsl::ExposureStencilParams), shaderConstants(shape, perInvocation), 8) {
     // Stencils perInvocation m .. m + perInvocation - 1 share a weights block, zeros past the last.
+    const size_t stencilFloats = size_t(shapeChunks(shape)) * glsl::STENCIL_CHUNK;
     for (size_t first = 0; first < stencils.size(); first += size_t(perInvocation)) {
         std::vector<float> group;
-        for (size_t m = first; m < first + size_t(perInvocation); ++m) {
-            const std::vector<float> onShape =
-                m < stencils.size()
-                    ? weightsOnShape(stencils[m], shape)
-                    : std::vector<float>(size_t(shapeChunks(shape)) * glsl::STENCIL_CHUNK, 0.0f);
+        for (size_t m = first; m < std::min(stencils.size(), first + size_t(perInvocation)); ++m) {
+            const std::vector<float> onShape = weightsOnShape(stencils[m], shape);
             group.insert(group.end(), onShape.begin(), onShape.end());
         }
+        group.resize(size_t(perInvocation) * stencilFloats, 0.0f);
         weights.emplace_back(context, group.size() * sizeof(float));
         weights.back().upload(group);
     }
     deposit.fill(0u);  // the border stays zero: the host writes the grid's cells only
     depositMirror = static_cast<float*>(deposit.hostMirror());
-    scratch.fill(0u);
+    // Rows and columns of whole workgroups, so the shader stores whole vec4 with no bounds test.
+    const uint64_t sliceBytes = uint64_t(sliceWidth) * groupsY * GROUP_ROWS * sizeof(float);
     for (int s = 0; s < slots; ++s) {
-        slices.emplace_back(context, scratch.size());
+        slices.emplace_back(context, sliceBytes);
         slices.back().hostMirror();
     }
+    // Only a group of several stencils can hold one without a slice.
+    if (perInvocation > 1) scratch = std::make_unique<gpu::Buffer>(context, sliceBytes);
     clearSlots();
 }
 
@@ -185,6 +184,7 @@ double TabulatedExposureEngine::GpuState::addLayer(const SurfaceGrid& hostDeposi
         r.toDevice(deposit);
         // Each group of stencils with a target is one dispatch per rectangle; a stencil of the
         // group without one (the part's first layers, or past the last stencil) adds to scratch.
+        // The bindings past perInvocation are not used: they take the group's first slice.
         std::vector<int> slotOf(weights.size() * size_t(perInvocation), -1);
         for (const auto& [m, slot] : targets) slotOf[size_t(m)] = slot;
         glsl::ExposureStencilParams params{};
@@ -197,12 +197,13 @@ double TabulatedExposureEngine::GpuState::addLayer(const SurfaceGrid& hostDeposi
         for (size_t g = 0; g < weights.size(); ++g) {
             std::vector<const gpu::Buffer*> buffers{&deposit, &weights[g]};
             bool any = false;
-            for (int t = 0; t < glsl::STENCIL_MAX_PER_INVOCATION; ++t) {
-                const int slot = t < perInvocation ? slotOf[g * perInvocation + size_t(t)] : -1;
-                buffers.push_back(slot >= 0 ? &slices[size_t(slot)] : &scratch);
+            for (int t = 0; t < perInvocation; ++t) {
+                const int slot = slotOf[g * perInvocation + size_t(t)];
+                buffers.push_back(slot >= 0 ? &slices[size_t(slot)] : scratch.get());
                 any = any || slot >= 0;
             }
             if (!any) continue;
+            buffers.resize(2 + glsl::STENCIL_MAX_PER_INVOCATION, buffers[2]);
             for (const GroupRect& rect : rects) {
                 params.groupX = int(rect.x);
                 params.groupY = int(rect.y);

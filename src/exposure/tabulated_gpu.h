@@ -56,8 +56,9 @@ struct TabulatedExposureEngine::GpuState {
     int perInvocation;
     gpu::Buffer deposit;
     float* depositMirror;  ///< the padded deposit in host memory (gpu::Buffer::hostMirror)
-    /// A slice that takes the sums of a group's stencils without a target, never read.
-    gpu::Buffer scratch;
+    /// A slice that takes the sums of a group's stencils without a target, never read (only
+    /// when perInvocation > 1).
+    std::unique_ptr<gpu::Buffer> scratch;
     /// One uniform block per group of perInvocation stencils (m / perInvocation), on the
     /// common shape.
     std::vector<gpu::Buffer> weights;
