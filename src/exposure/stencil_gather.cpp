@@ -4,6 +4,9 @@
 #include <cstring>
 #include <stdexcept>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "exposure/avx2_clones.h"
 
 namespace vpsim::exposure {
@@ -180,6 +183,21 @@ void gatherRow(float* out, const StencilTaps& taps, const FoldedRows& rows) {
         hi = std::max(hi, row.hi);
     }
     if (count > 0 && lo <= hi) gatherBlocks(out, lo, hi, nx, list.data(), count);
+}
+
+void gatherGrids(const PaddedDeposit& deposit, const std::vector<RowExtent>& extents, int reach,
+                 const std::vector<GatherTarget>& targets) {
+    const size_t nx = size_t(deposit.nx);
+    // Each output row is written by one task.
+    tbb::parallel_for(tbb::blocked_range<int>(0, deposit.ny),
+                      [&](const tbb::blocked_range<int>& rows) {
+                          thread_local FoldedRows folded;
+                          for (int j = rows.begin(); j < rows.end(); ++j) {
+                              folded.fold(deposit, extents, j, reach);
+                              for (const GatherTarget& t : targets)
+                                  gatherRow(t.values + size_t(j) * nx, *t.taps, folded);
+                          }
+                      });
 }
 
 }  // namespace vpsim::exposure

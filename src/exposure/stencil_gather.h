@@ -71,4 +71,16 @@ private:
 /// (nx cells).
 void gatherRow(float* out, const StencilTaps& taps, const FoldedRows& rows);
 
+/// A stencil and the grid (the deposit's nx x ny cells) that its gather adds to.
+struct GatherTarget {
+    const StencilTaps* taps;
+    float* values;
+};
+
+/// Adds each target's stencil gathered from `deposit` (its rows' non-zero extents given) to the
+/// target's grid: TBB-parallel over output rows, each row's deposit folded once for every target,
+/// `reach` rows each side (the widest target's half-width, at most the deposit's padding).
+void gatherGrids(const PaddedDeposit& deposit, const std::vector<RowExtent>& extents, int reach,
+                 const std::vector<GatherTarget>& targets);
+
 }  // namespace vpsim::exposure

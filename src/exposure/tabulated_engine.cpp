@@ -11,7 +11,6 @@
 #include <mutex>
 #include <string>
 
-#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "vpsim/core/error.h"
@@ -248,43 +247,24 @@ void TabulatedExposureEngine::beginLayers(int layers) {
 
 double TabulatedExposureEngine::addLayer(int source, SurfaceGrid& deposit) {
     const int n = mGrid.slicesPerLayer, L = mLayersInFlight, M = int(mStencils.size());
-    const int nx = mGrid.nx, ny = mGrid.ny;
     const auto start = std::chrono::steady_clock::now();
     const std::vector<RowExtent> extents = rowExtents(deposit);
+    // (stencil, slot): slice s of each layer k still receiving takes stencil (source - k) n + s.
+    std::vector<std::pair<int, int>> pairs;
+    for (int k = source; k >= 0 && k > source - L; --k)
+        for (int s = 0; s < n; ++s)
+            if ((source - k) * n + s < M) pairs.push_back({(source - k) * n + s, (k % L) * n + s});
     if (mGpu) {
-        std::vector<std::pair<int, int>> gpuTargets;
-        for (int k = source; k >= 0 && k > source - L; --k)
-            for (int s = 0; s < n; ++s)
-                if ((source - k) * n + s < M)
-                    gpuTargets.push_back({(source - k) * n + s, (k % L) * n + s});
         // Every layer above has been added: with this one, its slices are final.
         std::vector<int> finished;
         for (int s = 0; s < n; ++s) finished.push_back((source % L) * n + s);
-        return mGpu->addLayer(deposit, extents, gpuTargets, finished);
+        return mGpu->addLayer(deposit, extents, pairs, finished);
     }
-    struct Target {
-        const StencilTaps* taps;
-        float* values;
-    };
-    std::vector<Target> targets;
-    for (int k = source; k >= 0 && k > source - L; --k)
-        for (int s = 0; s < n; ++s) {
-            int m = (source - k) * n + s;
-            if (m < M)
-                targets.push_back(
-                    {&mCpu->taps[size_t(m)], mAccumulators[size_t(k % L) * n + s].values.data()});
-        }
-    const int reach = reachCells();
-    padDeposit(deposit, reach, mCpu->padded);
-    // Gather per output row: each row is written by one task, from the deposit folded about it
-    // once for every stencil.
-    tbb::parallel_for(tbb::blocked_range<int>(0, ny), [&](const tbb::blocked_range<int>& rows) {
-        thread_local FoldedRows folded;
-        for (int j = rows.begin(); j < rows.end(); ++j) {
-            folded.fold(mCpu->padded, extents, j, reach);
-            for (const Target& t : targets) gatherRow(t.values + size_t(j) * nx, *t.taps, folded);
-        }
-    });
+    std::vector<GatherTarget> targets;
+    for (const auto& [m, slot] : pairs)
+        targets.push_back({&mCpu->taps[size_t(m)], mAccumulators[size_t(slot)].values.data()});
+    padDeposit(deposit, reachCells(), mCpu->padded);
+    gatherGrids(mCpu->padded, extents, reachCells(), targets);
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
@@ -330,14 +310,7 @@ namespace {
 void applyStencil(const StencilTaps& taps, const SurfaceGrid& in, SurfaceGrid& out) {
     PaddedDeposit padded;
     padDeposit(in, taps.halfWidth, padded);
-    const std::vector<RowExtent> extents = rowExtents(in);
-    tbb::parallel_for(tbb::blocked_range<int>(0, in.ny), [&](const tbb::blocked_range<int>& rows) {
-        thread_local FoldedRows folded;
-        for (int j = rows.begin(); j < rows.end(); ++j) {
-            folded.fold(padded, extents, j, taps.halfWidth);
-            gatherRow(out.values.data() + size_t(j) * in.nx, taps, folded);
-        }
-    });
+    gatherGrids(padded, rowExtents(in), taps.halfWidth, {{&taps, out.values.data()}});
 }
 
 }  // namespace
