@@ -38,42 +38,32 @@
 
 layout(local_size_x = STENCIL_GROUP_X, local_size_y = STENCIL_GROUP_Y) in;
 
-// The common shape: its half-width, the chunks of its rows dj = 0..HALF_WIDTH in all, and per row
-// t = dj + HALF_WIDTH the largest |di| of a tap (-1: no tap in that row).
+// The common shape: its half-width, the chunks of its rows dj = 0..HALF_WIDTH in all, and per
+// row d = |dj| the largest |di| of a tap (-1: no tap in that row; rows -d and d are the same).
 layout(constant_id = 0) const int HALF_WIDTH = 0;
 layout(constant_id = 1) const int CHUNKS = 1;
 // Stencils per invocation, 1..STENCIL_MAX_PER_INVOCATION: each folded window fetched feeds all.
-layout(constant_id = 67) const int STENCILS = 1;
-#define VPSIM_ROW(t) layout(constant_id = 2 + t) const int ROW_##t = -1;
+layout(constant_id = 35) const int STENCILS = 1;
+#define VPSIM_ROW(d) layout(constant_id = 2 + d) const int ROW_##d = -1;
 VPSIM_ROW(0) VPSIM_ROW(1) VPSIM_ROW(2) VPSIM_ROW(3) VPSIM_ROW(4) VPSIM_ROW(5) VPSIM_ROW(6)
 VPSIM_ROW(7) VPSIM_ROW(8) VPSIM_ROW(9) VPSIM_ROW(10) VPSIM_ROW(11) VPSIM_ROW(12) VPSIM_ROW(13)
 VPSIM_ROW(14) VPSIM_ROW(15) VPSIM_ROW(16) VPSIM_ROW(17) VPSIM_ROW(18) VPSIM_ROW(19) VPSIM_ROW(20)
 VPSIM_ROW(21) VPSIM_ROW(22) VPSIM_ROW(23) VPSIM_ROW(24) VPSIM_ROW(25) VPSIM_ROW(26) VPSIM_ROW(27)
-VPSIM_ROW(28) VPSIM_ROW(29) VPSIM_ROW(30) VPSIM_ROW(31) VPSIM_ROW(32) VPSIM_ROW(33) VPSIM_ROW(34)
-VPSIM_ROW(35) VPSIM_ROW(36) VPSIM_ROW(37) VPSIM_ROW(38) VPSIM_ROW(39) VPSIM_ROW(40) VPSIM_ROW(41)
-VPSIM_ROW(42) VPSIM_ROW(43) VPSIM_ROW(44) VPSIM_ROW(45) VPSIM_ROW(46) VPSIM_ROW(47) VPSIM_ROW(48)
-VPSIM_ROW(49) VPSIM_ROW(50) VPSIM_ROW(51) VPSIM_ROW(52) VPSIM_ROW(53) VPSIM_ROW(54) VPSIM_ROW(55)
-VPSIM_ROW(56) VPSIM_ROW(57) VPSIM_ROW(58) VPSIM_ROW(59) VPSIM_ROW(60) VPSIM_ROW(61) VPSIM_ROW(62)
-VPSIM_ROW(63) VPSIM_ROW(64)
+VPSIM_ROW(28) VPSIM_ROW(29) VPSIM_ROW(30) VPSIM_ROW(31) VPSIM_ROW(32)
 
-// Rows 0..64: half-widths up to STENCIL_MAX_HALF_WIDTH = 32. Once the row loop is unrolled, t is
+// Rows 0..32: half-widths up to STENCIL_MAX_HALF_WIDTH = 32. Once the row loop is unrolled, d is
 // a constant and the switch folds away.
-#define VPSIM_CASE(t) \
-    case t:           \
-        return ROW_##t;
-int rowHalfWidth(int t) {
-    switch (t) {
+#define VPSIM_CASE(d) \
+    case d:           \
+        return ROW_##d;
+int rowHalfWidth(int d) {
+    switch (d) {
         VPSIM_CASE(0) VPSIM_CASE(1) VPSIM_CASE(2) VPSIM_CASE(3) VPSIM_CASE(4) VPSIM_CASE(5)
         VPSIM_CASE(6) VPSIM_CASE(7) VPSIM_CASE(8) VPSIM_CASE(9) VPSIM_CASE(10) VPSIM_CASE(11)
         VPSIM_CASE(12) VPSIM_CASE(13) VPSIM_CASE(14) VPSIM_CASE(15) VPSIM_CASE(16) VPSIM_CASE(17)
         VPSIM_CASE(18) VPSIM_CASE(19) VPSIM_CASE(20) VPSIM_CASE(21) VPSIM_CASE(22) VPSIM_CASE(23)
         VPSIM_CASE(24) VPSIM_CASE(25) VPSIM_CASE(26) VPSIM_CASE(27) VPSIM_CASE(28) VPSIM_CASE(29)
-        VPSIM_CASE(30) VPSIM_CASE(31) VPSIM_CASE(32) VPSIM_CASE(33) VPSIM_CASE(34) VPSIM_CASE(35)
-        VPSIM_CASE(36) VPSIM_CASE(37) VPSIM_CASE(38) VPSIM_CASE(39) VPSIM_CASE(40) VPSIM_CASE(41)
-        VPSIM_CASE(42) VPSIM_CASE(43) VPSIM_CASE(44) VPSIM_CASE(45) VPSIM_CASE(46) VPSIM_CASE(47)
-        VPSIM_CASE(48) VPSIM_CASE(49) VPSIM_CASE(50) VPSIM_CASE(51) VPSIM_CASE(52) VPSIM_CASE(53)
-        VPSIM_CASE(54) VPSIM_CASE(55) VPSIM_CASE(56) VPSIM_CASE(57) VPSIM_CASE(58) VPSIM_CASE(59)
-        VPSIM_CASE(60) VPSIM_CASE(61) VPSIM_CASE(62) VPSIM_CASE(63) VPSIM_CASE(64)
+        VPSIM_CASE(30) VPSIM_CASE(31) VPSIM_CASE(32)
     }
     return -1;
 }
@@ -121,7 +111,7 @@ void main() {
     // Stencil row d takes the deposit rows j + d and j - d, added as they are fetched (the
     // stencils are symmetric in dj): the CPU gather's folded rows, in its order.
     [[unroll]] for (int d = 0; d <= HALF_WIDTH; ++d) {
-        const int hw = rowHalfWidth(HALF_WIDTH + d), count = stencilRowChunks(hw);
+        const int hw = rowHalfWidth(d), count = stencilRowChunks(hw);
         // Texels (4 floats) holding the window's first float: i0 + di of the row's first tap in
         // padded deposit rows j + d and j - d.
         const int column = int(params.columnPadding) + i0 + stencilRowFirst(hw);

@@ -58,14 +58,13 @@ std::vector<float> weightsOnShape(const DepthStencil& st, const std::vector<int>
     return weights;
 }
 
-/// exposure_stencil.comp's specialisation: the shape's half-width, chunks and rows, and the
-/// stencils per invocation.
+/// exposure_stencil.comp's specialisation: the shape's half-width, chunks and rows d = 0..H, and
+/// the stencils per invocation.
 std::vector<gpu::SpecConstant> shaderConstants(const std::vector<int>& shape, int perInvocation) {
-    std::vector<gpu::SpecConstant> constants{{0, uint32_t(shape.size() / 2)},
-                                             {1, uint32_t(shapeChunks(shape))}};
-    for (size_t t = 0; t < shape.size(); ++t)
-        constants.push_back({uint32_t(2 + t), uint32_t(shape[t])});
-    constants.push_back({67, uint32_t(perInvocation)});
+    const size_t H = shape.size() / 2;
+    std::vector<gpu::SpecConstant> constants{{0, uint32_t(H)}, {1, uint32_t(shapeChunks(shape))}};
+    for (size_t d = 0; d <= H; ++d) constants.push_back({uint32_t(2 + d), uint32_t(shape[H + d])});
+    constants.push_back({35, uint32_t(perInvocation)});
     return constants;
 }
 
