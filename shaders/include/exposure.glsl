@@ -22,40 +22,29 @@ const int EXPOSURE_BLUR_STEPS = 8;
 const int EXPOSURE_BLUR_GATHER_MAX_HALF_WIDTH = 16;
 
 /// The widest stencil exposure_stencil.comp takes (half-width in cells): its pipeline is unrolled
-/// over the stencils' common shape, so its code grows with the shape's taps (pipeline creation on
-/// lavapipe, when each invocation summed two output rows over all 2H + 1 stencil rows: 0.36 s at
-/// 11 cells, 1.07 s at 20, 4.05 s at 32; the folded rows since took 0.18 -> 0.06 s at 12); past
-/// this the engine takes the CPU path.
+/// over the stencils' common shape, so its code and its compilation grow with the shape's taps
+/// (tabulated_gpu.cpp: MAX_UNROLLED_VEC4S, DIAGONAL_MAX_WINDOW_FLOATS); past this the engine
+/// takes the CPU path.
 const int STENCIL_MAX_HALF_WIDTH = 32;
 
-/// Taps per chunk of a stencil row in exposure_stencil.comp, and the consecutive outputs of one
-/// row each invocation sums (exposure_blur.comp uses the same chunks).
+/// Taps per chunk of a row in exposure_blur.comp.
 const int STENCIL_CHUNK = 8;
+/// The consecutive outputs of one row each exposure_stencil.comp invocation sums.
 const int STENCIL_OUTPUTS = 16;
-/// exposure_stencil.comp's workgroup: invocations along x (each STENCIL_OUTPUTS outputs of a row)
-/// and along y (a row each). Lavapipe runs 8 invocations along x as the lanes of one vector: 4
-/// x 16 (narrower workgroups, less padding on the grid's right) ran 1.7x slower. 32 outputs per
-/// invocation measured 42 against 45 ns/voxel in `bench_exposure engines` but 27 against 26 in
-/// `bench_pipeline --engines` (256-column workgroups pad its 1030 columns by a quarter), with
-/// twice the code to compile.
+/// exposure_stencil.comp's workgroup: STENCIL_GROUP_X invocations along x, which lavapipe runs as
+/// the 8 lanes of one vector, and STENCIL_GROUP_Y such vectors. The lanes of a vector take
+/// STENCIL_LANE_BLOCKS blocks of STENCIL_OUTPUTS columns in STENCIL_GROUP_X / STENCIL_LANE_BLOCKS
+/// consecutive rows: a workgroup covers 64 columns by 16 rows, so a grid's columns are padded
+/// less than by 128 by 8 (1030 columns: to 1088, not 1152). `bench_pipeline --engines`, the same
+/// build otherwise: 7.4-8.8 ns/voxel with 128 by 8, 6.9-7.2 with 64 by 16, 7.3-7.6 with 32 by 32.
 const int STENCIL_GROUP_X = 8;
 const int STENCIL_GROUP_Y = 8;
-/// The most depth stencils one exposure_stencil.comp invocation applies to each folded window it
-/// fetches (its slices are bindings 2..5).
+const int STENCIL_LANE_BLOCKS = 4;
+const int STENCIL_GROUP_COLUMNS = STENCIL_LANE_BLOCKS * STENCIL_OUTPUTS;
+const int STENCIL_GROUP_ROWS = STENCIL_GROUP_X / STENCIL_LANE_BLOCKS * STENCIL_GROUP_Y;
+/// The most depth stencils one exposure_stencil.comp invocation applies to each window it fetches
+/// (its slices are bindings 2..5).
 const int STENCIL_MAX_PER_INVOCATION = 4;
-
-/// A stencil row whose taps reach |di| <= halfWidth is walked in chunks from this first tap,
-/// aligned to 4 cells so the shader's vec4 fetches stay aligned.
-int stencilRowFirst(int halfWidth) {
-    return halfWidth < 0 ? 0 : -((halfWidth + 3) / 4 * 4);
-}
-
-/// Chunks covering taps stencilRowFirst(halfWidth)..halfWidth; none for an empty row (-1).
-int stencilRowChunks(int halfWidth) {
-    return halfWidth < 0
-               ? 0
-               : (halfWidth - stencilRowFirst(halfWidth) + STENCIL_CHUNK) / STENCIL_CHUNK;
-}
 
 /// Unnormalised weight of the Gaussian tap `offset` cells from the centre; sigmaCells = W/2/pitch
 /// (a 1/e^2 radius W is two standard deviations).

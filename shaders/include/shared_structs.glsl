@@ -40,6 +40,7 @@ struct ExposureStencilParams {
     uint columnPadding;  ///< zero cells before each row's first cell, a multiple of 4
     int groupY;          ///< workgroup of the dispatch's first group, along y
     uint sliceWidth;     ///< row length of the slice, whole workgroups of outputs
+    uint storeMask;      ///< bit t: slice t takes its first sums (written, not added to)
 };
 
 #endif

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <stdexcept>
 
 #include "exposure/copy_rows.h"
 #include "exposure/exposure_glsl.h"
@@ -11,9 +12,8 @@
 namespace vpsim::exposure {
 namespace {
 
-constexpr int GROUP_ROWS = glsl::STENCIL_GROUP_Y;  ///< output rows per workgroup: 1 each
-/// Its outputs along x: STENCIL_GROUP_X invocations of STENCIL_OUTPUTS outputs.
-constexpr int GROUP_COLUMNS = glsl::STENCIL_GROUP_X * glsl::STENCIL_OUTPUTS;
+constexpr int GROUP_ROWS = glsl::STENCIL_GROUP_ROWS;        ///< output rows per workgroup
+constexpr int GROUP_COLUMNS = glsl::STENCIL_GROUP_COLUMNS;  ///< its output columns
 
 int roundUp(int n, int m) {
     return (n + m - 1) / m * m;
@@ -30,80 +30,106 @@ std::vector<int> commonShape(const std::vector<DepthStencil>& stencils) {
             int& row = shape[size_t(dj + H)];
             row = std::max(row, st.rowHalfWidth[size_t(dj + st.halfWidth)]);
         }
+    // The shader pairs tap (x, d) with (d, x) (and its windows reach on that): stencils built by
+    // buildStencils are symmetric under the swap, so is their union.
+    for (int d = 0; d <= H; ++d)
+        for (int x = 0; x <= H; ++x)
+            if ((x <= shape[size_t(H + d)]) != (d <= shape[size_t(H + x)]))
+                throw std::logic_error("commonShape: the stencils are not symmetric in di, dj");
     return shape;
 }
 
-/// The shader's rows: stencil rows d = 0..H of the shape (row -d is the same), each walked in
-/// stencilRowChunks of its half-width.
-int shapeChunks(const std::vector<int>& shape) {
+/// Floats of every folded row's window at once (exposure_stencil.comp's DIAGONAL): STENCIL_OUTPUTS
+/// and the widest row's reach, rounded up to whole vec4, on either side, per row d = 0..H.
+int diagonalWindowFloats(const std::vector<int>& shape) {
     const int H = int(shape.size() / 2);
-    int chunks = 0;
-    for (int d = 0; d <= H; ++d) chunks += glsl::stencilRowChunks(shape[size_t(H + d)]);
-    return chunks;
+    return (H + 1) * (glsl::STENCIL_OUTPUTS + 2 * roundUp(H, 4));
 }
 
-/// A stencil's weights on the common shape, in the shader's order: per row d = 0..H, its taps on
-/// the row's chunks of STENCIL_CHUNK from stencilRowFirst (zeros outside the stencil's support).
-std::vector<float> weightsOnShape(const DepthStencil& st, const std::vector<int>& shape) {
+/// The most floats of windows the shader keeps at once: pipeline creation and the first dispatch
+/// (where LLVM compiles) on lavapipe, uncached, at 12 cells each side (520 floats) 0.6 s with four
+/// stencils, at 17 (1008) 12 s with three, at 32 (2640) 30 s with one; one row at a time took
+/// 3.5 s at 17 cells with two stencils, 8 s at 32 with one.
+constexpr int DIAGONAL_MAX_WINDOW_FLOATS = 640;
+
+/// Whether the shader adds the cells (+-x, +-d) and (+-d, +-x) before multiplying (DIAGONAL): on
+/// CPU drivers within DIAGONAL_MAX_WINDOW_FLOATS. Not on a GPU, where every folded row's window
+/// at once (520 floats at 12 cells each side) would be an invocation's registers many times over.
+bool useDiagonal(const std::vector<int>& shape, const gpu::DeviceInfo& device) {
+    return device.hostThreads > 0 && diagonalWindowFloats(shape) <= DIAGONAL_MAX_WINDOW_FLOATS;
+}
+
+/// Weights per stencil in the shader, in whole vec4: per stencil row d = 0..H of the shape, the
+/// taps x = 0..hw(d), or x = d..hw(d) where `diagonal` (the others have the same weights).
+int shapeVec4s(const std::vector<int>& shape, bool diagonal) {
+    const int H = int(shape.size() / 2);
+    int taps = 0;
+    for (int d = 0; d <= H; ++d) taps += std::max(0, shape[size_t(H + d)] + 1 - (diagonal ? d : 0));
+    return (taps + 3) / 4;
+}
+
+/// A stencil's weights on the common shape, in the shader's order: per row d = 0..H, w(x, d) for
+/// the row's taps of shapeVec4s (zeros outside the stencil's support), zero-padded to whole vec4.
+std::vector<float> weightsOnShape(const DepthStencil& st, const std::vector<int>& shape,
+                                  bool diagonal) {
     const int H = int(shape.size() / 2);
     std::vector<float> weights;
-    for (int d = 0; d <= H; ++d) {
-        const int hw = shape[size_t(H + d)], first = glsl::stencilRowFirst(hw);
-        for (int k = 0; k < glsl::stencilRowChunks(hw) * glsl::STENCIL_CHUNK; ++k) {
-            const int di = first + k;
-            const bool inside = std::abs(di) <= st.halfWidth && d <= st.halfWidth;
-            weights.push_back(inside ? st.at(di, d) : 0.0f);
+    for (int d = 0; d <= H; ++d)
+        for (int x = diagonal ? d : 0; x <= shape[size_t(H + d)]; ++x) {
+            const bool inside = x <= st.halfWidth && d <= st.halfWidth;
+            weights.push_back(inside ? st.at(x, d) : 0.0f);
         }
-    }
+    weights.resize(size_t(shapeVec4s(shape, diagonal)) * 4, 0.0f);
     return weights;
 }
 
-/// exposure_stencil.comp's specialisation: the shape's half-width, chunks and rows d = 0..H, and
-/// the stencils per invocation.
-std::vector<gpu::SpecConstant> shaderConstants(const std::vector<int>& shape, int perInvocation) {
+/// exposure_stencil.comp's specialisation: the shape's half-width, weights and rows d = 0..H, the
+/// stencils per invocation and DIAGONAL.
+std::vector<gpu::SpecConstant> shaderConstants(const std::vector<int>& shape, bool diagonal,
+                                               int perInvocation) {
     const size_t H = shape.size() / 2;
-    std::vector<gpu::SpecConstant> constants{{0, uint32_t(H)}, {1, uint32_t(shapeChunks(shape))}};
+    std::vector<gpu::SpecConstant> constants{{0, uint32_t(H)},
+                                             {1, uint32_t(shapeVec4s(shape, diagonal))}};
     for (size_t d = 0; d <= H; ++d) constants.push_back({uint32_t(2 + d), uint32_t(shape[H + d])});
     constants.push_back({35, uint32_t(perInvocation)});
+    constants.push_back({36, uint32_t(diagonal)});
     return constants;
 }
 
-/// The most chunks the shader's unrolled body may hold for several stencils per invocation (each
-/// stencil's shape chunks, all stencils together): its compilation grows with them. On lavapipe
-/// here, uncached, at 12 cells each side (52 chunks): pipeline creation and the first dispatch
-/// (where LLVM compiles) 0.06 + 0.51 s for one stencil, 0.30 + 1.05 s for four, about what the
-/// shader took before the fold; at 32 cells (about 230 chunks) two stencils took 1.7 + 3.4 s. So
-/// several stencils per invocation stay within four at 12 cells.
-constexpr int MAX_UNROLLED_CHUNKS = 256;
+/// The most weights (in vec4, all the group's stencils together) of several stencils per
+/// invocation: the shader's unrolled body and its compilation grow with them. Uncached on lavapipe
+/// here, pipeline creation and the first dispatch: 0.6 s for four stencils at 12 cells each side
+/// (DIAGONAL, 17 vec4 each), 3.5 s for two at 17 cells (one row at a time, 64 vec4 each).
+constexpr int MAX_UNROLLED_VEC4S = 128;
 
 /// The most stencils whose weights on `shape` fit the device's shared memory and uniform range
 /// together (0: not even one), at most STENCIL_MAX_PER_INVOCATION, and more than one only within
-/// MAX_UNROLLED_CHUNKS.
+/// MAX_UNROLLED_VEC4S.
 int mostPerInvocation(const std::vector<int>& shape, const gpu::DeviceInfo& device) {
-    const int chunks = shapeChunks(shape);
-    const uint64_t bytes = uint64_t(chunks) * glsl::STENCIL_CHUNK * sizeof(float);
+    const int vec4s = shapeVec4s(shape, useDiagonal(shape, device));
+    const uint64_t bytes = uint64_t(vec4s) * 4 * sizeof(float);
     int most = 0;
     while (most < glsl::STENCIL_MAX_PER_INVOCATION &&
            (most + 1) * bytes <= device.maxSharedMemoryBytes &&
            (most + 1) * bytes <= device.maxUniformBufferRange &&
-           (most == 0 || (most + 1) * chunks <= MAX_UNROLLED_CHUNKS))
+           (most == 0 || (most + 1) * vec4s <= MAX_UNROLLED_VEC4S))
         ++most;
     return most;
 }
 
-/// Stencils per invocation for M stencils on `device`. On a CPU driver, the fewest window fetches
-/// and multiply-adds, counted as ceil(M / K) groups each costing a window (about one stencil's
-/// multiply-adds on lavapipe: the fetch calls took as many JIT samples as the arithmetic with one
-/// stencil) plus K stencils; the group's stencils past M have zero weights and still cost their
-/// multiply-adds. Measured against one stencil per invocation: `bench_pipeline --engines` (M = 11)
-/// 15.2 -> 13.0-13.9 ns/voxel with four, `bench_exposure engines` (M = 23) 27.6 -> 22.5-23.2.
-/// One on a GPU, where fetches are cheap against the arithmetic (not yet measured there).
+/// Stencils per invocation for M stencils on `device`. On a CPU driver, the least work, counted
+/// as ceil(M / K) groups each costing its windows (their fetches and the cells added before the
+/// multiplies, shared by the group: about two stencils' multiply-adds on lavapipe) plus K
+/// stencils; the group's stencils past M have zero weights and still cost their multiply-adds.
+/// `bench_pipeline --engines` (M = 11, DIAGONAL) with K = 1, 2, 3, 4: 13.3-13.9, 9.6-9.7,
+/// 7.7-8.0, 6.9-7.6 ns/voxel, which a window of 2.4 stencils fits. One on a GPU, where fetches
+/// are cheap against the arithmetic (not yet measured there).
 int chooseStencilsPerInvocation(int M, int most, const gpu::DeviceInfo& device) {
     if (device.hostThreads == 0) return 1;
     int best = 1;
     double bestCost = 1e300;
     for (int k = 1; k <= most; ++k) {
-        const double cost = double((M + k - 1) / k) * (k + 1);
+        const double cost = double((M + k - 1) / k) * (k + 2);
         if (cost <= bestCost) {
             best = k;
             bestCost = cost;
@@ -130,12 +156,12 @@ TabulatedExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> contex
       shape(commonShape(stencils)),
       padding(int(shape.size() / 2)),
       columnPadding(uint32_t(roundUp(padding, 4))),
-      // A row's last chunk reads at most STENCIL_CHUNK floats past the row's widest tap.
-      paddedWidth(columnPadding + uint32_t(roundUp(nx_, GROUP_COLUMNS) +
-                                           roundUp(padding + glsl::STENCIL_CHUNK, 4))),
+      // A window reaches the widest row's half-width, rounded up to whole vec4, on either side.
+      paddedWidth(2 * columnPadding + uint32_t(roundUp(nx_, GROUP_COLUMNS))),
       groupsX(uint32_t(roundUp(nx_, GROUP_COLUMNS) / GROUP_COLUMNS)),
       groupsY(uint32_t(roundUp(ny_, GROUP_ROWS) / GROUP_ROWS)),
       sliceWidth(groupsX * GROUP_COLUMNS),
+      diagonal(useDiagonal(shape, context->info())),
       perInvocation(chooseStencilsPerInvocation(
           int(stencils.size()), mostPerInvocation(shape, context->info()), context->info())),
       deposit(context,
@@ -143,16 +169,16 @@ TabulatedExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> contex
       kernel(context, exposure_stencil_spv, sizeof exposure_stencil_spv,
              {gpu::Binding::UniformTexels4, gpu::Binding::Uniform, gpu::Binding::Storage,
               gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
-             sizeof(glsl::ExposureStencilParams), shaderConstants(shape, perInvocation), 8) {
+             sizeof(glsl::ExposureStencilParams), shaderConstants(shape, diagonal, perInvocation),
+             8) {
     // Stencils perInvocation m .. m + perInvocation - 1 share a weights block, zeros past the last.
-    const size_t stencilFloats = size_t(shapeChunks(shape)) * glsl::STENCIL_CHUNK;
     for (size_t first = 0; first < stencils.size(); first += size_t(perInvocation)) {
         std::vector<float> group;
         for (size_t m = first; m < std::min(stencils.size(), first + size_t(perInvocation)); ++m) {
-            const std::vector<float> onShape = weightsOnShape(stencils[m], shape);
+            const std::vector<float> onShape = weightsOnShape(stencils[m], shape, diagonal);
             group.insert(group.end(), onShape.begin(), onShape.end());
         }
-        group.resize(size_t(perInvocation) * stencilFloats, 0.0f);
+        group.resize(size_t(perInvocation) * size_t(shapeVec4s(shape, diagonal)) * 4, 0.0f);
         weights.emplace_back(context, group.size() * sizeof(float));
         weights.back().upload(group);
     }
@@ -176,16 +202,28 @@ double TabulatedExposureEngine::GpuState::addLayer(const SurfaceGrid& hostDeposi
     copyRows(depositMirror + size_t(padding) * paddedWidth + columnPadding, paddedWidth,
              hostDeposit.values.data(), nx, nx, ny);
     const std::vector<GroupRect> rects = reachedGroups(extents);
+    std::vector<int> slotOf(weights.size() * size_t(perInvocation), -1);
+    for (const auto& [m, slot] : targets) slotOf[size_t(m)] = slot;
+    // A slot to clear whose first sums cover every workgroup (one dispatch, a slot being the
+    // target of one stencil) is written by it instead: no clear, and no load of the zeros.
+    std::vector<char> written(slices.size(), 0);
+    const bool whole = rects.size() == 1 && rects[0].width == groupsX && rects[0].height == groupsY;
+    if (whole)
+        for (int slot : toClear)
+            written[size_t(slot)] = std::find(slotOf.begin(), slotOf.end(), slot) != slotOf.end();
     return 1e-3 * context->submit([&](gpu::Recorder& r) {
-        for (int slot : toClear) r.fill(slices[slot], 0u);
-        if (!toClear.empty()) r.barrier();
+        bool cleared = false;
+        for (int slot : toClear)
+            if (!written[size_t(slot)]) {
+                r.fill(slices[slot], 0u);
+                cleared = true;
+            }
+        if (cleared) r.barrier();
         toClear.clear();
         r.toDevice(deposit);
         // Each group of stencils with a target is one dispatch per rectangle; a stencil of the
         // group without one (the part's first layers, or past the last stencil) adds to scratch.
         // The bindings past perInvocation are not used: they take the group's first slice.
-        std::vector<int> slotOf(weights.size() * size_t(perInvocation), -1);
-        for (const auto& [m, slot] : targets) slotOf[size_t(m)] = slot;
         glsl::ExposureStencilParams params{};
         params.nx = nx;
         params.ny = ny;
@@ -196,10 +234,12 @@ double TabulatedExposureEngine::GpuState::addLayer(const SurfaceGrid& hostDeposi
         for (size_t g = 0; g < weights.size(); ++g) {
             std::vector<const gpu::Buffer*> buffers{&deposit, &weights[g]};
             bool any = false;
+            params.storeMask = 0;
             for (int t = 0; t < perInvocation; ++t) {
                 const int slot = slotOf[g * perInvocation + size_t(t)];
                 buffers.push_back(slot >= 0 ? &slices[size_t(slot)] : scratch.get());
                 any = any || slot >= 0;
+                if (slot >= 0 && written[size_t(slot)]) params.storeMask |= 1u << t;
             }
             if (!any) continue;
             buffers.resize(2 + glsl::STENCIL_MAX_PER_INVOCATION, buffers[2]);

@@ -2,12 +2,13 @@
 // Private: the shader path of the tabulated-kernel engine. Accumulator slices stay on the device;
 // per source layer one submission moves the zero-padded deposit to the device (the host writes it
 // in the buffer's host mirror, gpu::Buffer::hostMirror), clears the slices taken since the last
-// one, dispatches each group of perInvocation stencils with their slices
-// (shaders/exposure_stencil.comp) over the rectangles of workgroups that the deposit reaches, and
-// brings the layer's finished slices back to their mirrors, where the host takes them. The
-// pipeline is specialised to the stencils' common shape (per stencil row, the widest row of any
-// stencil), so each stencil's weights are laid out on that shape, in the shader's rows
-// dj = 0..H (it folds deposit rows j + dj and j - dj).
+// one (or, where the layer's sums cover every workgroup, has its dispatch write them), dispatches
+// each group of perInvocation stencils with their slices (shaders/exposure_stencil.comp) over the
+// rectangles of workgroups that the deposit reaches, and brings the layer's finished slices back
+// to their mirrors, where the host takes them. The pipeline is specialised to the stencils'
+// common shape (per stencil row, the widest row of any stencil), so each stencil's weights are
+// laid out on that shape, one per cell that the 8-fold symmetry leaves (rows dj = 0..H, taps
+// di = 0..hw, or di = dj..hw where diagonal).
 #include <memory>
 #include <vector>
 
@@ -52,6 +53,9 @@ struct TabulatedExposureEngine::GpuState {
     uint32_t paddedWidth;    ///< row length of the padded deposit, a multiple of 4
     uint32_t groupsX, groupsY;
     uint32_t sliceWidth;  ///< row length of a device slice: whole workgroups, a multiple of 4
+    /// Whether the shader adds the cells of tap (x, d) and (d, x) before multiplying (its
+    /// DIAGONAL), or only those of (x, d) and (-x, d) (each row's taps x = 0..hw in the weights).
+    bool diagonal;
     /// Stencils each invocation applies to a fetched window (the shader's STENCILS).
     int perInvocation;
     gpu::Buffer deposit;

@@ -67,7 +67,8 @@ TEST_CASE("shared structs have the same layout in C++ and std430 GLSL", "[gpu][l
                  VPSIM_MEMBER(ExposureStencilParams, padding),
                  VPSIM_MEMBER(ExposureStencilParams, columnPadding),
                  VPSIM_MEMBER(ExposureStencilParams, groupY),
-                 VPSIM_MEMBER(ExposureStencilParams, sliceWidth)});
+                 VPSIM_MEMBER(ExposureStencilParams, sliceWidth),
+                 VPSIM_MEMBER(ExposureStencilParams, storeMask)});
     using glsl::PhotonParams;
     checkStruct("PhotonParams", sizeof(PhotonParams),
                 {VPSIM_MEMBER(PhotonParams, seed),

@@ -20,9 +20,7 @@
 /// receiving contributions, so memory is bounded by the kernel's depth, not the part's height.
 /// Runs in a compute shader (shaders/exposure_stencil.comp) when given a Vulkan context and the
 /// stencils are at most glsl::STENCIL_MAX_HALF_WIDTH cells wide each side, else on the CPU
-/// (TBB-parallel over rows); the CPU indexes the stencils with exposure.glsl's stencilIndex, and
-/// the host and the shader lay out and walk the shader's rows with its stencilRowFirst and
-/// stencilRowChunks.
+/// (TBB-parallel over rows); the CPU indexes the stencils with exposure.glsl's stencilIndex.
 
 #include <memory>
 #include <vector>
