@@ -92,6 +92,8 @@ layout(std430, binding = 2) buffer Slice0 { vec4 slice0[]; };
 layout(std430, binding = 3) buffer Slice1 { vec4 slice1[]; };
 layout(std430, binding = 4) buffer Slice2 { vec4 slice2[]; };
 layout(std430, binding = 5) buffer Slice3 { vec4 slice3[]; };
+layout(std430, binding = 6) buffer Slice4 { vec4 slice4[]; };
+layout(std430, binding = 7) buffer Slice5 { vec4 slice5[]; };
 
 shared vec4 taps[STENCIL_VEC4S * STENCILS];
 
@@ -107,7 +109,9 @@ vec4 sliceTexel(int t, int o) {
     if (t == 0) return slice0[o];
     if (t == 1) return slice1[o];
     if (t == 2) return slice2[o];
-    return slice3[o];
+    if (t == 3) return slice3[o];
+    if (t == 4) return slice4[o];
+    return slice5[o];
 }
 
 // Writes texel o of stencil t's slice.
@@ -115,7 +119,9 @@ void storeSlice(int t, int o, vec4 value) {
     if (t == 0) slice0[o] = value;
     else if (t == 1) slice1[o] = value;
     else if (t == 2) slice2[o] = value;
-    else slice3[o] = value;
+    else if (t == 3) slice3[o] = value;
+    else if (t == 4) slice4[o] = value;
+    else slice5[o] = value;
 }
 
 // Texel q of row d's window for the outputs i0.. of row j: deposit rows j + d and j - d added,

@@ -47,7 +47,7 @@ int diagonalWindowFloats(const std::vector<int>& shape) {
 }
 
 /// The most floats of windows the shader keeps at once: pipeline creation and the first dispatch
-/// (where LLVM compiles) on lavapipe, uncached, at 12 cells each side (520 floats) 0.6 s with four
+/// (where LLVM compiles) on lavapipe, uncached, at 12 cells each side (520 floats) 2.4 s with four
 /// stencils, at 17 (1008) 12 s with three, at 32 (2640) 30 s with one; one row at a time took
 /// 3.5 s at 17 cells with two stencils, 8 s at 32 with one.
 constexpr int DIAGONAL_MAX_WINDOW_FLOATS = 640;
@@ -98,8 +98,9 @@ std::vector<gpu::SpecConstant> shaderConstants(const std::vector<int>& shape, bo
 
 /// The most weights (in vec4, all the group's stencils together) of several stencils per
 /// invocation: the shader's unrolled body and its compilation grow with them. Uncached on lavapipe
-/// here, pipeline creation and the first dispatch: 0.6 s for four stencils at 12 cells each side
-/// (DIAGONAL, 17 vec4 each), 3.5 s for two at 17 cells (one row at a time, 64 vec4 each).
+/// here, pipeline creation and the first dispatch: 1.8 + 0.6 s for four stencils at 12 cells each
+/// side (DIAGONAL, 17 vec4 each), 3.5 + 0.9 s for six; 3.5 s for two at 17 cells (one row at a
+/// time, 64 vec4 each).
 constexpr int MAX_UNROLLED_VEC4S = 128;
 
 /// The most stencils whose weights on `shape` fit the device's shared memory and uniform range
@@ -122,8 +123,9 @@ int mostPerInvocation(const std::vector<int>& shape, const gpu::DeviceInfo& devi
 /// multiplies, shared by the group: about two stencils' multiply-adds on lavapipe) plus K
 /// stencils; the group's stencils past M have zero weights and still cost their multiply-adds.
 /// `bench_pipeline --engines` (M = 11, DIAGONAL) with K = 1, 2, 3, 4: 13.3-13.9, 9.6-9.7,
-/// 7.7-8.0, 6.9-7.6 ns/voxel, which a window of 2.4 stencils fits. One on a GPU, where fetches
-/// are cheap against the arithmetic (not yet measured there).
+/// 7.7-8.0, 6.9-7.6 ns/voxel, which a window of 2.4 stencils fits; K = 6 (two groups, the model's
+/// choice): 6.2-6.7. One on a GPU, where fetches are cheap against the arithmetic (not yet
+/// measured there).
 int chooseStencilsPerInvocation(int M, int most, const gpu::DeviceInfo& device) {
     if (device.hostThreads == 0) return 1;
     int best = 1;
@@ -168,7 +170,8 @@ TabulatedExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> contex
               uint64_t(paddedWidth) * (roundUp(ny_, GROUP_ROWS) + 2 * padding) * sizeof(float)),
       kernel(context, exposure_stencil_spv, sizeof exposure_stencil_spv,
              {gpu::Binding::UniformTexels4, gpu::Binding::Uniform, gpu::Binding::Storage,
-              gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
+              gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage,
+              gpu::Binding::Storage, gpu::Binding::Storage},
              sizeof(glsl::ExposureStencilParams), shaderConstants(shape, diagonal, perInvocation),
              8) {
     // Stencils perInvocation m .. m + perInvocation - 1 share a weights block, zeros past the last.

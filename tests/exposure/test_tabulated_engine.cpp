@@ -226,7 +226,7 @@ TEST_CASE("the tabulated engine rejects bad inputs", "[exposure][tabulated]") {
 TEST_CASE("GPU and CPU tabulated exposure agree", "[exposure][tabulated][gpu]") {
     VPSIM_GPU_CONTEXT_OR_SKIP(shared);
     const double h = 0.05;
-    kernel::BeamKernel k = separableKernel(10.0, 0.05, 0.04, 0.3);
+    kernel::BeamKernel k = separableKernel(10.0, 0.05, 0.044, 0.3);
     plan::ScanPlan plan = test::randomPlan(3, h, 31, 0.2);
     ExposureGrid grid = ExposureGrid::covering(-0.2, -0.2, 0.2, 0.2, 0.1, 0.01, 2);
     TabulatedExposureEngine cpu(grid, k, h);
@@ -235,9 +235,10 @@ TEST_CASE("GPU and CPU tabulated exposure agree", "[exposure][tabulated][gpu]") 
         TabulatedExposureEngine gpu(grid, k, h, ctx);
         REQUIRE(gpu.usesGpu());
         // On a CPU driver several stencils per invocation (16 KiB of shared memory, the least a
-        // device has, holds four of these), a last group that is not full (its stencils past M
-        // have zero weights), and layers whose group members have no slice yet (3 layers of the
-        // kernel's 5): those sums go to the scratch slice. One on a GPU.
+        // device has, holds six of these), a last group that is not full (11 stencils, 6 per
+        // invocation: its stencils past M have zero weights), and layers whose group members
+        // have no slice yet (3 layers of the kernel's 6): those sums go to the scratch slice. One
+        // on a GPU.
         const int perInvocation = gpu.shaderStencilsPerInvocation();
         if (ctx->info().hostThreads > 0) {
             REQUIRE(perInvocation > 1);
