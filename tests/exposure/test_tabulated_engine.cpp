@@ -262,7 +262,7 @@ TEST_CASE("GPU and CPU tabulated exposure agree", "[exposure][tabulated][gpu]") 
 
 // The shader is specialised to the stencils' common shape (the widest row of any depth's stencil)
 // and dispatched only over the workgroups the deposit reaches. A kernel that widens with depth
-// gives stencils of different shapes; a grid wider than a workgroup (128 columns) with deposits
+// gives stencils of different shapes; a grid wider than a workgroup (64 columns) with deposits
 // on two islands far apart, and a layer with none, checks the skipped workgroups; a 2.8 um pitch
 // gives the widest shape the shader takes (32 cells each side).
 TEST_CASE(
