@@ -96,10 +96,11 @@ ExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> context_, int n
                            sizeof(float)),
       running(context, uint64_t(runningWidth) * roundUp(ny, stripRows) * sizeof(float)),
       taps(context, glsl::EXPOSURE_TAP_BLOCK * sizeof(float)),
-      kernel(context, exposure_blur_spv, sizeof exposure_blur_spv,
-             {gpu::Binding::UniformTexels4, gpu::Binding::Uniform, gpu::Binding::Storage},
-             sizeof(glsl::ExposureBlurParams), {{0, uint32_t(halfWidth)}, {1, stripRows}},
-             GROUP_OUTPUTS / 8) {
+      kernel(gpu::Kernel::shared(
+          context, exposure_blur_spv, sizeof exposure_blur_spv,
+          {gpu::Binding::UniformTexels4, gpu::Binding::Uniform, gpu::Binding::Storage},
+          sizeof(glsl::ExposureBlurParams), {{0, uint32_t(halfWidth)}, {1, stripRows}},
+          GROUP_OUTPUTS / 8)) {
     // The padding is zero once for all (the mirror starts as the buffer): the host writes the
     // grid's cells only. R needs no clearing: the shader writes every one of its cells before it
     // is read.
@@ -163,7 +164,7 @@ double ExposureEngine::GpuState::blurMirror() {
     // One submission: the deposit to the device (a discrete GPU's), the blur, R back.
     return 1e-3 * context->submit([&](gpu::Recorder& r) {
         r.toDevice(deposit);
-        r.dispatch(kernel, {&deposit, &taps, &running}, &params,
+        r.dispatch(*kernel, {&deposit, &taps, &running}, &params,
                    roundUp(nx, GROUP_OUTPUTS) / GROUP_OUTPUTS, roundUp(ny, stripRows) / stripRows);
         r.toHost(running);
     });

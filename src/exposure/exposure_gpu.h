@@ -62,7 +62,7 @@ struct ExposureEngine::GpuState {
     float* depositMirror;        ///< the padded deposit in host memory (gpu::Buffer::hostMirror)
     const float* runningMirror;  ///< R in host memory, rows runningWidth cells apart
     gpu::Buffer deposit, running, taps;
-    gpu::Kernel kernel;
+    std::shared_ptr<const gpu::Kernel> kernel;  ///< shared by the engines of a tiled run
 
 private:
     /// Blurs what the deposit's mirror holds into R, and brings R to its mirror.

@@ -168,12 +168,13 @@ TabulatedExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> contex
           int(stencils.size()), mostPerInvocation(shape, context->info()), context->info())),
       deposit(context,
               uint64_t(paddedWidth) * (roundUp(ny_, GROUP_ROWS) + 2 * padding) * sizeof(float)),
-      kernel(context, exposure_stencil_spv, sizeof exposure_stencil_spv,
-             {gpu::Binding::UniformTexels4, gpu::Binding::Uniform, gpu::Binding::Storage,
-              gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage,
-              gpu::Binding::Storage, gpu::Binding::Storage},
-             sizeof(glsl::ExposureStencilParams), shaderConstants(shape, diagonal, perInvocation),
-             8) {
+      kernel(
+          gpu::Kernel::shared(context, exposure_stencil_spv, sizeof exposure_stencil_spv,
+                              {gpu::Binding::UniformTexels4, gpu::Binding::Uniform,
+                               gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage,
+                               gpu::Binding::Storage, gpu::Binding::Storage, gpu::Binding::Storage},
+                              sizeof(glsl::ExposureStencilParams),
+                              shaderConstants(shape, diagonal, perInvocation), 8)) {
     // Stencils perInvocation m .. m + perInvocation - 1 share a weights block, zeros past the last.
     for (size_t first = 0; first < stencils.size(); first += size_t(perInvocation)) {
         std::vector<float> group;
@@ -249,7 +250,7 @@ double TabulatedExposureEngine::GpuState::addLayer(const SurfaceGrid& hostDeposi
             for (const GroupRect& rect : rects) {
                 params.groupX = int(rect.x);
                 params.groupY = int(rect.y);
-                r.dispatch(kernel, buffers, &params, rect.width, rect.height);
+                r.dispatch(*kernel, buffers, &params, rect.width, rect.height);
             }
         }
         for (int slot : finished) r.toHost(slices[slot]);

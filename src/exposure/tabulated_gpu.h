@@ -67,8 +67,8 @@ struct TabulatedExposureEngine::GpuState {
     /// common shape.
     std::vector<gpu::Buffer> weights;
     std::vector<gpu::Buffer> slices;
-    std::vector<int> toClear;  ///< slots taken since the last addLayer
-    gpu::Kernel kernel;
+    std::vector<int> toClear;                   ///< slots taken since the last addLayer
+    std::shared_ptr<const gpu::Kernel> kernel;  ///< shared by the engines of a tiled run
 };
 
 }  // namespace vpsim::exposure

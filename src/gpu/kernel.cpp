@@ -1,4 +1,7 @@
 #include <algorithm>
+#include <map>
+#include <mutex>
+#include <tuple>
 
 #include "gpu/vulkan_internal.h"
 
@@ -18,6 +21,34 @@ VkDescriptorType descriptorType(Binding binding) {
 }
 
 }  // namespace
+
+std::shared_ptr<const Kernel> Kernel::shared(std::shared_ptr<Context> context,
+                                             const uint32_t* spirv, size_t spirvBytes,
+                                             const std::vector<Binding>& bindings,
+                                             uint32_t pushConstantBytes,
+                                             const std::vector<SpecConstant>& specConstants,
+                                             uint32_t localSizeX) {
+    using Key = std::tuple<const Context*, const uint32_t*, size_t, std::vector<int>, uint32_t,
+                           std::vector<uint32_t>, uint32_t>;
+    static std::mutex mutex;
+    static std::map<Key, std::weak_ptr<const Kernel>> kernels;
+    std::vector<int> kinds;
+    for (Binding b : bindings) kinds.push_back(int(b));
+    std::vector<uint32_t> constants;
+    for (const SpecConstant& c : specConstants) constants.insert(constants.end(), {c.id, c.value});
+    const Key key{context.get(),        spirv,     spirvBytes, std::move(kinds), pushConstantBytes,
+                  std::move(constants), localSizeX};
+    // Held while a pipeline is made, so that engines made at once wait for one creation.
+    const std::lock_guard<std::mutex> lock(mutex);
+    for (auto it = kernels.begin(); it != kernels.end();)
+        it = it->second.expired() ? kernels.erase(it) : std::next(it);
+    if (auto it = kernels.find(key); it != kernels.end())
+        if (auto kernel = it->second.lock()) return kernel;  // its last holder may just have gone
+    auto kernel = std::make_shared<const Kernel>(std::move(context), spirv, spirvBytes, bindings,
+                                                 pushConstantBytes, specConstants, localSizeX);
+    kernels[key] = kernel;
+    return kernel;
+}
 
 Kernel::Kernel(std::shared_ptr<Context> context, const uint32_t* spirv, size_t spirvBytes,
                uint32_t bindingCount, uint32_t pushConstantBytes,

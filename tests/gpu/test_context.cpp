@@ -4,6 +4,7 @@
 
 #include "support/gpu_test.h"
 #include "vpsim/core/error.h"
+#include "vpsim/shaders/layout_probe_spv.h"
 
 using namespace vpsim;
 
@@ -32,6 +33,30 @@ TEST_CASE("buffers round-trip data and refuse sizes beyond device limits", "[gpu
     CHECK_THROWS_AS(buffer.upload(values.data(), 8, 4 * 999), ResourceError);
     uint64_t tooBig = ctx->info().maxStorageBufferRange + 4;
     CHECK_THROWS_WITH(gpu::Buffer(ctx, tooBig), Catch::Matchers::Contains("maxStorageBufferRange"));
+    VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
+}
+
+// The engines of a tiled run specialise their shader alike and share one pipeline; a kernel is
+// made again once nobody holds it.
+TEST_CASE("kernels of the same arguments are shared while someone holds them", "[gpu]") {
+    VPSIM_GPU_CONTEXT_OR_SKIP(ctx);
+    const std::vector<gpu::Binding> bindings(4, gpu::Binding::Storage);
+    auto make = [&](const std::shared_ptr<gpu::Context>& context, uint32_t constant) {
+        return gpu::Kernel::shared(context, layout_probe_spv, sizeof layout_probe_spv, bindings, 0,
+                                   {{0, constant}}, 1);
+    };
+    auto first = make(ctx, 1);
+    CHECK(make(ctx, 1) == first);
+    auto other = make(ctx, 2);  // another specialisation
+    CHECK(other != first);
+    auto staged = test::stagedGpuContext();  // another context
+    CHECK(make(staged, 1) != first);
+    std::weak_ptr<const gpu::Kernel> held = first;
+    first.reset();
+    CHECK(held.expired());
+    auto again = make(ctx, 1);
+    CHECK(again);
+    CHECK(again->bindingCount() == 4);
     VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
 }
 

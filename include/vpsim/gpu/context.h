@@ -203,6 +203,18 @@ public:
     Kernel(const Kernel&) = delete;
     Kernel& operator=(const Kernel&) = delete;
 
+    /// The kernel of these arguments that someone holds already (the same context, embedded
+    /// SPIR-V, bindings, push constants, specialisation and local size), else a new one. The
+    /// engines of a tiled run, and the whole grid's, specialise their shader alike, and creating
+    /// an unrolled pipeline takes seconds on lavapipe. A kernel is not changed once made, so
+    /// threads may share it; the kernels are held weakly (each lives as long as its users).
+    static std::shared_ptr<const Kernel> shared(std::shared_ptr<Context> context,
+                                                const uint32_t* spirv, size_t spirvBytes,
+                                                const std::vector<Binding>& bindings,
+                                                uint32_t pushConstantBytes = 0,
+                                                const std::vector<SpecConstant>& specConstants = {},
+                                                uint32_t localSizeX = 64);
+
     uint32_t bindingCount() const;
     uint32_t pushConstantBytes() const;
     uint32_t localSizeX() const;
