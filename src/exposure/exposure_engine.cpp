@@ -132,6 +132,13 @@ ExposureEngine::ExposureEngine(const ExposureGrid& grid, const kernel::FittedBea
                     std::to_string(glsl::EXPOSURE_BLUR_MAX_HALF_WIDTH) +
                     "); exposing on the CPU path");
         });
+    } else if (context && !blurShaderRunsOn(context->info())) {
+        static std::once_flag warned;
+        std::call_once(warned, [&] {
+            logWarn("device '" + context->info().name +
+                    "' lacks shaderInt64, with which the fitted exposure shader stores its "
+                    "results; exposing on the CPU path");
+        });
     } else if (context) {
         mGpu = std::make_unique<GpuState>(context, grid.nx, grid.ny,
                                           blurTaps(blur.halfWidth, blur.sigmaCells), blur.normX,

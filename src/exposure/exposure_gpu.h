@@ -30,6 +30,12 @@ uint32_t blurStripSteps(int halfWidth);
 /// grid would cost as much as a full one).
 uint32_t blurStripRows(const gpu::DeviceInfo& device, uint32_t columns, uint32_t ny, int halfWidth);
 
+/// Whether `device` runs exposure_blur.comp: it stores R as 64-bit words (float8_io.glsl), so it
+/// needs shaderInt64.
+inline bool blurShaderRunsOn(const gpu::DeviceInfo& device) {
+    return device.int64;
+}
+
 struct ExposureEngine::GpuState {
     /// @param taps the blur's 2 halfWidth + 1 taps; normX, normY the passes' divisors
     /// @throw ResourceError when the blur is wider than the shader takes (fits)

@@ -218,6 +218,16 @@ TEST_CASE("a blur wider than the shader takes is exposed on the CPU path", "[exp
     VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
 }
 
+// The fitted blur stores its outputs as 64-bit words (shaders/include/float8_io.glsl), so a device
+// without shaderInt64 exposes on the CPU path instead of failing to make the pipeline.
+TEST_CASE("a device without shaderInt64 does not run the fitted exposure shader", "[exposure]") {
+    gpu::DeviceInfo device;
+    device.int64 = true;
+    CHECK(blurShaderRunsOn(device));
+    device.int64 = false;
+    CHECK_FALSE(blurShaderRunsOn(device));
+}
+
 // The shader path keeps the running sum on the device: a one-layer map taken in the middle of a run
 // (from a sink) must not leak into the run, and a second run must start afresh. A grid whose sides
 // are not multiples of the shader's blocks checks the padding.
