@@ -72,6 +72,7 @@ std::shared_ptr<Context> Context::create(const ContextOptions& options) {
     instance.release(c.instance, c.messenger);
     c.physical = physicals[chosen];
     c.info = devices[chosen];
+    if (!options.int64) c.info.int64 = c.info.int64Atomics = false;
     vkGetPhysicalDeviceMemoryProperties(c.physical, &c.memory);
 
     uint32_t familyCount = 0;

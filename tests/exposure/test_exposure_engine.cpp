@@ -218,14 +218,25 @@ TEST_CASE("a blur wider than the shader takes is exposed on the CPU path", "[exp
     VPSIM_REQUIRE_VALIDATION_CLEAN(ctx);
 }
 
-// The fitted blur stores its outputs as 64-bit words (shaders/include/float8_io.glsl), so a device
-// without shaderInt64 exposes on the CPU path instead of failing to make the pipeline.
-TEST_CASE("a device without shaderInt64 does not run the fitted exposure shader", "[exposure]") {
-    gpu::DeviceInfo device;
-    device.int64 = true;
-    CHECK(blurShaderRunsOn(device));
-    device.int64 = false;
-    CHECK_FALSE(blurShaderRunsOn(device));
+// The fitted blur stores its outputs as 64-bit words (shaders/include/float8_io.glsl): on a device
+// without shaderInt64 the engine exposes on the CPU path, with the same figures, instead of
+// making a pipeline the device cannot run (the validation layer would object).
+TEST_CASE("a device without shaderInt64 exposes on the CPU path", "[exposure][gpu]") {
+    VPSIM_GPU_CONTEXT_OR_SKIP(ctx);
+    gpu::ContextOptions options;
+    options.validation = true;
+    options.int64 = false;
+    const auto noInt64 = gpu::Context::create(options);
+    REQUIRE_FALSE(noInt64->info().int64);
+    const double h = 0.05;
+    ExposureGrid grid = ExposureGrid::covering(-0.1, -0.1, 0.1, 0.1, 0.05, 0.01, 1);
+    plan::ScanPlan plan = test::randomPlan(1, h, 33, 0.1);
+    ExposureEngine cpu(grid, BEAM, h), gpu(grid, BEAM, h, ctx), fallback(grid, BEAM, h, noInt64);
+    CHECK(gpu.usesGpu());
+    CHECK_FALSE(fallback.usesGpu());
+    auto ec = test::exposeAll(cpu, plan), ef = test::exposeAll(fallback, plan);
+    CHECK(ef[0][0].values == ec[0][0].values);
+    VPSIM_REQUIRE_VALIDATION_CLEAN(noInt64);
 }
 
 // The shader path keeps the running sum on the device: a one-layer map taken in the middle of a run

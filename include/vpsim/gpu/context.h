@@ -63,6 +63,10 @@ struct ContextOptions {
     /// Move buffer data through staging copies, as on a discrete GPU, even where device memory
     /// is host-visible (lavapipe, integrated GPUs): the tests run a discrete GPU's path with it.
     bool stagedTransfers = false;
+    /// Enable shaderInt64 (and its buffer atomics) where the device has them; false makes the
+    /// context a device without them (DeviceInfo::int64 false): the tests run the shaders'
+    /// CPU fallbacks with it.
+    bool int64 = true;
 };
 
 class Buffer;
