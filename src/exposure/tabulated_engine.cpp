@@ -177,11 +177,13 @@ void TabulatedExposureEngine::buildStencils(const kernel::BeamKernel& kernel) {
         stencilBytes += std::pow(2.0 * halfWidth + 1, 2) * sizeof(float);
         st.halfWidth = int(std::min(halfWidth, 1e6));  // larger ones are refused just below
     }
-    // The accumulators, the deposit, and the deposit with zero borders the CPU gather reads.
+    // The accumulators, the deposit, the deposit with zero borders the CPU gather reads, and
+    // (counted on either path) the shader path's scratch slice, which a group's stencil without
+    // a slice of its own adds to (GpuState::scratch).
     const double cells = double(mGrid.nx) * mGrid.ny;
     const double padded = (mGrid.nx + 2.0 * reachCells()) * mGrid.ny;
     mWorkingBytes =
-        stencilBytes + (cells * (double(mLayersInFlight) * n + 1) + padded) * sizeof(float);
+        stencilBytes + (cells * (double(mLayersInFlight) * n + 2) + padded) * sizeof(float);
     if (mWorkingBytes > TABULATED_ENGINE_MAX_BYTES)
         throw ResourceError(
             "tabulated exposure of a " + std::to_string(mGrid.nx) + " x " +
