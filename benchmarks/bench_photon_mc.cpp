@@ -339,7 +339,7 @@ int main(int argc, char** argv) {
                 out["gpu_error"] = e.what();
             }
         }
-        // As vpsim runs (gpu::shaderContext): shaders on hardware GPUs; on a CPU driver the TBB
+        // As vpsim runs (gpu::monteCarloContext): shaders on hardware GPUs; on a CPU driver the TBB
         // path (for the default estimator as fast per CPU-second as lavapipe, with no pipeline
         // compile), unless the shader is forced with "vulkan".
         if (backend == "auto" && context && !context->info().isHardware()) {

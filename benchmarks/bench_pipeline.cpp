@@ -13,8 +13,11 @@
 // Targets (issue 22, 2 cores): expose+cure+validate < 1.8 s, every stage after the plan < 4 s,
 // peak < 1 GiB without a .vdb. The block runs 3 times (--repeats N); the figures are those of the
 // run with the median expose+cure+validate, and expose_cure_validate_runs lists every run's (a
-// shared machine's page cache and neighbours move single runs by 10%). Usage:
-//   bench_pipeline [--vulkan] [--repeats N]  the default run (under 5 minutes)
+// shared machine's page cache and neighbours move single runs by 10%). The block runs as `vpsim
+// run` does: the exposure shaders on the Vulkan device found (lavapipe on a CPU-only machine),
+// else the CPU loops; --backend cpu takes the CPU loops, --backend vulkan (or --vulkan) requires a
+// device and runs the photon Monte Carlo shader there too, as vpsim's --backend does. Usage:
+//   bench_pipeline [--backend B] [--repeats N]  the default run (under 5 minutes)
 //   bench_pipeline --scaling [--max V]   also a series of part sizes from 1e7 voxels up to V
 //                                        (default 4.2e9), each in its own process: ns/voxel and
 //                                        peak bytes/voxel
@@ -69,7 +72,7 @@ double cpuSeconds() {
 }
 
 /// One run of the block job; sizes in mm (0: the job's own), with `overrides` (--set KEY=VALUE).
-nlohmann::json runBlock(double size, double height, bool vulkan,
+nlohmann::json runBlock(double size, double height, gpu::Backend backend,
                         std::vector<std::string> overrides) {
     const pipeline::Builtins builtins = pipeline::makeBuiltins();
     if (size > 0) overrides.push_back("part.size=" + std::to_string(size) + "mm");
@@ -79,8 +82,8 @@ nlohmann::json runBlock(double size, double height, bool vulkan,
     auto dir = std::filesystem::temp_directory_path() /
                ("vpsim_bench_pipeline_" + std::to_string(::getpid()));
     RunContext context;
-    if (vulkan) context.gpu = gpu::Context::create();
-    context.shadersOnCpuDevices = vulkan;
+    context.gpu = gpu::contextForBackend(backend);
+    context.monteCarloOnCpuDevices = backend == gpu::Backend::Vulkan;
     const double cpuStart = cpuSeconds();
     nlohmann::json report = report::toJson(pipeline::runJob(job, dir.string(), context));
     const double cpu = cpuSeconds() - cpuStart;
@@ -228,7 +231,9 @@ std::shared_ptr<gpu::Context> shaderContextOrError(nlohmann::json& out) {
 
 int main(int argc, char** argv) {
     setLogLevel(LogLevel::Warn);
-    bool vulkan = false, scaling = false;
+    gpu::Backend backend = gpu::Backend::Auto;
+    std::string backendName = "auto";
+    bool scaling = false;
     double maxVoxels = 4.2e9, size = 0, height = 0;
     bool one = false, enginesOnly = false;
     int repeats = 3;
@@ -236,7 +241,8 @@ int main(int argc, char** argv) {
     for (int a = 1; a < argc; ++a) {
         if (std::strcmp(argv[a], "--repeats") == 0 && a + 1 < argc)
             repeats = std::max(1, std::atoi(argv[++a]));
-        if (std::strcmp(argv[a], "--vulkan") == 0) vulkan = true;
+        if (std::strcmp(argv[a], "--vulkan") == 0) backendName = "vulkan";
+        if (std::strcmp(argv[a], "--backend") == 0 && a + 1 < argc) backendName = argv[++a];
         if (std::strcmp(argv[a], "--scaling") == 0) scaling = true;
         if (std::strcmp(argv[a], "--engines") == 0) enginesOnly = true;
         if (std::strcmp(argv[a], "--max") == 0 && a + 1 < argc) maxVoxels = std::atof(argv[++a]);
@@ -249,8 +255,9 @@ int main(int argc, char** argv) {
     }
     nlohmann::json out{{"benchmark", "pipeline"}};
     try {
+        backend = gpu::parseBackend(backendName);
         if (one) {
-            out.update(runBlock(size, height, vulkan, overrides));
+            out.update(runBlock(size, height, backend, overrides));
             out["part_mm"] = {size, size, height};
             std::cout << out.dump(2) << std::endl;
             return 0;
@@ -265,7 +272,7 @@ int main(int argc, char** argv) {
         std::vector<nlohmann::json> runs;
         nlohmann::json each = nlohmann::json::array();
         for (int r = 0; r < repeats; ++r) {
-            runs.push_back(runBlock(0, 0, vulkan, overrides));
+            runs.push_back(runBlock(0, 0, backend, overrides));
             each.push_back(runs.back()["expose_cure_validate_seconds"]);
         }
         std::sort(runs.begin(), runs.end(), [](const nlohmann::json& a, const nlohmann::json& b) {
@@ -287,7 +294,7 @@ int main(int argc, char** argv) {
                 const double voxels = std::pow(100.0 * s + 40, 2) * 50.0 * s;
                 if (voxels > maxVoxels * 1.05) break;
                 std::string command = std::string(argv[0]) + " --one " + std::to_string(s) + " " +
-                                      std::to_string(s / 2);
+                                      std::to_string(s / 2) + " --backend " + backendName;
                 for (const std::string& o : overrides) command += " --set " + shellQuoted(o);
                 std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
                 std::string text;

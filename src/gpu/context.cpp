@@ -258,9 +258,10 @@ std::string toString(Backend backend) {
     }
 }
 
-std::shared_ptr<Context> shaderContext(const RunContext& context) {
+std::shared_ptr<Context> monteCarloContext(const RunContext& context) {
     if (!context.gpu) return nullptr;
-    return context.gpu->info().isHardware() || context.shadersOnCpuDevices ? context.gpu : nullptr;
+    return context.gpu->info().isHardware() || context.monteCarloOnCpuDevices ? context.gpu
+                                                                              : nullptr;
 }
 
 std::shared_ptr<Context> contextForBackend(Backend backend, const ContextOptions& options) {

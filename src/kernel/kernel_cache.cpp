@@ -101,7 +101,7 @@ BeamKernel cachedKernel(const KernelRequest& request, const RunContext& context,
     fromCache = cached.has_value();
     if (cached) return *cached;
     transport::McResult mc =
-        transport::runPhotonMcSplit(request.setup, gpu::shaderContext(context), comm);
+        transport::runPhotonMcSplit(request.setup, gpu::monteCarloContext(context), comm);
     BeamKernel beam = kernelFromMonteCarlo(mc, request.power);
     if (monteCarlo) *monteCarlo = mc;
     if (path.empty() || !comm.isRoot()) return beam;

@@ -145,7 +145,7 @@ JobEstimate estimateWithTiles(const Job& job, const geometry::Mesh& part, bool p
     e.figures["plan_elements"] = plan.elements;
     double referenceVoxels = 0;
     if (!planOnly) {
-        exposureTerms(job, s, e);
+        exposureTerms(job, s, gpuDriver, e);
         validateTerms(job, part, s, e, referenceVoxels);
     }
     outputTerms(job, part, s, plan, referenceVoxels, e);

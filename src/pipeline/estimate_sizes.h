@@ -59,7 +59,8 @@ std::string gridText(const Job& job, const Sizes& s);
 /// ", per tile of ..." when the run is tiled, else "".
 std::string tileText(const Sizes& s);
 
-void exposureTerms(const Job& job, const Sizes& s, JobEstimate& e);
+/// The exposure's terms; `gpuDriver`: the exposure shaders run (on any Vulkan device).
+void exposureTerms(const Job& job, const Sizes& s, bool gpuDriver, JobEstimate& e);
 void validateTerms(const Job& job, const geometry::Mesh& part, const Sizes& s, JobEstimate& e,
                    double& referenceVoxels);
 void outputTerms(const Job& job, const geometry::Mesh& part, const Sizes& s,

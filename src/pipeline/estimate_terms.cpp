@@ -32,7 +32,7 @@ double pictureSurfaceVoxels(const Job& job, const Sizes& s) {
 
 }  // namespace
 
-void exposureTerms(const Job& job, const Sizes& s, JobEstimate& e) {
+void exposureTerms(const Job& job, const Sizes& s, bool gpuDriver, JobEstimate& e) {
     const int n = job.simulation.slicesPerLayer;
     const std::string tiled = tileText(s);
     if (tabulatedEngine(job)) {
@@ -47,7 +47,18 @@ void exposureTerms(const Job& job, const Sizes& s, JobEstimate& e) {
     } else {
         add(e, "exposure engine (2D grids)", s.windowCells * 4.0 * 5.0, Stage::Expose,
             Stage::Expose, fmt(s.windowCells) + " cells, 5 float grids" + tiled, COARSER, true);
+        if (gpuDriver)  // the shader's padded running deposit and its sums, in device memory
+            add(e, "exposure shader buffers", s.windowCells * 4.0 * 2.0, Stage::Expose,
+                Stage::Expose, fmt(s.windowCells) + " cells, 2 float grids" + tiled, COARSER, true);
     }
+    // Measured on lavapipe (peak RSS against --backend cpu, less the driver's 64 MiB): compiling
+    // the shader where Mesa's shader cache has not got it (a new grid or stencil shape) and holding
+    // it, 83-99 MiB for the fitted engine, 139 MiB for the tabulated one (unrolled for its
+    // stencils' shape; the default job's kernel); from the cache 30 and 90 MiB.
+    if (gpuDriver)
+        add(e, "exposure shader pipeline", (tabulatedEngine(job) ? 160 : 104) * MIB, Stage::Expose,
+            Stage::Validate, "compiled once per run (LLVM, when not yet cached)",
+            "--backend cpu (the CPU loops)");
     if (job.simulation.writeVdb)
         add(e, "exposure dose volume (OpenVDB)",
             s.activeVoxels * VDB_BYTES_PER_VOXEL + s.coreCells * 32.0, Stage::Expose, Stage::Expose,

@@ -129,7 +129,8 @@ std::unique_ptr<exposure::ExposureModel> exposureModel(const Job& job,
                                                        const exposure::ExposureGrid& grid,
                                                        const BeamResult& beam,
                                                        const RunContext& context) {
-    std::shared_ptr<gpu::Context> gpu = gpu::shaderContext(context);
+    // The shaders on every Vulkan device, lavapipe included (RunContext::gpu).
+    const std::shared_ptr<gpu::Context>& gpu = context.gpu;
     const double h = job.machine.layerThickness;
     if (job.kernel.tabulated && beam.monteCarlo)
         return std::make_unique<exposure::TabulatedExposureEngine>(grid, *beam.monteCarlo, h, gpu);

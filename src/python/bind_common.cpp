@@ -147,7 +147,7 @@ RunContext runContext(const Settings& settings) {
         }
         context.gpu = it->second;
     }
-    context.shadersOnCpuDevices = backend == gpu::Backend::Vulkan;
+    context.monteCarloOnCpuDevices = backend == gpu::Backend::Vulkan;
     context.cacheDirectory = settings.cacheDirectory;
     return context;
 }

@@ -93,7 +93,7 @@ py::dict mc(const std::string& path, const py::dict& arguments, const py::dict& 
     const transport::McSetup setup = mcSetup(path, arguments);
     const RunContext context = runContext(settingsFrom(settings));
     transport::McResult r = withoutGil(
-        progress, [&] { return transport::runPhotonMc(setup, gpu::shaderContext(context)); });
+        progress, [&] { return transport::runPhotonMc(setup, gpu::monteCarloContext(context)); });
     nlohmann::json summary = r.summaryJson();
     summary["material"] = path;
     summary["seed"] = setup.seed;

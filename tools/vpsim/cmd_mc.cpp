@@ -38,7 +38,7 @@ McSetup setupFrom(const McOptions& o, const vpsim::cli::Globals& g) {
 
 void runMc(const McOptions& o, const vpsim::cli::Globals& g) {
     McSetup setup = setupFrom(o, g);
-    McResult r = runPhotonMc(setup, vpsim::gpu::shaderContext(g.runContext()));
+    McResult r = runPhotonMc(setup, vpsim::gpu::monteCarloContext(g.runContext()));
     if (!o.vdb.empty()) writeAbsorptionVdb(o.vdb, r);
     nlohmann::json out = r.summaryJson();
     out["material"] = o.material;

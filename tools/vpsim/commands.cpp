@@ -45,7 +45,7 @@ void Globals::readEnvironment() {
 
 RunContext Globals::hostContext() const {
     RunContext context;
-    context.shadersOnCpuDevices = backend == "vulkan";
+    context.monteCarloOnCpuDevices = backend == "vulkan";
     context.cacheDirectory = cacheDirectory;
     context.memoryLimit = memoryLimit;
     return context;

@@ -19,13 +19,15 @@ class Communicator;
 namespace vpsim {
 
 struct RunContext {
-    /// The Vulkan context for compute shaders, or nullptr for the CPU paths.
+    /// The Vulkan context for compute shaders, or nullptr for the CPU paths. The exposure shaders
+    /// run on it whatever the device (on lavapipe within 1.5x of the TBB loops built from the same
+    /// source: bench_pipeline --engines).
     std::shared_ptr<gpu::Context> gpu;
-    /// Run the compute shaders (exposure, photon Monte Carlo) on a CPU driver (lavapipe) too; by
-    /// default they run only on hardware GPUs, since the TBB paths built from the same source are
-    /// faster on a CPU (bench_exposure; bench_photon_mc: 1.5-2x per core). gpu::shaderContext
-    /// applies this.
-    bool shadersOnCpuDevices = false;
+    /// Run the photon Monte Carlo shader on a CPU driver (lavapipe) too; by default it runs only on
+    /// hardware GPUs, since its TBB path built from the same source is faster on a CPU
+    /// (bench_photon_mc: 1.5-2x per core) and the kernel it makes is cached.
+    /// gpu::monteCarloContext applies this.
+    bool monteCarloOnCpuDevices = false;
     /// Directory of the beam-kernel cache; "" disables caching.
     std::string cacheDirectory;
     /// Bytes a run may hold in its largest structures (the job estimate's peak, checkMemory);

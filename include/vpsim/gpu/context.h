@@ -108,10 +108,10 @@ private:
 /// context, or logs one line saying why there is none and returns nullptr (the CPU path).
 std::shared_ptr<Context> contextForBackend(Backend backend, const ContextOptions& options = {});
 
-/// The context a compute-shader stage should run on under the run's policy: context.gpu when it is
-/// a hardware GPU, or a CPU driver with RunContext::shadersOnCpuDevices set; else nullptr (the
-/// CPU path).
-std::shared_ptr<Context> shaderContext(const RunContext& context);
+/// The context the photon Monte Carlo shader should run on under the run's policy: context.gpu
+/// when it is a hardware GPU, or a CPU driver with RunContext::monteCarloOnCpuDevices set; else
+/// nullptr (the CPU path). The exposure shaders take context.gpu as it is.
+std::shared_ptr<Context> monteCarloContext(const RunContext& context);
 
 /// A storage buffer in device memory, with uploads and downloads through a staging buffer when
 /// the memory is not host-visible.
