@@ -5,12 +5,12 @@
 // blur is linear, so blur(S_k) = B_k + a R_(k-1) = R_k), so R is only stored.
 //
 // Each invocation owns 8 consecutive cells of a row (i0 .. i0 + 7) and walks a strip of
-// STRIP_ROWS rows down y. At each step it blurs one source row along x at its 8 cells (the x pass,
-// a row of P), and the y pass takes that row of P into the output rows it reaches and stores the
-// output row that this row completes. So nothing passes through memory between the passes: on
-// lavapipe every storage store is a lane-by-lane loop (docs/PLATFORM.md), and two passes through a
-// buffer stored every cell twice. The strip's first 2 HALF_WIDTH steps only take in the P rows
-// above the strip.
+// params.stripRows rows down y. At each step it blurs one source row along x at its 8 cells (the
+// x pass, a row of P), and the y pass takes that row of P into the output rows it reaches and
+// stores the output row that this row completes. So nothing passes through memory between the
+// passes: on lavapipe every storage store is a lane-by-lane loop (docs/PLATFORM.md), and two
+// passes through a buffer stored every cell twice. The strip's first 2 HALF_WIDTH steps only take
+// in the P rows above the strip.
 //
 // The y pass has two forms, chosen by HALF_WIDTH (GATHER). Up to
 // EXPOSURE_BLUR_GATHER_MAX_HALF_WIDTH it keeps the last 2 HALF_WIDTH + 1 rows of P in a ring and
@@ -29,15 +29,16 @@
 // 8 named accumulators, the taps in chunks of 8 (two vec4 uniform loads per chunk at an address the
 // same in every lane), the window of 16 source floats sliding by two vec4 texel fetches per chunk.
 // Rows are zero-padded by PADDING cells on the left, and the taps by zeros from -PADDING, so no
-// fetch needs a bounds check and the fetches stay aligned. HALF_WIDTH and STRIP_ROWS (a multiple
-// of the strip loop's unrolled steps) are specialisation constants, so every loop below has a
-// fixed count.
+// fetch needs a bounds check and the fetches stay aligned. HALF_WIDTH is a specialisation
+// constant, so every unrolled loop below has a fixed count. The strip's rows (a multiple of the
+// strip loop's unrolled steps) are a push constant: as a specialisation constant they made every
+// new grid size a new pipeline, which lavapipe compiled for 0.7 s where Mesa's shader cache had
+// not got it (the strip loop is not unrolled either way; ns/voxel unchanged).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 layout(local_size_x = 8) in;
 layout(constant_id = 0) const int HALF_WIDTH = 1;
-layout(constant_id = 1) const int STRIP_ROWS = 64;
 
 #include "glsl_common.glsl"
 #include "shared_structs.glsl"
@@ -146,7 +147,8 @@ void scatterRow(int at, bool store, int row, int i0) {
 }
 
 void main() {
-    const int i0 = int(gl_GlobalInvocationID.x) * 8, j0 = int(gl_WorkGroupID.y) * STRIP_ROWS;
+    const int stripRows = int(params.stripRows);
+    const int i0 = int(gl_GlobalInvocationID.x) * 8, j0 = int(gl_WorkGroupID.y) * stripRows;
     const int rowTexels = int(params.sourceWidth) / 4;
     // Source row q holds grid row q - HALF_WIDTH (zero rows above the grid): grid row j0 + s
     // takes source rows j0 + s .. j0 + s + 2 HALF_WIDTH, and the step reading the last of them
@@ -155,7 +157,7 @@ void main() {
     if (GATHER == 1) {
         [[unroll]] for (int q = 0; q < 2 * HALF_WIDTH; ++q) keepRow(at + q * rowTexels, q);
         at += 2 * HALF_WIDTH * rowTexels;
-        for (int s = 0; s < STRIP_ROWS; s += RING) {
+        for (int s = 0; s < stripRows; s += RING) {
             [[unroll]] for (int u = 0; u < RING; ++u) {
                 keepRow(at + u * rowTexels, (2 * HALF_WIDTH + u) % RING);
                 gatherRow(j0 + s + u, u, i0);
@@ -168,7 +170,7 @@ void main() {
             scatterRow(at, false, 0, i0);
             at += rowTexels;
         }
-        for (int s = 0; s < STRIP_ROWS; s += EXPOSURE_BLUR_STEPS) {
+        for (int s = 0; s < stripRows; s += EXPOSURE_BLUR_STEPS) {
             [[unroll]] for (int u = 0; u < EXPOSURE_BLUR_STEPS; ++u)
                 scatterRow(at + u * rowTexels, true, j0 + s + u, i0);
             at += EXPOSURE_BLUR_STEPS * rowTexels;

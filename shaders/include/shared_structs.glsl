@@ -24,7 +24,7 @@ struct ExposureBlurParams {
     uint sourceWidth;  ///< row length of the zero-padded deposit, a multiple of 4
     uint targetWidth;  ///< row length of R, nx to whole groups of 64 cells
     float scale;       ///< 1 / (normX normY): the two passes' divisors, applied once to R
-    uint pad0;
+    uint stripRows;    ///< rows per invocation (a whole number of the y pass's steps)
     uint pad1;
     uint pad2;
 };

@@ -99,8 +99,7 @@ ExposureEngine::GpuState::GpuState(std::shared_ptr<gpu::Context> context_, int n
       kernel(gpu::Kernel::shared(
           context, exposure_blur_spv, sizeof exposure_blur_spv,
           {gpu::Binding::UniformTexels4, gpu::Binding::Uniform, gpu::Binding::Storage},
-          sizeof(glsl::ExposureBlurParams), {{0, uint32_t(halfWidth)}, {1, stripRows}},
-          GROUP_OUTPUTS / 8)) {
+          sizeof(glsl::ExposureBlurParams), {{0, uint32_t(halfWidth)}}, GROUP_OUTPUTS / 8)) {
     // The padding is zero once for all (the mirror starts as the buffer): the host writes the
     // grid's cells only. R needs no clearing: the shader writes every one of its cells before it
     // is read.
@@ -161,6 +160,7 @@ double ExposureEngine::GpuState::blurMirror() {
     params.sourceWidth = depositWidth;
     params.targetWidth = runningWidth;
     params.scale = float(1.0 / (double(normX) * double(normY)));
+    params.stripRows = stripRows;
     // One submission: the deposit to the device (a discrete GPU's), the blur, R back.
     return 1e-3 * context->submit([&](gpu::Recorder& r) {
         r.toDevice(deposit);

@@ -19,7 +19,7 @@ namespace vpsim::exposure {
 /// the y pass gathers (EXPOSURE_BLUR_GATHER_MAX_HALF_WIDTH), else EXPOSURE_BLUR_STEPS.
 uint32_t blurStripSteps(int halfWidth);
 
-/// Rows per invocation of exposure_blur.comp (its STRIP_ROWS) on a grid `columns` workgroups
+/// Rows per invocation of exposure_blur.comp (its params.stripRows) on a grid `columns` workgroups
 /// across and ny rows down. On GPUs, strips of about 32 rows: they need many invocations. On a
 /// CPU driver, whose threads each run whole workgroups (DeviceInfo::hostThreads), the strip count
 /// that keeps the busiest thread least busy: each strip costs its rows plus its lead (2 halfWidth
@@ -56,7 +56,7 @@ struct ExposureEngine::GpuState {
     std::shared_ptr<gpu::Context> context;
     uint32_t nx, ny;
     int halfWidth;
-    uint32_t stripRows;  ///< rows per invocation of the shader (its STRIP_ROWS)
+    uint32_t stripRows;  ///< rows per invocation of the shader (its params.stripRows)
     float normX, normY;
     uint32_t depositWidth;  ///< row length of the padded deposit
     uint32_t depositTop;    ///< zero rows above the deposit's first row

@@ -53,12 +53,13 @@ TEST_CASE("shared structs have the same layout in C++ and std430 GLSL", "[gpu][l
          VPSIM_MEMBER(RngStreamParams, mode), VPSIM_MEMBER(RngStreamParams, pad0),
          VPSIM_MEMBER(RngStreamParams, pad1), VPSIM_MEMBER(RngStreamParams, pad2)});
     using glsl::ExposureBlurParams;
-    checkStruct("ExposureBlurParams", sizeof(ExposureBlurParams),
-                {VPSIM_MEMBER(ExposureBlurParams, nx), VPSIM_MEMBER(ExposureBlurParams, ny),
-                 VPSIM_MEMBER(ExposureBlurParams, sourceWidth),
-                 VPSIM_MEMBER(ExposureBlurParams, targetWidth),
-                 VPSIM_MEMBER(ExposureBlurParams, scale), VPSIM_MEMBER(ExposureBlurParams, pad0),
-                 VPSIM_MEMBER(ExposureBlurParams, pad1), VPSIM_MEMBER(ExposureBlurParams, pad2)});
+    checkStruct(
+        "ExposureBlurParams", sizeof(ExposureBlurParams),
+        {VPSIM_MEMBER(ExposureBlurParams, nx), VPSIM_MEMBER(ExposureBlurParams, ny),
+         VPSIM_MEMBER(ExposureBlurParams, sourceWidth),
+         VPSIM_MEMBER(ExposureBlurParams, targetWidth), VPSIM_MEMBER(ExposureBlurParams, scale),
+         VPSIM_MEMBER(ExposureBlurParams, stripRows), VPSIM_MEMBER(ExposureBlurParams, pad1),
+         VPSIM_MEMBER(ExposureBlurParams, pad2)});
     using glsl::ExposureStencilParams;
     checkStruct("ExposureStencilParams", sizeof(ExposureStencilParams),
                 {VPSIM_MEMBER(ExposureStencilParams, nx), VPSIM_MEMBER(ExposureStencilParams, ny),
