@@ -44,7 +44,8 @@ const int STENCIL_GROUP_COLUMNS = STENCIL_LANE_BLOCKS * STENCIL_OUTPUTS;
 const int STENCIL_GROUP_ROWS = STENCIL_GROUP_X / STENCIL_LANE_BLOCKS * STENCIL_GROUP_Y;
 /// The most depth stencils one exposure_stencil.comp invocation applies to each window it fetches
 /// (its slices are bindings 2..7). Six, not four: `bench_pipeline --engines` (11 stencils) 6.9-7.6
-/// -> 6.2-6.7 ns/voxel, its pipeline creation 1.8 -> 3.1-3.5 s on lavapipe.
+/// -> 6.2-6.7 ns/voxel, its pipeline creation 1.8 -> 3.1-3.5 s on lavapipe (0.9 s since the
+/// DIAGONAL weights' closed-form index, exposure_stencil.comp's diagonalTap).
 const int STENCIL_MAX_PER_INVOCATION = 6;
 
 /// Unnormalised weight of the Gaussian tap `offset` cells from the centre; sigmaCells = W/2/pitch

@@ -49,7 +49,8 @@ int diagonalWindowFloats(const std::vector<int>& shape) {
 /// The most floats of windows the shader keeps at once: pipeline creation and the first dispatch
 /// (where LLVM compiles) on lavapipe, uncached, at 12 cells each side (520 floats) 2.4 s with four
 /// stencils, at 17 (1008) 12 s with three, at 32 (2640) 30 s with one; one row at a time took
-/// 3.5 s at 17 cells with two stencils, 8 s at 32 with one.
+/// 3.5 s at 17 cells with two stencils, 8 s at 32 with one (all before the closed-form index,
+/// diagonalTap).
 constexpr int DIAGONAL_MAX_WINDOW_FLOATS = 640;
 
 /// Whether the shader adds the cells (+-x, +-d) and (+-d, +-x) before multiplying (DIAGONAL): on
@@ -59,12 +60,21 @@ bool useDiagonal(const std::vector<int>& shape, const gpu::DeviceInfo& device) {
     return device.hostThreads > 0 && diagonalWindowFloats(shape) <= DIAGONAL_MAX_WINDOW_FLOATS;
 }
 
+/// Where DIAGONAL, the index of weight (x, d), d <= x <= H, of a stencil: rows d = 0..H of taps
+/// x = d..H, whether the shape has them or not (exposure_stencil.comp computes it the same way).
+/// A closed form, not a count of the shape's taps so far: lavapipe's compiler carried that count
+/// through every unrolled tap, and the pipeline took 3.1-3.6 s to make instead of 0.9.
+int diagonalTap(int H, int d, int x) {
+    return d * (H + 1) - d * (d - 1) / 2 + x - d;
+}
+
 /// Weights per stencil in the shader, in whole vec4: per stencil row d = 0..H of the shape, the
-/// taps x = 0..hw(d), or x = d..hw(d) where `diagonal` (the others have the same weights).
+/// taps x = 0..hw(d), or where `diagonal` x = d..H (the others have the same weights).
 int shapeVec4s(const std::vector<int>& shape, bool diagonal) {
     const int H = int(shape.size() / 2);
+    if (diagonal) return (diagonalTap(H, H, H) + 1 + 3) / 4;
     int taps = 0;
-    for (int d = 0; d <= H; ++d) taps += std::max(0, shape[size_t(H + d)] + 1 - (diagonal ? d : 0));
+    for (int d = 0; d <= H; ++d) taps += std::max(0, shape[size_t(H + d)] + 1);
     return (taps + 3) / 4;
 }
 
@@ -74,8 +84,15 @@ std::vector<float> weightsOnShape(const DepthStencil& st, const std::vector<int>
                                   bool diagonal) {
     const int H = int(shape.size() / 2);
     std::vector<float> weights;
+    if (diagonal) {
+        weights.assign(size_t(shapeVec4s(shape, true)) * 4, 0.0f);
+        for (int d = 0; d <= H; ++d)
+            for (int x = d; x <= std::min(shape[size_t(H + d)], st.halfWidth); ++x)
+                weights[size_t(diagonalTap(H, d, x))] = st.at(x, d);
+        return weights;
+    }
     for (int d = 0; d <= H; ++d)
-        for (int x = diagonal ? d : 0; x <= shape[size_t(H + d)]; ++x) {
+        for (int x = 0; x <= shape[size_t(H + d)]; ++x) {
             const bool inside = x <= st.halfWidth && d <= st.halfWidth;
             weights.push_back(inside ? st.at(x, d) : 0.0f);
         }
@@ -98,10 +115,12 @@ std::vector<gpu::SpecConstant> shaderConstants(const std::vector<int>& shape, bo
 
 /// The most weights (in vec4, all the group's stencils together) of several stencils per
 /// invocation: the shader's unrolled body and its compilation grow with them. Uncached on lavapipe
-/// here, pipeline creation and the first dispatch: 1.8 + 0.6 s for four stencils at 12 cells each
-/// side (DIAGONAL, 17 vec4 each), 3.5 + 0.9 s for six; 3.5 s for two at 17 cells (one row at a
-/// time, 64 vec4 each).
-constexpr int MAX_UNROLLED_VEC4S = 128;
+/// here, before the closed-form DIAGONAL index (diagonalTap), pipeline creation and the first
+/// dispatch: 1.8 + 0.6 s for four stencils at 12 cells each side (DIAGONAL, 17 vec4 each), 3.5 +
+/// 0.9 s for six; 3.5 s for two at 17 cells (one row at a time, 64 vec4 each). With it, six
+/// DIAGONAL stencils at 12 cells (23 vec4 each: the whole triangle) take 0.9 s (Mesa's cache
+/// warm), so the limit admits them.
+constexpr int MAX_UNROLLED_VEC4S = 144;
 
 /// The most stencils whose weights on `shape` fit the device's shared memory and uniform range
 /// together (0: not even one), at most STENCIL_MAX_PER_INVOCATION, and more than one only within
