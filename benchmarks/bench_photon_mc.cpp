@@ -31,6 +31,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <string>
 #include <thread>
 
@@ -38,6 +39,7 @@
 
 #include "mcml_reference.h"
 #include "vpsim/core/error.h"
+#include "vpsim/core/run_context.h"
 #include "vpsim/gpu/context.h"
 #include "vpsim/kernel/beam_kernel.h"
 #include "vpsim/optics/material.h"
@@ -342,10 +344,12 @@ int main(int argc, char** argv) {
         // As vpsim runs (gpu::monteCarloContext): shaders on hardware GPUs; on a CPU driver the TBB
         // path (for the default estimator as fast per CPU-second as lavapipe, with no pipeline
         // compile), unless the shader is forced with "vulkan".
-        if (backend == "auto" && context && !context->info().isHardware()) {
-            out["shader_device_skipped"] = context->info().name;
-            context.reset();
-        }
+        vpsim::RunContext run;
+        run.gpu = context;
+        run.monteCarloOnCpuDevices = backend == "vulkan";
+        std::shared_ptr<vpsim::gpu::Context> shader = vpsim::gpu::monteCarloContext(run);
+        if (context && !shader) out["shader_device_skipped"] = context->info().name;
+        context = std::move(shader);
         vpsim::optics::MediumOptics hg;
         hg.mua = 8.4;
         hg.mus = 303.0;
